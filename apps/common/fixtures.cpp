@@ -1,0 +1,106 @@
+#include "fixtures.hpp"
+
+#include <cmath>
+
+namespace multicage_fixtures {
+
+using cv::Point2f;
+using cv::multicage::Multicage;
+
+std::vector<Point2f> starPolygon(Point2f centre, const std::vector<float>& radii, float phase) {
+    std::vector<Point2f> out;
+    const int n = static_cast<int>(radii.size());
+    for (int i = 0; i < n; ++i) {
+        const float a = phase + static_cast<float>(2 * CV_PI * i / n);
+        out.emplace_back(centre.x + radii[i] * std::cos(a), centre.y + radii[i] * std::sin(a));
+    }
+    return out;
+}
+
+Multicage lotusMulticage(cv::Size size, int vertices) {
+    CV_Assert(vertices >= 12);
+    Multicage cage(size);
+    // Split: each flower gets half; within a flower 60% outer petals, 40% inner heart.
+    const int flowerA = vertices / 2, flowerB = vertices - flowerA;
+    const float R = 0.23f * std::min(size.width / 2.f, static_cast<float>(size.height));
+    for (int f = 0; f < 2; ++f) {
+        const int n = f == 0 ? flowerA : flowerB;
+        const int outer = std::max(3, (n * 3 + 2) / 5), inner = n - outer;
+        const Point2f c(size.width * (f == 0 ? 0.28f : 0.72f), size.height * 0.5f);
+        std::vector<float> petals(outer), heart(inner);
+        for (int i = 0; i < outer; ++i) petals[i] = R * (i % 2 ? 1.6f : 1.15f);  // petal tips
+        for (int i = 0; i < inner; ++i) heart[i] = R * (i % 2 ? 0.45f : 0.55f);
+        cage.addPolygon(starPolygon(c, petals));
+        cage.addPolygon(starPolygon(c, heart, 0.1f));
+    }
+    cage.orient();
+    return cage;
+}
+
+namespace {
+void addNested(cv::RNG& rng, Multicage& cage, Point2f c, float radius, int depth, int maxDepth,
+               int perPolygon) {
+    const int n = std::max(3, perPolygon / 2 + rng.uniform(0, perPolygon + 1));
+    std::vector<float> radii(n);
+    for (float& r : radii) r = radius * rng.uniform(0.75f, 1.f);
+    cage.addPolygon(starPolygon(c, radii, rng.uniform(0.f, 6.28f)));
+    if (depth < maxDepth && rng.uniform(0, 4) != 0) {
+        const int children = rng.uniform(1, 3);
+        if (children == 1) {
+            addNested(rng, cage, c, radius * rng.uniform(0.3f, 0.6f), depth + 1, maxDepth, perPolygon);
+        } else {  // two children side by side inside the inner disk of radius 0.75*radius
+            const float r = radius * 0.3f;
+            addNested(rng, cage, c + Point2f(-0.37f * radius, 0), r, depth + 1, maxDepth, perPolygon);
+            addNested(rng, cage, c + Point2f(0.37f * radius, 0), r, depth + 1, maxDepth, perPolygon);
+        }
+    }
+}
+}  // namespace
+
+Multicage randomMulticage(cv::RNG& rng, cv::Size size, int maxTop, int maxDepth, int perPolygon) {
+    Multicage cage(size);
+    std::vector<cv::Vec3f> disks;  // x, y, r
+    const int top = rng.uniform(1, maxTop + 1);
+    for (int attempt = 0; attempt < 200 && static_cast<int>(disks.size()) < top; ++attempt) {
+        const float rmax = 0.45f * std::min(size.width, size.height);
+        const float r = rng.uniform(0.25f * rmax, rmax);
+        const Point2f c(rng.uniform(r + 2.f, size.width - r - 2.f), rng.uniform(r + 2.f, size.height - r - 2.f));
+        bool free = true;
+        for (const cv::Vec3f& d : disks)
+            free = free && std::hypot(c.x - d[0], c.y - d[1]) > r + d[2] + 2.f;
+        if (!free) continue;
+        disks.emplace_back(c.x, c.y, r);
+        addNested(rng, cage, c, r, 1, maxDepth, perPolygon);
+    }
+    cage.orient();
+    return cage;
+}
+
+std::vector<Point2f> stretchPolygon(const Multicage& cage, int polygon, float sx, float sy,
+                                    Point2f shift) {
+    std::vector<Point2f> pose = cage.vertices();
+    pose.resize(cage.vertexCount());
+    const std::vector<Point2f> p = cage.polygon(polygon);
+    Point2f c(0, 0);
+    for (const Point2f& q : p) c += q;
+    c *= 1.f / p.size();
+    const int offset = cage.polygonOffset(polygon);
+    for (size_t i = 0; i < p.size(); ++i) {
+        const Point2f d = p[i] - c;
+        pose[offset + i] = c + Point2f(d.x * sx, d.y * sy) + shift;
+    }
+    return pose;
+}
+
+std::vector<Point2f> wavePose(const Multicage& cage, float amplitude, float phase) {
+    std::vector<Point2f> pose = cage.vertices();
+    pose.resize(cage.vertexCount());
+    const cv::Size s = cage.imageSize();
+    for (Point2f& p : pose) {
+        const float u = p.x / s.width, v = p.y / s.height;
+        p += amplitude * Point2f(std::sin(6.f * v + phase), std::cos(5.f * u + 0.7f * phase));
+    }
+    return pose;
+}
+
+}  // namespace multicage_fixtures

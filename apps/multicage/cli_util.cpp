@@ -1,0 +1,62 @@
+#include "cli_util.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <filesystem>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+namespace multicage_cli {
+
+cv::Mat readImage(const std::string& path) {
+    if (!std::filesystem::is_regular_file(path)) throw Failure(path + ": no such file");
+    cv::Mat img;
+    try {
+        img = cv::imread(path, cv::IMREAD_UNCHANGED);
+    } catch (const cv::Exception& e) {
+        throw Failure(path + ": cannot be decoded: " + e.err);
+    }
+    if (img.empty()) throw Failure(path + ": not an image OpenCV can read");
+    const int depth = img.depth(), cn = img.channels();
+    if (cn == 2) cv::cvtColor(img, img, cv::COLOR_GRAY2BGR);  // gray+alpha is rare; keep going
+    if (depth != CV_8U && depth != CV_16U && depth != CV_32F)
+        throw Failure(path + ": unsupported pixel type " + cv::typeToString(img.type()) +
+                      " (use 8-bit, 16-bit or 32-bit float images)");
+    return img;
+}
+
+cv::multicage::Multicage loadCage(const std::string& path, cv::Size imageSize) {
+    cv::multicage::Multicage cage = cv::multicage::Multicage::load(path);
+    if (cage.imageSize() != imageSize) cage = cage.scaled(imageSize);
+    return cage;
+}
+
+int parseBackend(const std::string& name) {
+    if (name == "auto") return cv::multicage::BACKEND_AUTO;
+    if (name == "cpu") return cv::multicage::BACKEND_CPU;
+    if (name == "gpu") return cv::multicage::BACKEND_GPU;
+    throw Failure("unknown backend '" + name + "' (auto, cpu or gpu)");
+}
+
+int parseCoordinates(const std::string& name) {
+    if (name == "mvc") return cv::multicage::MEAN_VALUE;
+    if (name == "harmonic") return cv::multicage::HARMONIC;
+    throw Failure("unknown coordinates '" + name + "' (mvc or harmonic)");
+}
+
+const char* backendName(int backend) {
+    return backend == cv::multicage::BACKEND_GPU ? "gpu" : backend == cv::multicage::BACKEND_CPU ? "cpu" : "auto";
+}
+
+double msSince(std::chrono::steady_clock::time_point start) {
+    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+}
+
+double median(std::vector<double> samples) {
+    if (samples.empty()) return 0.0;
+    std::sort(samples.begin(), samples.end());
+    const size_t n = samples.size();
+    return n % 2 ? samples[n / 2] : 0.5 * (samples[n / 2 - 1] + samples[n / 2]);
+}
+
+}  // namespace multicage_cli

@@ -1,0 +1,37 @@
+// What the multicage subcommands share: reading inputs, parsing choices, reporting.
+#ifndef MULTICAGE_CLI_UTIL_HPP
+#define MULTICAGE_CLI_UTIL_HPP
+
+#include <CLI/CLI.hpp>
+#include <opencv2/multicage.hpp>
+#include <string>
+
+namespace multicage_cli {
+
+/** A user error: main() prints "multicage CMD: MESSAGE" on one line and exits 1. */
+struct Failure : std::runtime_error {
+    using std::runtime_error::runtime_error;
+};
+
+/** Reads an image as stored (depth and alpha kept), or throws a Failure that says why. */
+cv::Mat readImage(const std::string& path);
+/** Loads a cage file and scales it to imageSize when it was made for another size. */
+cv::multicage::Multicage loadCage(const std::string& path, cv::Size imageSize);
+
+int parseBackend(const std::string& name);       // auto | cpu | gpu
+int parseCoordinates(const std::string& name);   // mvc | harmonic
+const char* backendName(int backend);
+
+/** Milliseconds since `start` (std::chrono::steady_clock). */
+double msSince(std::chrono::steady_clock::time_point start);
+/** Median of samples (copied and sorted). */
+double median(std::vector<double> samples);
+
+void addDemoCommand(CLI::App& app);
+void addDeformCommand(CLI::App& app);
+void addProposeCommand(CLI::App& app);
+void addBenchCommand(CLI::App& app);
+
+}  // namespace multicage_cli
+
+#endif

@@ -1,0 +1,88 @@
+// multicage deform IMAGE CAGE.yml -o OUT.png: apply a saved pose to an image.
+#include <chrono>
+#include <iostream>
+
+#include "cli_util.hpp"
+
+namespace multicage_cli {
+
+namespace {
+struct DeformOptions {
+    std::string image, cage, output, pose, backend = "auto", coords = "mvc";
+    int gridStep = 1;
+    std::vector<double> border;
+};
+
+void runDeform(const DeformOptions& o) {
+    using namespace cv::multicage;
+    const auto t0 = std::chrono::steady_clock::now();
+    const cv::Mat image = readImage(o.image);
+    const Multicage cage = loadCage(o.cage, image.size());
+    if (cage.poseCount() == 0)
+        throw Failure(o.cage + ": has no poses; add one under `poses:` (see multicage deform --help)");
+    int poseIndex = 0;
+    if (!o.pose.empty()) {
+        poseIndex = cage.findPose(o.pose);
+        if (poseIndex < 0) {
+            std::string names;
+            for (int i = 0; i < cage.poseCount(); ++i) names += (i ? ", " : "") + cage.pose(i).name;
+            throw Failure(o.cage + ": no pose named '" + o.pose + "' (it has: " + names + ")");
+        }
+    }
+    DeformParams params;
+    params.backend = parseBackend(o.backend);
+    params.coordinates = parseCoordinates(o.coords);
+    params.gridStep = o.gridStep;
+    for (size_t i = 0; i < o.border.size() && i < 4; ++i) params.borderValue[static_cast<int>(i)] = o.border[i];
+
+    const auto tb = std::chrono::steady_clock::now();
+    cv::Ptr<Deformer> deformer = Deformer::create(image, cage, params);
+    const double bindMs = msSince(tb);
+    const Binding& binding = deformer->binding();
+    if (binding.minConditioning < kConditioningWarning)
+        std::cerr << "multicage deform: warning: the binding is ill-conditioned near ("
+                  << binding.worstNode.x << ", " << binding.worstNode.y << ") (min conditioning "
+                  << binding.minConditioning << " < " << kConditioningWarning
+                  << "): polygons there may spring up; move them apart or add vertices\n";
+    const Pose& pose = cage.pose(poseIndex);
+    const int folded = deformer->foldedTriangles(pose.vertices);
+    if (folded > 0)
+        std::cerr << "multicage deform: warning: pose '" << pose.name << "' folds the image over itself ("
+                  << folded << " mesh triangles inverted)\n";
+    const auto td = std::chrono::steady_clock::now();
+    cv::Mat out;
+    deformer->deform(pose.vertices, out);
+    const double deformMs = msSince(td);
+    cv::multicage::imwriteAtomic(o.output, out);
+    std::cout << "wrote " << o.output << " (" << out.cols << "x" << out.rows << ", pose '" << pose.name
+              << "', " << backendName(deformer->backend()) << ", grid step " << o.gridStep
+              << ", bind " << cvRound(bindMs) << " ms, deform " << cvRound(deformMs) << " ms, total "
+              << cvRound(msSince(t0)) << " ms)" << std::endl;
+}
+}  // namespace
+
+void addDeformCommand(CLI::App& app) {
+    auto o = std::make_shared<DeformOptions>();
+    CLI::App* cmd = app.add_subcommand(
+        "deform",
+        "Deform IMAGE to a pose stored in CAGE.yml and write OUT.\n"
+        "The cage file holds rest polygons and named poses (see `multicage propose` or the "
+        "editor); a cage made for another image size is scaled to this image.\n"
+        "Example: multicage deform photo.jpg cage.yml -o out.png --pose stretch --grid-step 2");
+    cmd->add_option("image", o->image, "Input image (8/16-bit or float, 1, 3 or 4 channels)")->required();
+    cmd->add_option("cage", o->cage, "Cage file (.yml, .yaml or .json)")->required();
+    cmd->add_option("-o,--output", o->output, "Output image; written only when complete")->required();
+    cmd->add_option("--pose", o->pose, "Pose name in the cage file (default: the first pose)");
+    cmd->add_option("--backend", o->backend, "auto (GPU if available, else CPU), cpu or gpu")->capture_default_str()
+        ->check(CLI::IsMember({"auto", "cpu", "gpu"}));
+    cmd->add_option("--coords", o->coords, "Cage coordinates: mvc (mean value) or harmonic")->capture_default_str()
+        ->check(CLI::IsMember({"mvc", "harmonic"}));
+    cmd->add_option("--grid-step", o->gridStep,
+                    "A mesh node every N pixels: 1 is exact, larger binds N^2 times faster")->capture_default_str()
+        ->check(CLI::Range(1, 256));
+    cmd->add_option("--border", o->border, "Value of uncovered pixels, e.g. --border 255 255 255")
+        ->expected(1, 4);
+    cmd->callback([o] { runDeform(*o); });
+}
+
+}  // namespace multicage_cli

@@ -1,0 +1,85 @@
+// Cage coordinates and binding (paper §3.2, Algorithm 1).
+#ifndef OPENCV2_MULTICAGE_COORDINATES_HPP
+#define OPENCV2_MULTICAGE_COORDINATES_HPP
+
+#include <opencv2/multicage/multicage.hpp>
+
+namespace cv {
+namespace multicage {
+
+enum CoordinateType {
+    MEAN_VALUE = 0,  //!< Hormann & Floater 2006; smooth, may be negative, global support
+    HARMONIC = 1     //!< DeRose & Meyer 2006; non-negative, each region sees only its polygons
+};
+
+/** Mean value coordinates of points with respect to one polygon (Hormann & Floater 2006),
+valid inside and outside the polygon.
+
+Inputs:
+  polygon  n points (std::vector<Point2f> or Nx2), n >= 3, the vertices in order
+  points   N points
+  normalize  divide by the sum (true) or return the raw weights w_i (false)
+Outputs:
+  weights  N x n CV_32F, row k the coordinates of point k
+
+Edge cases are a policy, not an accident: a point on a vertex gets 1 for that vertex; a point
+on an edge gets the linear interpolation between the edge's two vertices; both are returned
+as these exact values even when normalize is false (the raw weights are infinite there).
+Raw weights sum to a positive number inside a polygon with signed area > 0 and a negative one
+outside it. Computed in double precision. */
+CV_EXPORTS_W void meanValueCoordinates(InputArray polygon, InputArray points,
+                                       OutputArray weights, bool normalize = true);
+
+/** Below this conditioning minimum bind() reports a likely spring-up singularity: the raw
+weights of all polygons nearly cancel there, and small pose changes move the node a lot. */
+constexpr double kConditioningWarning = 1e-3;
+
+/** Every node of a grid over the image bound to all vertices of a multicage.
+
+Nodes sit every gridStep pixels, x_k = min(k*gridStep, W-1) and likewise in y, so the last
+row and column lie on the image border. Node (gx, gy) has index gy*gridSize.width + gx.
+
+The coefficients are stored planar: row j of `coefficients` holds coefficient j of every
+node, so each coefficient is one image-sized plane (this is also what packing wants). */
+struct CV_EXPORTS Binding {
+    Size imageSize;
+    int gridStep = 1;
+    Size gridSize;                     //!< nodes in x and y
+    int coordinates = MEAN_VALUE;      //!< CoordinateType
+    Mat coefficients;                  //!< coefficientCount() x nodeCount(), CV_32F
+    std::vector<Point2f> restVertices; //!< user vertices, then the 4 frame corners
+    /** Minimum over nodes of |sum_j w_j| / sum_j |w_j| over raw weights; 1 for harmonic. */
+    double minConditioning = 1.0;
+    Point2f worstNode;                 //!< where minConditioning occurs (pixel coordinates)
+
+    int coefficientCount() const { return static_cast<int>(restVertices.size()); }
+    int nodeCount() const { return gridSize.area(); }
+    bool empty() const { return coefficients.empty(); }
+    /** Rest position of node (gx, gy). */
+    Point2f node(int gx, int gy) const;
+    /** Rest positions of all nodes, gridSize CV_32FC2. */
+    Mat nodes() const;
+    /** Deformed node positions for a pose: p' = x + sum_j CC_j (v'_j - v_j) (the displacement
+    form of sum_j CC_j v'_j; exact for the rest pose). pose: vertexCount() points, or
+    coefficientCount() with the frame last. positions: gridSize CV_32FC2. */
+    void apply(InputArray pose, OutputArray positions) const;
+    /** The pose as coefficientCount() points: checks count and finiteness, appends the frame
+    corners when they are omitted. Throws a cv::Exception naming the bad vertex. */
+    std::vector<Point2f> completePose(InputArray pose) const;
+};
+
+/** Node grid size for an image and a grid step: ceil((W-1)/s)+1 by ceil((H-1)/s)+1. */
+CV_EXPORTS Size gridSizeFor(Size imageSize, int gridStep);
+
+/** Binds every grid node to every vertex of the multicage (Algorithm 1): the raw weights of
+each polygon (frame included, each signed as if oriented by the orientation rule) are
+concatenated and divided by their total. A node on a polygon's vertex or edge gets that
+polygon's exact values and zero elsewhere. Runs on all cores (cv::parallel_for_).
+Throws a cv::Exception when the multicage does not pass validateGeometry(). */
+CV_EXPORTS Binding bind(const Multicage& multicage, int coordinates = MEAN_VALUE,
+                        int gridStep = 1);
+
+}  // namespace multicage
+}  // namespace cv
+
+#endif

@@ -1,0 +1,148 @@
+// Cage files: the multicage and its poses as YAML or JSON through cv::FileStorage.
+#include <opencv2/multicage/multicage.hpp>
+
+#include <algorithm>
+#include <cctype>
+
+namespace cv {
+namespace multicage {
+
+namespace {
+
+[[noreturn]] void malformed(const std::string& where, const std::string& what) {
+    CV_Error(Error::StsParseError, "cage file: " + where + ": " + what);
+}
+
+// A flat list of numbers [x0, y0, x1, y1, ...] as points; `where` names it in errors.
+std::vector<Point2f> readCoordinates(const FileNode& node, const std::string& where) {
+    if (node.empty() && !node.isSeq()) malformed(where, "missing");
+    if (!node.isSeq()) malformed(where, "is not a list of numbers [x0, y0, x1, y1, ...]");
+    const int n = static_cast<int>(node.size());
+    if (n % 2 != 0) malformed(where, format("odd number of coordinates (%d)", n));
+    std::vector<Point2f> points(n / 2);
+    for (int i = 0; i < n; ++i) {
+        const FileNode v = node[i];
+        if (!v.isInt() && !v.isReal())
+            malformed(where, format("coordinate %d (of vertex %d) is not a number", i, i / 2));
+        (i % 2 ? points[i / 2].y : points[i / 2].x) = static_cast<float>(static_cast<double>(v));
+    }
+    return points;
+}
+
+void writeCoordinates(FileStorage& fs, const std::vector<Point2f>& points) {
+    fs << "[:";
+    for (const Point2f& p : points) fs << p.x << p.y;
+    fs << "]";
+}
+
+std::string lowerExtension(const String& path) {
+    const size_t dot = path.find_last_of('.');
+    std::string ext = dot == String::npos ? std::string() : path.substr(dot);
+    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+    return ext;
+}
+
+std::string checkedFormat(const String& path) {
+    const std::string ext = lowerExtension(path);
+    if (ext != ".yml" && ext != ".yaml" && ext != ".json")
+        CV_Error(Error::StsBadArg, "cage file " + path + ": the name must end in .yml, .yaml or .json");
+    return ext;
+}
+
+}  // namespace
+
+void Multicage::write(FileStorage& fs) const {
+    fs << "image_size" << "[:" << imageSize_.width << imageSize_.height << "]";
+    fs << "polygons" << "[";
+    for (const auto& polygon : polygons_) writeCoordinates(fs, polygon);
+    fs << "]";
+    fs << "poses" << "[";
+    for (const Pose& pose : poses_) {
+        fs << "{:" << "name" << pose.name << "time" << pose.time << "vertices";
+        writeCoordinates(fs, pose.vertices);
+        fs << "}";
+    }
+    fs << "]";
+}
+
+void Multicage::read(const FileNode& root) {
+    if (!root.isMap()) malformed("top level", "is not a map with image_size, polygons and poses");
+    Multicage cage;
+    const FileNode size = root["image_size"];
+    if (size.empty()) malformed("image_size", "missing");
+    if (!size.isSeq() || size.size() != 2 || !size[0].isInt() || !size[1].isInt() ||
+        static_cast<int>(size[0]) <= 0 || static_cast<int>(size[1]) <= 0)
+        malformed("image_size", "must be [ width, height ] with two positive integers");
+    cage.imageSize_ = Size(static_cast<int>(size[0]), static_cast<int>(size[1]));
+
+    const FileNode polygons = root["polygons"];
+    if (polygons.empty() && !polygons.isSeq()) malformed("polygons", "missing");
+    if (!polygons.isSeq()) malformed("polygons", "is not a list of polygons");
+    for (int p = 0; p < static_cast<int>(polygons.size()); ++p) {
+        std::vector<Point2f> polygon = readCoordinates(polygons[p], format("polygons[%d]", p));
+        if (polygon.size() < 3)
+            malformed(format("polygons[%d]", p),
+                      format("fewer than 3 vertices (%d)", static_cast<int>(polygon.size())));
+        cage.polygons_.push_back(std::move(polygon));
+    }
+
+    const FileNode poses = root["poses"];  // optional
+    if (!poses.empty() || poses.isSeq()) {
+        if (!poses.isSeq()) malformed("poses", "is not a list of poses");
+        const int n = cage.vertexCount();
+        for (int i = 0; i < static_cast<int>(poses.size()); ++i) {
+            const FileNode node = poses[i];
+            const std::string where = format("poses[%d]", i);
+            if (!node.isMap()) malformed(where, "is not a map { name, time, vertices }");
+            Pose pose;
+            if (!node["name"].empty()) {
+                if (!node["name"].isString()) malformed(where + ".name", "is not a string");
+                pose.name = static_cast<std::string>(node["name"]);
+            }
+            if (!node["time"].empty()) {
+                if (!node["time"].isInt() && !node["time"].isReal())
+                    malformed(where + ".time", "is not a number");
+                pose.time = static_cast<double>(node["time"]);
+            }
+            const std::string label = pose.name.empty() ? where : where + " (\"" + pose.name + "\")";
+            pose.vertices = readCoordinates(node["vertices"], label + ".vertices");
+            if (static_cast<int>(pose.vertices.size()) != n)
+                malformed(label + ".vertices",
+                          format("has %d vertices, the polygons have %d",
+                                 static_cast<int>(pose.vertices.size()), n));
+            cage.poses_.push_back(std::move(pose));
+        }
+    }
+    *this = std::move(cage);
+}
+
+Multicage Multicage::load(const String& path) {
+    checkedFormat(path);
+    FileStorage fs;
+    try {
+        if (!fs.open(path, FileStorage::READ))
+            CV_Error(Error::StsError, "cage file " + path + ": cannot be opened");
+    } catch (const cv::Exception& e) {
+        if (e.code == Error::StsError && e.err.rfind("cage file", 0) == 0) throw;
+        CV_Error(Error::StsParseError, "cage file " + path + ": not valid YAML/JSON: " + e.err);
+    }
+    Multicage cage;
+    try {
+        cage.read(fs.root());
+    } catch (const cv::Exception& e) {
+        CV_Error(e.code, path + ": " + e.err);
+    }
+    std::string why;
+    if (!cage.validateGeometry(&why)) CV_Error(Error::StsBadArg, "cage file " + path + ": " + why);
+    return cage;
+}
+
+void Multicage::save(const String& path) const {
+    const std::string ext = checkedFormat(path);
+    FileStorage fs(ext == ".json" ? ".json" : ".yml", FileStorage::WRITE | FileStorage::MEMORY);
+    write(fs);
+    writeFileAtomic(path, fs.releaseAndGetString());
+}
+
+}  // namespace multicage
+}  // namespace cv

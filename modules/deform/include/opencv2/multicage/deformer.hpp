@@ -1,0 +1,65 @@
+// Deforming images with a bound multicage, on the GPU or the CPU.
+#ifndef OPENCV2_MULTICAGE_DEFORMER_HPP
+#define OPENCV2_MULTICAGE_DEFORMER_HPP
+
+#include <opencv2/multicage/coordinates.hpp>
+
+namespace cv {
+namespace multicage {
+
+enum Backend {
+    BACKEND_AUTO = 0,  //!< the GPU when an EGL context can be made, else the CPU (one log line)
+    BACKEND_CPU = 1,   //!< node positions, inverse maps by mesh rasterisation, cv::remap
+    BACKEND_GPU = 2    //!< headless EGL + OpenGL 4.5; throws if no context can be made
+};
+
+struct CV_EXPORTS DeformParams {
+    int coordinates = MEAN_VALUE;   //!< CoordinateType
+    int gridStep = 1;               //!< a mesh node every gridStep pixels; 1 is the paper's
+    int backend = BACKEND_AUTO;     //!< Backend
+    Scalar borderValue = Scalar();  //!< output pixels no deformed triangle covers
+};
+
+/** Binds an image to a multicage once, then deforms it for any number of poses.
+
+Input images: CV_8U, CV_16U or CV_32F with 1, 3 or 4 channels. Output: the same size and type.
+A pose is a std::vector<Point2f> or an Nx2 CV_32F matrix of vertexCount() points, or
+vertexCount()+4 with the frame corners last. */
+class CV_EXPORTS Deformer : public Algorithm {
+public:
+    static Ptr<Deformer> create(InputArray image, const Multicage& rest,
+                                const DeformParams& params = DeformParams());
+    /** Uses an existing binding (for example one made once and shared by several images). */
+    static Ptr<Deformer> create(InputArray image, const Binding& binding,
+                                const DeformParams& params = DeformParams());
+
+    /** The image deformed to pose. */
+    virtual void deform(InputArray pose, OutputArray dst) = 0;
+    /** Inverse maps for cv::remap: for each output pixel, the source position (CV_32F,
+    image size); pixels no triangle covers get -1e4. Remap masks with INTER_NEAREST. */
+    virtual void computeMaps(InputArray pose, OutputArray mapx, OutputArray mapy) = 0;
+    /** The Backend actually in use (never BACKEND_AUTO). */
+    virtual int backend() const = 0;
+    virtual const Binding& binding() const = 0;
+    /** Number of mesh triangles whose orientation the pose reversed (fold-over). */
+    virtual int foldedTriangles(InputArray pose) const;
+};
+
+/** One-shot form: binds, deforms once, returns. Prefer a Deformer for several poses. */
+CV_EXPORTS void deformImage(InputArray src, const Multicage& rest, InputArray pose,
+                            OutputArray dst, const DeformParams& params = DeformParams());
+
+/** Rasterises a deformed node grid into inverse maps (the CPU backend's core, exposed for
+tests and tools). positions: deformed nodes, gridSize CV_32FC2; rest: their rest positions,
+the same shape. Triangles per cell (a=(x,y), b=(x+1,y), c=(x,y+1), d=(x+1,y+1)): (a,b,c) and
+(b,d,c), drawn in row-major cell order, the later one winning where they overlap. */
+CV_EXPORTS void rasterizeMaps(InputArray positions, InputArray rest, Size outputSize,
+                              OutputArray mapx, OutputArray mapy);
+
+/** Counts triangles of the deformed grid whose orientation differs from the rest grid's. */
+CV_EXPORTS int countFoldedTriangles(InputArray positions, InputArray rest);
+
+}  // namespace multicage
+}  // namespace cv
+
+#endif

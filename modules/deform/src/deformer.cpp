@@ -1,0 +1,59 @@
+// Deformer::create: validates, binds, and picks the backend.
+#include <opencv2/core/utils/logger.hpp>
+#include <opencv2/multicage/deformer.hpp>
+
+#include "cpu_deformer.hpp"
+#include "gpu_backend.hpp"
+
+namespace cv {
+namespace multicage {
+
+Ptr<Deformer> Deformer::create(InputArray image, const Multicage& rest, const DeformParams& params) {
+    checkImage(image);
+    if (rest.imageSize() != image.size())
+        CV_Error_(Error::StsBadSize,
+                  ("multicage: the image is %dx%d but the multicage was made for %dx%d; use "
+                   "Multicage::scaled(image.size())",
+                   image.cols(), image.rows(), rest.imageSize().width, rest.imageSize().height));
+    return create(image, bind(rest, params.coordinates, params.gridStep), params);
+}
+
+Ptr<Deformer> Deformer::create(InputArray imageIn, const Binding& binding, const DeformParams& params) {
+    checkImage(imageIn);
+    CV_Assert(!binding.empty());
+    const Mat image = imageIn.getMat();
+    if (binding.imageSize != image.size())
+        CV_Error_(Error::StsBadSize, ("multicage: the image is %dx%d but the binding is for %dx%d",
+                                      image.cols, image.rows, binding.imageSize.width,
+                                      binding.imageSize.height));
+    switch (params.backend) {
+        case BACKEND_CPU:
+            return createCpuDeformer(image, binding, params);
+        case BACKEND_GPU:
+        case BACKEND_AUTO: {
+            std::string why;
+            Ptr<Deformer> gpu = gpu::createDeformer(image, binding, params, &why);
+            if (gpu) return gpu;
+            if (params.backend == BACKEND_GPU)
+                CV_Error(Error::StsNotImplemented, "multicage: BACKEND_GPU requested but " + why);
+            CV_LOG_WARNING(NULL, "multicage: no GPU backend (" << why << "); using the CPU backend");
+            return createCpuDeformer(image, binding, params);
+        }
+        default:
+            CV_Error_(Error::StsOutOfRange, ("multicage: unknown backend %d", params.backend));
+    }
+}
+
+int Deformer::foldedTriangles(InputArray pose) const {
+    Mat positions;
+    binding().apply(pose, positions);
+    return countFoldedTriangles(positions, binding().nodes());
+}
+
+void deformImage(InputArray src, const Multicage& rest, InputArray pose, OutputArray dst,
+                 const DeformParams& params) {
+    Deformer::create(src, rest, params)->deform(pose, dst);
+}
+
+}  // namespace multicage
+}  // namespace cv

@@ -1,0 +1,116 @@
+// Rasterising the deformed node mesh into inverse maps (the CPU backend's "draw call").
+#include <opencv2/core/utility.hpp>
+#include <opencv2/multicage/deformer.hpp>
+
+#include <cmath>
+
+namespace cv {
+namespace multicage {
+
+namespace {
+
+constexpr float kUncovered = -1e4f;  // far outside any image: cv::remap gives the border value
+
+inline double cross(Point2d a, Point2d b) { return a.x * b.y - a.y * b.x; }
+
+// Writes, for every pixel centre of rows [y0, y1) inside triangle q (deformed), the matching
+// point of triangle p (rest). Edges are inclusive with a small tolerance so that neighbouring
+// triangles leave no crack; on a shared edge both write almost the same value.
+void drawTriangle(const Point2f q[3], const Point2f p[3], int y0, int y1, Mat& mapx, Mat& mapy) {
+    const Point2d q0 = q[0], q1 = q[1], q2 = q[2];
+    const double area = cross(q1 - q0, q2 - q0);
+    if (!(std::abs(area) > 1e-12)) return;  // degenerate (or NaN)
+    const double minX = std::min({q0.x, q1.x, q2.x}), maxX = std::max({q0.x, q1.x, q2.x});
+    const double minY = std::min({q0.y, q1.y, q2.y}), maxY = std::max({q0.y, q1.y, q2.y});
+    const int xa = std::max(0, static_cast<int>(std::ceil(minX)));
+    const int xb = std::min(mapx.cols - 1, static_cast<int>(std::floor(maxX)));
+    const int ya = std::max(y0, static_cast<int>(std::ceil(minY)));
+    const int yb = std::min(y1 - 1, static_cast<int>(std::floor(maxY)));
+    if (xa > xb || ya > yb) return;
+    const double inv = 1.0 / area, eps = -1e-7;
+    for (int y = ya; y <= yb; ++y) {
+        float* mx = mapx.ptr<float>(y);
+        float* my = mapy.ptr<float>(y);
+        for (int x = xa; x <= xb; ++x) {
+            const Point2d s(x, y);
+            const double l0 = cross(q1 - s, q2 - s) * inv;
+            const double l1 = cross(q2 - s, q0 - s) * inv;
+            const double l2 = 1.0 - l0 - l1;
+            if (l0 < eps || l1 < eps || l2 < eps) continue;
+            mx[x] = static_cast<float>(l0 * p[0].x + l1 * p[1].x + l2 * p[2].x);
+            my[x] = static_cast<float>(l0 * p[0].y + l1 * p[1].y + l2 * p[2].y);
+        }
+    }
+}
+
+}  // namespace
+
+void rasterizeMaps(InputArray positionsIn, InputArray restIn, Size outputSize, OutputArray mapxOut,
+                   OutputArray mapyOut) {
+    const Mat P = positionsIn.getMat(), R = restIn.getMat();
+    CV_Assert(P.type() == CV_32FC2 && R.type() == CV_32FC2 && P.size() == R.size());
+    CV_Assert(P.rows >= 2 && P.cols >= 2 && outputSize.area() > 0);
+    mapxOut.create(outputSize, CV_32F);
+    mapyOut.create(outputSize, CV_32F);
+    Mat mapx = mapxOut.getMat(), mapy = mapyOut.getMat();
+    mapx.setTo(kUncovered);
+    mapy.setTo(kUncovered);
+
+    // Vertical extent of each row of cells, so that a band of output rows skips whole cell rows.
+    std::vector<float> rowMin(P.rows - 1), rowMax(P.rows - 1);
+    for (int gy = 0; gy + 1 < P.rows; ++gy) {
+        float lo = INFINITY, hi = -INFINITY;
+        for (int r = gy; r <= gy + 1; ++r)
+            for (int gx = 0; gx < P.cols; ++gx) {
+                const float y = P.at<Point2f>(r, gx).y;
+                lo = std::min(lo, y), hi = std::max(hi, y);
+            }
+        rowMin[gy] = lo, rowMax[gy] = hi;
+    }
+    // Bands of output rows in parallel; each walks the cells in the same order, so where the
+    // mesh folds over, the later triangle wins exactly as in a GPU draw call.
+    const int bands = std::max(1, std::min(outputSize.height, getNumThreads() * 4));
+    parallel_for_(Range(0, bands), [&](const Range& range) {
+        for (int band = range.start; band < range.end; ++band) {
+            const int y0 = outputSize.height * band / bands, y1 = outputSize.height * (band + 1) / bands;
+            for (int gy = 0; gy + 1 < P.rows; ++gy) {
+                if (rowMax[gy] < y0 - 1 || rowMin[gy] > y1 + 1) continue;
+                const Point2f* p0 = P.ptr<Point2f>(gy);
+                const Point2f* p1 = P.ptr<Point2f>(gy + 1);
+                const Point2f* r0 = R.ptr<Point2f>(gy);
+                const Point2f* r1 = R.ptr<Point2f>(gy + 1);
+                for (int gx = 0; gx + 1 < P.cols; ++gx) {
+                    const Point2f qa[3] = {p0[gx], p0[gx + 1], p1[gx]};
+                    const Point2f ra[3] = {r0[gx], r0[gx + 1], r1[gx]};
+                    drawTriangle(qa, ra, y0, y1, mapx, mapy);
+                    const Point2f qb[3] = {p0[gx + 1], p1[gx + 1], p1[gx]};
+                    const Point2f rb[3] = {r0[gx + 1], r1[gx + 1], r1[gx]};
+                    drawTriangle(qb, rb, y0, y1, mapx, mapy);
+                }
+            }
+        }
+    });
+}
+
+int countFoldedTriangles(InputArray positionsIn, InputArray restIn) {
+    const Mat P = positionsIn.getMat(), R = restIn.getMat();
+    CV_Assert(P.type() == CV_32FC2 && R.type() == CV_32FC2 && P.size() == R.size());
+    auto orientationOf = [](Point2f a, Point2f b, Point2f c) {
+        const double d = cross(Point2d(b - a), Point2d(c - a));
+        return (d > 0) - (d < 0);
+    };
+    int folded = 0;
+    for (int gy = 0; gy + 1 < P.rows; ++gy)
+        for (int gx = 0; gx + 1 < P.cols; ++gx) {
+            const Point2f a = P.at<Point2f>(gy, gx), b = P.at<Point2f>(gy, gx + 1);
+            const Point2f c = P.at<Point2f>(gy + 1, gx), d = P.at<Point2f>(gy + 1, gx + 1);
+            const Point2f ra = R.at<Point2f>(gy, gx), rb = R.at<Point2f>(gy, gx + 1);
+            const Point2f rc = R.at<Point2f>(gy + 1, gx), rd = R.at<Point2f>(gy + 1, gx + 1);
+            folded += orientationOf(a, b, c) != orientationOf(ra, rb, rc);
+            folded += orientationOf(b, d, c) != orientationOf(rb, rd, rc);
+        }
+    return folded;
+}
+
+}  // namespace multicage
+}  // namespace cv
