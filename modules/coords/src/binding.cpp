@@ -6,6 +6,7 @@
 #include <mutex>
 
 #include "geometry.hpp"
+#include "harmonic.hpp"
 #include "mean_value.hpp"
 #include "point_input.hpp"
 
@@ -173,9 +174,9 @@ double bindNodeExact(const std::vector<BoundPolygon>& polygons, Point2d x, doubl
 Binding bind(const Multicage& multicage, int coordinates, int gridStep) {
     std::string why;
     if (!multicage.validateGeometry(&why)) CV_Error(Error::StsBadArg, "multicage: cannot bind: " + why);
+    if (coordinates == HARMONIC) return bindHarmonic(multicage, gridStep);
     if (coordinates != MEAN_VALUE)
-        CV_Error_(Error::StsNotImplemented,
-                  ("multicage: coordinate type %d is not available in this build", coordinates));
+        CV_Error_(Error::StsOutOfRange, ("multicage: unknown coordinate type %d", coordinates));
     Binding b;
     b.imageSize = multicage.imageSize();
     b.gridStep = gridStep;
