@@ -18,6 +18,11 @@ struct CV_EXPORTS DeformParams {
     int gridStep = 1;               //!< a mesh node every gridStep pixels; 1 is the paper's
     int backend = BACKEND_AUTO;     //!< Backend
     Scalar borderValue = Scalar();  //!< output pixels no deformed triangle covers
+    /** GPU backend: store the packed coefficients as RGBA16F instead of RGBA32F (half the
+    memory; positions use the displacement form, so the rest pose stays exact). */
+    bool halfFloat = false;
+    /** GPU backend: compute the mean value binding in a compute shader instead of on the CPU. */
+    bool gpuBinding = false;
 };
 
 /** Binds an image to a multicage once, then deforms it for any number of poses.
