@@ -25,6 +25,15 @@ cv::Mat readImage(const std::string& path) {
     return img;
 }
 
+void checkImageOutput(const std::string& path) {
+    const std::filesystem::path p(path);
+    const std::filesystem::path dir = p.has_parent_path() ? p.parent_path() : ".";
+    if (!std::filesystem::is_directory(dir)) throw Failure("cannot write " + path + ": no folder " + dir.string());
+    if (!cv::haveImageWriter(path))
+        throw Failure("cannot write " + path + ": unknown image extension '" + p.extension().string() +
+                      "' (use .png, .jpg, .tif, .exr, ...)");
+}
+
 cv::multicage::Multicage loadCage(const std::string& path, cv::Size imageSize) {
     cv::multicage::Multicage cage = cv::multicage::Multicage::load(path);
     if (cage.imageSize() != imageSize) cage = cage.scaled(imageSize);

@@ -15,6 +15,9 @@ struct Failure : std::runtime_error {
 
 /** Reads an image as stored (depth and alpha kept), or throws a Failure that says why. */
 cv::Mat readImage(const std::string& path);
+/** Throws a Failure unless `path` can be written as an image: a known extension and an
+existing folder. Called before any work, so a typo costs nothing. */
+void checkImageOutput(const std::string& path);
 /** Loads a cage file and scales it to imageSize when it was made for another size. */
 cv::multicage::Multicage loadCage(const std::string& path, cv::Size imageSize);
 

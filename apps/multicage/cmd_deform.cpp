@@ -16,6 +16,7 @@ struct DeformOptions {
 void runDeform(const DeformOptions& o) {
     using namespace cv::multicage;
     const auto t0 = std::chrono::steady_clock::now();
+    checkImageOutput(o.output);
     const cv::Mat image = readImage(o.image);
     const Multicage cage = loadCage(o.cage, image.size());
     if (cage.poseCount() == 0)

@@ -24,6 +24,14 @@ int main(int argc, char** argv) {
                   << (code == 2 ? " (see " + command + " --help)" : std::string()) << std::endl;
         return code;
     };
+    bool known = argc < 2 || argv[1][0] == '-';
+    for (const CLI::App* sub : app.get_subcommands([](CLI::App*) { return true; }))
+        known = known || sub->get_name() == argv[1];
+    if (!known) {
+        std::cerr << "multicage: unknown command '" << argv[1]
+                  << "' (demo, propose, deform, bench; see multicage --help)" << std::endl;
+        return 2;
+    }
     try {
         app.parse(argc, argv);
         return 0;
