@@ -1,14 +1,136 @@
+// The headless GPU Deformer: a private EGL context, a GLDeformer in it, FBO readback.
 #include "gpu_backend.hpp"
+
+#include <opencv2/multicage/gpu.hpp>
+
+#include "egl_context.hpp"
+#include "gl_util.hpp"
 
 namespace cv {
 namespace multicage {
 namespace gpu {
 
-Ptr<Deformer> createDeformer(const Mat&, const Binding&, const DeformParams&, std::string* why) {
-    if (why) *why = "this build of multicage has no GPU backend";
-    return Ptr<Deformer>();
+namespace {
+
+/** Each instance owns one EGL context; every call makes it current on the calling thread
+and releases it afterwards, so Deformers on different threads never share GL state. */
+class GpuDeformer final : public Deformer {
+public:
+    GpuDeformer(std::unique_ptr<EglContext> context, const DeformParams& params)
+        : context_(std::move(context)), border_(params.borderValue) {}
+
+    ~GpuDeformer() override {
+        if (!gl_) return;
+        try {
+            EglContext::Scope scope(*context_);
+            gl_.reset();
+        } catch (...) {  // a destructor must not throw; the context goes away regardless
+        }
+    }
+
+    template <typename Source>
+    void init(const Mat& image, const Source& source, const DeformParams& params) {
+        EglContext::Scope scope(*context_);
+        GLDeformerParams p;
+        p.halfFloat = params.halfFloat;
+        make(image, source, params, p);
+        binding_ = &gl_->binding();
+    }
+
+    void deform(InputArray pose, OutputArray dst) override {
+        EglContext::Scope scope(*context_);
+        gl_->setPose(pose);
+        gl_->render(border_);
+        gl_->readOutput(dst);
+    }
+
+    void computeMaps(InputArray pose, OutputArray mapx, OutputArray mapy) override {
+        EglContext::Scope scope(*context_);
+        gl_->setPose(pose);
+        gl_->renderMaps();
+        gl_->readMaps(mapx, mapy);
+    }
+
+    int backend() const override { return BACKEND_GPU; }
+    const Binding& binding() const override { return *binding_; }
+    String getDefaultName() const override { return "multicage.GpuDeformer"; }
+
+private:
+    void make(const Mat& image, const Binding& b, const DeformParams&, const GLDeformerParams& p) {
+        gl_.reset(new GLDeformer(image, b, p));
+    }
+    void make(const Mat& image, const Multicage& rest, const DeformParams& params,
+              const GLDeformerParams& p) {
+        gl_.reset(new GLDeformer(image, rest, params.gridStep, p));
+    }
+
+    std::unique_ptr<EglContext> context_;
+    std::unique_ptr<GLDeformer> gl_;
+    const Binding* binding_ = nullptr;
+    Scalar border_;
+};
+
+template <typename Source>
+Ptr<Deformer> create(const Mat& image, const Source& source, const DeformParams& params,
+                     std::string* why) {
+    std::unique_ptr<EglContext> context = EglContext::create(why);
+    if (!context) return Ptr<Deformer>();
+    Ptr<GpuDeformer> d(new GpuDeformer(std::move(context), params));
+    d->init(image, source, params);
+    return d;
+}
+
+}  // namespace
+
+Ptr<Deformer> createDeformer(const Mat& image, const Binding& binding, const DeformParams& params,
+                             std::string* why) {
+    return create(image, binding, params, why);
+}
+
+Ptr<Deformer> createDeformer(const Mat& image, const Multicage& rest, const DeformParams& params,
+                             std::string* why) {
+    CV_Assert(params.coordinates == MEAN_VALUE);
+    return create(image, rest, params, why);
 }
 
 }  // namespace gpu
+
+Binding bindOnGpu(const Multicage& multicage, int gridStep) {
+    std::string why;
+    std::unique_ptr<gpu::EglContext> context = gpu::EglContext::create(&why);
+    if (!context) CV_Error(Error::GpuNotSupported, "multicage: bindOnGpu: " + why);
+    gpu::EglContext::Scope scope(*context);
+    // A 1x1-per-node dummy image: the GLDeformer needs one, the binding does not.
+    const Mat image(multicage.imageSize(), CV_8UC1, Scalar(0));
+    GLDeformer d(image, multicage, gridStep);
+    return d.binding();
+}
+
+HeadlessGLContext::HeadlessGLContext() {
+    std::string why;
+    context_ = gpu::EglContext::create(&why);
+    if (!context_) CV_Error(Error::GpuNotSupported, "multicage: no headless OpenGL context: " + why);
+}
+
+HeadlessGLContext::~HeadlessGLContext() = default;
+
+std::string HeadlessGLContext::description() const { return context_->description(); }
+
+struct HeadlessGLContext::Scope::State {
+    gpu::EglContext::Scope scope;
+};
+
+HeadlessGLContext::Scope::Scope(const HeadlessGLContext& c)
+    : state_(new State{gpu::EglContext::Scope(*c.context_)}) {}
+
+HeadlessGLContext::Scope::~Scope() = default;
+
+bool gpuAvailable(std::string* description) {
+    std::string why;
+    std::unique_ptr<gpu::EglContext> context = gpu::EglContext::create(&why);
+    if (description) *description = context ? context->description() : why;
+    return context != nullptr;
+}
+
 }  // namespace multicage
 }  // namespace cv

@@ -15,6 +15,10 @@ context can be made (no driver, no device, too old a GL). Other failures throw. 
 Ptr<Deformer> createDeformer(const Mat& image, const Binding& binding, const DeformParams& params,
                              std::string* why);
 
+/** As above, binding rest on the GPU (params.gpuBinding with mean value coordinates). */
+Ptr<Deformer> createDeformer(const Mat& image, const Multicage& rest, const DeformParams& params,
+                             std::string* why);
+
 }  // namespace gpu
 }  // namespace multicage
 }  // namespace cv

@@ -1,10 +1,17 @@
-// Paper §4, Eq. 6-7: the block layout of the packed coefficient texture.
+// Paper §4, Eq. 6-7: the block layout of the packed coefficient texture, and packing itself.
+#include <opencv2/core/utility.hpp>
 #include <opencv2/multicage/packing.hpp>
 
 #include <cmath>
 
 namespace cv {
 namespace multicage {
+
+Point PackLayout::texel(int b, int x, int y, int* layer) const {
+    const int perLayer = blocksPerLayer(), slot = b % perLayer;
+    if (layer) *layer = b / perLayer;
+    return Point(x + (slot % cols) * blockSize.width, y + (slot / cols) * blockSize.height);
+}
 
 PackLayout paperPackLayout(Size gridSize, int coefficientCount) {
     CV_Assert(gridSize.width > 0 && gridSize.height > 0 && coefficientCount > 0);
@@ -22,6 +29,86 @@ PackLayout paperPackLayout(Size gridSize, int coefficientCount) {
     layout.rows = portrait ? along : across;
     layout.textureSize = Size(layout.cols * gridSize.width, layout.rows * gridSize.height);
     return layout;
+}
+
+PackLayout choosePackLayout(Size gridSize, int coefficientCount, int maxTextureSize, int maxLayers) {
+    PackLayout paper = paperPackLayout(gridSize, coefficientCount);
+    if (paper.textureSize.width <= maxTextureSize && paper.textureSize.height <= maxTextureSize)
+        return paper;
+    if (gridSize.width > maxTextureSize || gridSize.height > maxTextureSize)
+        CV_Error_(Error::StsOutOfRange,
+                  ("multicage: the node grid %dx%d is larger than the texture limit %d; use a "
+                   "larger gridStep", gridSize.width, gridSize.height, maxTextureSize));
+    if (paper.blocks > maxLayers)
+        CV_Error_(Error::StsOutOfRange,
+                  ("multicage: %d coefficient blocks need more than the %d texture array layers",
+                   paper.blocks, maxLayers));
+    // One block per layer: no empty blocks, and each layer is only as large as the node grid.
+    PackLayout layered = paper;
+    layered.cols = layered.rows = 1;
+    layered.textureSize = gridSize;
+    layered.layers = paper.blocks;
+    return layered;
+}
+
+static void checkLayout(const PackLayout& layout, Size gridSize, int c) {
+    if (layout.blockSize != gridSize || layout.blocks != (c + 3) / 4 || layout.layers < 1 ||
+        layout.blocksPerLayer() * layout.layers < layout.blocks)
+        CV_Error_(Error::StsBadArg,
+                  ("multicage: pack layout (%d blocks of %dx%d) does not fit a %dx%d grid with %d "
+                   "coefficients", layout.blocks, layout.blockSize.width, layout.blockSize.height,
+                   gridSize.width, gridSize.height, c));
+}
+
+void packCoefficients(const Binding& binding, const PackLayout& layout, OutputArray packedOut,
+                      int depth) {
+    CV_Assert(!binding.empty() && binding.coefficients.type() == CV_32F);
+    CV_Assert(depth == CV_32F || depth == CV_16F);
+    const int c = binding.coefficientCount(), m = binding.gridSize.width, n = binding.gridSize.height;
+    checkLayout(layout, binding.gridSize, c);
+    const Size full(layout.textureSize.width, layout.textureSize.height * layout.layers);
+    Mat packed = Mat::zeros(full, CV_32FC4);
+    // Block by block, row by row: each coefficient plane is read once, in order.
+    parallel_for_(Range(0, layout.blocks), [&](const Range& r) {
+        for (int b = r.start; b < r.end; ++b) {
+            const int channels = std::min(4, c - 4 * b);
+            for (int y = 0; y < n; ++y) {
+                int layer;
+                const Point t0 = layout.texel(b, 0, y, &layer);
+                Vec4f* dst = packed.ptr<Vec4f>(t0.y + layer * layout.textureSize.height) + t0.x;
+                for (int ch = 0; ch < channels; ++ch) {
+                    const float* src = binding.coefficients.ptr<float>(4 * b + ch) + size_t(y) * m;
+                    for (int x = 0; x < m; ++x) dst[x][ch] = src[x];
+                }
+            }
+        }
+    });
+    if (depth == CV_32F)
+        packed.copyTo(packedOut);
+    else
+        packed.convertTo(packedOut, CV_16F);
+}
+
+void unpackCoefficients(InputArray packedIn, const PackLayout& layout, int c, OutputArray out) {
+    Mat packed = packedIn.getMat();
+    CV_Assert(packed.channels() == 4 && (packed.depth() == CV_32F || packed.depth() == CV_16F));
+    if (packed.depth() == CV_16F) packed.convertTo(packed, CV_32F);
+    checkLayout(layout, layout.blockSize, c);
+    CV_Assert(packed.cols == layout.textureSize.width &&
+              packed.rows == layout.textureSize.height * layout.layers);
+    const int m = layout.blockSize.width, n = layout.blockSize.height;
+    out.create(c, m * n, CV_32F);
+    Mat coefficients = out.getMat();
+    for (int b = 0; b < layout.blocks; ++b)
+        for (int y = 0; y < n; ++y) {
+            int layer;
+            const Point t0 = layout.texel(b, 0, y, &layer);
+            const Vec4f* src = packed.ptr<Vec4f>(t0.y + layer * layout.textureSize.height) + t0.x;
+            for (int ch = 0; ch < std::min(4, c - 4 * b); ++ch) {
+                float* dst = coefficients.ptr<float>(4 * b + ch) + size_t(y) * m;
+                for (int x = 0; x < m; ++x) dst[x] = src[x][ch];
+            }
+        }
 }
 
 }  // namespace multicage

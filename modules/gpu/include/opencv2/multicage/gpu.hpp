@@ -1,0 +1,139 @@
+// The GPU deformation for callers that own an OpenGL context (an editor, a game engine), and
+// GPU binding (paper §4). All EGL/OpenGL code of the library lives in modules/gpu.
+#ifndef OPENCV2_MULTICAGE_GPU_HPP
+#define OPENCV2_MULTICAGE_GPU_HPP
+
+#include <opencv2/multicage/packing.hpp>
+
+#include <memory>
+
+namespace cv {
+namespace multicage {
+
+namespace gpu {
+class EglContext;
+}
+
+/** A headless OpenGL 4.5 (or 4.3) core context through EGL, with no window and no X: a
+hardware EGL device (EGL_EXT_platform_device, NVIDIA for instance) first, else Mesa's
+surfaceless platform (llvmpipe where there is no GPU). For running GLDeformer without a
+window; the GPU Deformer makes one per instance. The constructor throws a cv::Exception
+saying why when no such context can be made. */
+class CV_EXPORTS HeadlessGLContext {
+public:
+    HeadlessGLContext();
+    ~HeadlessGLContext();
+    HeadlessGLContext(const HeadlessGLContext&) = delete;
+    HeadlessGLContext& operator=(const HeadlessGLContext&) = delete;
+    /** Vendor, renderer, GL version and EGL platform. */
+    std::string description() const;
+
+    /** Makes the context current on this thread for the scope's lifetime, then restores what
+    was current before. A context can be current on only one thread at a time. */
+    class CV_EXPORTS Scope {
+    public:
+        explicit Scope(const HeadlessGLContext& context);
+        ~Scope();
+        Scope(const Scope&) = delete;
+        Scope& operator=(const Scope&) = delete;
+
+    private:
+        struct State;
+        std::unique_ptr<State> state_;
+    };
+
+private:
+    std::unique_ptr<gpu::EglContext> context_;
+};
+
+struct CV_EXPORTS GLDeformerParams {
+    /** Store the packed coefficients as RGBA16F instead of RGBA32F: half the memory and
+    bandwidth. The vertex shader uses the displacement form p' = x + sum_j CC_j (v'_j - v_j),
+    so the rest pose stays exact and the error scales with how far vertices moved, not with
+    their coordinates. Measured on the paper's 1024x768 / 68-vertex case with every vertex
+    moved up to 12 px (test Packing.HalfFloatPositionErrorIsSmallInDisplacementForm): about
+    0.002 px max position error against float32 (the plain form sum_j CC_j v'_j would give
+    about 0.3 px). */
+    bool halfFloat = false;
+    /** Largest texture side to use; 0 means GL_MAX_TEXTURE_SIZE. Smaller values force the
+    texture-array fallback (choosePackLayout) and exist for tests. */
+    int maxTextureSize = 0;
+};
+
+/** The GPU multicage deformation inside the caller's own OpenGL context, without readback.
+
+Needs a desktop OpenGL 4.3+ core context current on the calling thread for the constructor,
+every member function and the destructor (the context of a GLFW window, say). It changes
+the bindings of the program, vertex array, textures 0-2, framebuffer (render* only) and
+viewport (render* only); it restores none of them.
+
+Construction uploads the image and the packed coefficients once (paper Eq. 6-7, or the
+texture-array fallback when the layout exceeds the texture limit) and builds the vertex
+shader generated for this multicage. A pose update is then one small texture upload plus
+one draw call.
+
+    GLDeformer d(image, bind(cage));        // context current
+    d.setPose(pose);
+    glViewport(x, y, w, h); d.draw();       // into the bound framebuffer, or:
+    GLuint tex = d.render();                // into d's own texture (image size) */
+class CV_EXPORTS GLDeformer {
+public:
+    /** Uploads a binding made on the CPU (bind()). image: 8U/16U/32F, 1, 3 or 4 channels. */
+    GLDeformer(InputArray image, const Binding& binding, const GLDeformerParams& params = {});
+    /** Binds on the GPU (mean value coordinates in a compute shader, Algorithm 1): the
+    coefficients are written straight into the packed texture and never leave the GPU
+    unless binding() is called. */
+    GLDeformer(InputArray image, const Multicage& rest, int gridStep,
+               const GLDeformerParams& params = {});
+    ~GLDeformer();
+    GLDeformer(const GLDeformer&) = delete;
+    GLDeformer& operator=(const GLDeformer&) = delete;
+
+    /** The pose: vertexCount() points, or coefficientCount() with the frame corners last. */
+    void setPose(InputArray pose);
+    /** Replaces the image (same size and type as before). */
+    void setImage(InputArray image);
+    /** Draws the deformed image into the bound framebuffer: the image rectangle fills the
+    current viewport; flipY puts image row 0 at the top (a window), false at the bottom
+    (what glReadPixels returns first). Uncovered pixels are left untouched. */
+    void draw(bool flipY = true);
+    /** Renders into outputTexture() (image size, cleared to border first) and returns it. */
+    unsigned render(const Scalar& border = Scalar());
+    /** Renders the inverse maps (RG32F: source x, y per pixel; -1e4 where uncovered) into
+    mapsTexture() and returns it. */
+    unsigned renderMaps();
+    /** Reads outputTexture() back as the input's size and type. */
+    void readOutput(OutputArray dst);
+    /** Reads mapsTexture() back as two CV_32F maps for cv::remap. */
+    void readMaps(OutputArray mapx, OutputArray mapy);
+
+    unsigned outputTexture() const;
+    unsigned mapsTexture() const;
+    unsigned coefficientTexture() const;  //!< GL_TEXTURE_2D, or GL_TEXTURE_2D_ARRAY if layered
+    const PackLayout& layout() const;
+    size_t coefficientBytes() const;      //!< GPU memory of the packed coefficients
+    /** The binding (from the GPU texture when bound on the GPU: read back on first use). */
+    const Binding& binding();
+    /** Milliseconds spent building the generated shaders (for the bench). */
+    double shaderBuildMs() const;
+    /** glFinish(): waits until every command so far has run (for timing). */
+    void finish();
+
+private:
+    struct Impl;
+    std::unique_ptr<Impl> impl_;
+};
+
+/** Mean value binding (Algorithm 1, as bind()) computed in a compute shader on a private
+headless EGL context, read back to the CPU. Throws a cv::Exception when no EGL context with
+OpenGL 4.3 can be made. */
+CV_EXPORTS Binding bindOnGpu(const Multicage& multicage, int gridStep = 1);
+
+/** Whether a headless EGL context can be made here; *description gets the device (vendor,
+renderer, GL version, platform) or the reason there is none. */
+CV_EXPORTS bool gpuAvailable(std::string* description = nullptr);
+
+}  // namespace multicage
+}  // namespace cv
+
+#endif
