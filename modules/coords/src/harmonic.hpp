@@ -2,9 +2,8 @@
 #ifndef MULTICAGE_HARMONIC_HPP
 #define MULTICAGE_HARMONIC_HPP
 
-#include <opencv2/multicage/coordinates.hpp>
-
 #include <cstddef>
+#include <opencv2/multicage/coordinates.hpp>
 
 namespace cv {
 namespace multicage {
