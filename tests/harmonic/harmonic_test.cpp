@@ -317,35 +317,61 @@ TEST(Harmonic, MovingTheOuterPolygonLeavesTheProtectedRegionAlone) {
 }
 
 // Writes docs/harmonic/mvc_vs_harmonic.png when MULTICAGE_HARMONIC_PICTURE names the output:
-// the same pose, mean value on the left, harmonic on the right, cages drawn in their pose.
+// the same pose with mean value coordinates (left) and harmonic coordinates (right); below
+// each, how far every pixel moved (|p' - x|, dark = still, bright = 30 px or more).
 TEST(Harmonic, SideBySidePicture) {
     const char* path = std::getenv("MULTICAGE_HARMONIC_PICTURE");
     if (!path) GTEST_SKIP() << "set MULTICAGE_HARMONIC_PICTURE=out.png to write the picture";
     const Mat image = multicage_testing::readSample("butterfly.jpg");
     const Multicage cage = multicage_testing::butterflyCage(true);
-    // Stretch the wings wide and flatten them; shift them right: the body polygon stays put.
-    const std::vector<Point2f> pose =
-        multicage_fixtures::stretchPolygon(cage, 0, 1.06f, 0.86f, {14, 0});
-    Mat panels[2];
+    // Only the wings polygon moves: turned 10 degrees about the body and flattened; the body
+    // polygon stays where it is.
+    std::vector<Point2f> pose = cage.vertices();
+    pose.resize(cage.vertexCount());
+    const Point2f centre(246, 180);
+    const float a = static_cast<float>(10 * CV_PI / 180);
+    for (size_t i = 0; i < cage.polygon(0).size(); ++i) {
+        const Point2f d = pose[i] - centre;
+        pose[i] = centre + Point2f(std::cos(a) * d.x - std::sin(a) * d.y, 0.85f * (std::sin(a) * d.x + std::cos(a) * d.y));
+    }
+    Mat panels[2], motion[2];
     for (int k = 0; k < 2; ++k) {
         DeformParams params;
         params.coordinates = k == 0 ? MEAN_VALUE : HARMONIC;
         params.backend = BACKEND_CPU;
         params.borderValue = Scalar(255, 255, 255);
-        Mat out;
-        deformImage(image, cage, pose, out, params);
+        Ptr<Deformer> d = Deformer::create(image, cage, params);
+        Mat out, positions, offset[2], magnitude;
+        d->deform(pose, out);
         Multicage posed(cage.imageSize());
         for (int p = 0; p < cage.polygonCount(); ++p) {
             const int first = cage.polygonOffset(p), n = static_cast<int>(cage.polygon(p).size());
             posed.addPolygon(std::vector<Point2f>(pose.begin() + first, pose.begin() + first + n));
         }
         posed.draw(out, 1, true);
-        putText(out, k == 0 ? "mean value" : "harmonic", Point(8, 22), FONT_HERSHEY_SIMPLEX, 0.7,
-                Scalar(0, 0, 0), 2, LINE_AA);
+        const char* name = k == 0 ? "mean value" : "harmonic";
+        putText(out, name, Point(8, 22), FONT_HERSHEY_SIMPLEX, 0.7, Scalar::all(0), 2, LINE_AA);
         panels[k] = out;
+        d->binding().apply(pose, positions);
+        split(positions - d->binding().nodes(), offset);
+        magnitude = offset[0].mul(offset[0]) + offset[1].mul(offset[1]);
+        sqrt(magnitude, magnitude);
+        double bodyMotion = 0;
+        for (int y = 0; y < image.rows; ++y)
+            for (int x = 0; x < image.cols; ++x)
+                if (pointPolygonTest(cage.polygon(1), Point2f(x, y), false) > 0)
+                    bodyMotion = std::max(bodyMotion, double(magnitude.at<float>(y, x)));
+        std::printf("[ measured ] %s: largest motion inside the body polygon %.3f px\n", name, bodyMotion);
+        magnitude.convertTo(motion[k], CV_8U, 255.0 / 30.0);
+        applyColorMap(motion[k], motion[k], COLORMAP_VIRIDIS);
+        posed.draw(motion[k], 1, false);
+        putText(motion[k], format("%s: motion |p' - x|, 0 to 30 px; body: %.1f px", name, bodyMotion),
+                Point(8, 22), FONT_HERSHEY_SIMPLEX, 0.55, Scalar::all(0), 2, LINE_AA);
     }
-    Mat sideBySide;
-    hconcat(std::vector<Mat>{panels[0], Mat(image.rows, 8, CV_8UC3, Scalar::all(255)), panels[1]},
-            sideBySide);
-    ASSERT_TRUE(imwrite(path, sideBySide));
+    const Mat gapV(image.rows, 8, CV_8UC3, Scalar::all(255));
+    Mat top, bottom, picture;
+    hconcat(std::vector<Mat>{panels[0], gapV, panels[1]}, top);
+    hconcat(std::vector<Mat>{motion[0], gapV, motion[1]}, bottom);
+    vconcat(std::vector<Mat>{top, Mat(8, top.cols, CV_8UC3, Scalar::all(255)), bottom}, picture);
+    ASSERT_TRUE(imwrite(path, picture));
 }
