@@ -21,7 +21,9 @@ layout(location = 0) uniform vec4 toClip;
 noperspective out vec2 restPosition;
 
 // Border nodes are pushed out by this many pixels so that pixel centres lying exactly on the
-// mesh border are drawn: GL's top-left rule would drop the last row and column.
+// mesh border are drawn: GL's top-left rule would drop the last row and column, and border
+// nodes moved inwards by rounding-sized amounts would drop whole rows. The CPU backend's
+// rasterizeMaps (modules/deform/src/mesh_raster.cpp) uses the same value.
 const float kBorderNudge = 1.0 / 64.0;
 
 vec4 block(int b, ivec2 g) {
@@ -48,8 +50,11 @@ void main() {
         const vec4 d23 = texelFetch(poseDelta, 2 * b + 1, 0);
         p += cc.x * d01.xy + cc.y * d01.zw + cc.z * d23.xy + cc.w * d23.zw;
     }
-    p.x += g.x == 0 ? -kBorderNudge : (g.x == GRID_W - 1 ? kBorderNudge : 0.0);
-    p.y += g.y == 0 ? -kBorderNudge : (g.y == GRID_H - 1 ? kBorderNudge : 0.0);
-    restPosition = x;
+    // Rest and deformed move together, so the rest pose stays the identity (the fragment
+    // shaders clamp the source position back into the image).
+    const vec2 nudge = vec2(g.x == 0 ? -kBorderNudge : (g.x == GRID_W - 1 ? kBorderNudge : 0.0),
+                            g.y == 0 ? -kBorderNudge : (g.y == GRID_H - 1 ? kBorderNudge : 0.0));
+    p += nudge;
+    restPosition = x + nudge;
     gl_Position = vec4(p * toClip.xy + toClip.zw, 0.0, 1.0);
 }

@@ -15,6 +15,14 @@ Ptr<Deformer> Deformer::create(InputArray image, const Multicage& rest, const De
                   ("multicage: the image is %dx%d but the multicage was made for %dx%d; use "
                    "Multicage::scaled(image.size())",
                    image.cols(), image.rows(), rest.imageSize().width, rest.imageSize().height));
+    if (params.gpuBinding && params.coordinates == MEAN_VALUE && params.backend != BACKEND_CPU) {
+        std::string why;
+        Ptr<Deformer> gpu = gpu::createDeformer(image.getMat(), rest, params, &why);
+        if (gpu) return gpu;
+        if (params.backend == BACKEND_GPU)
+            CV_Error(Error::StsNotImplemented, "multicage: BACKEND_GPU requested but " + why);
+        CV_LOG_WARNING(NULL, "multicage: no GPU for gpuBinding (" << why << "); binding on the CPU");
+    }
     return create(image, bind(rest, params.coordinates, params.gridStep), params);
 }
 

@@ -10,13 +10,15 @@ namespace multicage {
 namespace {
 
 constexpr float kUncovered = -1e4f;  // far outside any image: cv::remap gives the border value
+constexpr float kBorderNudge = 1.f / 64;  // px; must equal kBorderNudge in shaders/deform.vert
 
 inline double cross(Point2d a, Point2d b) { return a.x * b.y - a.y * b.x; }
 
 // Writes, for every pixel centre of rows [y0, y1) inside triangle q (deformed), the matching
 // point of triangle p (rest). Edges are inclusive with a small tolerance so that neighbouring
 // triangles leave no crack; on a shared edge both write almost the same value.
-void drawTriangle(const Point2f q[3], const Point2f p[3], int y0, int y1, Mat& mapx, Mat& mapy) {
+void drawTriangle(const Point2f q[3], const Point2f p[3], int y0, int y1, Point2f lo, Point2f hi,
+                  Mat& mapx, Mat& mapy) {
     const Point2d q0 = q[0], q1 = q[1], q2 = q[2];
     const double area = cross(q1 - q0, q2 - q0);
     if (!(std::abs(area) > 1e-12)) return;  // degenerate (or NaN)
@@ -37,8 +39,8 @@ void drawTriangle(const Point2f q[3], const Point2f p[3], int y0, int y1, Mat& m
             const double l1 = cross(q2 - s, q0 - s) * inv;
             const double l2 = 1.0 - l0 - l1;
             if (l0 < eps || l1 < eps || l2 < eps) continue;
-            mx[x] = static_cast<float>(l0 * p[0].x + l1 * p[1].x + l2 * p[2].x);
-            my[x] = static_cast<float>(l0 * p[0].y + l1 * p[1].y + l2 * p[2].y);
+            mx[x] = std::min(std::max(static_cast<float>(l0 * p[0].x + l1 * p[1].x + l2 * p[2].x), lo.x), hi.x);
+            my[x] = std::min(std::max(static_cast<float>(l0 * p[0].y + l1 * p[1].y + l2 * p[2].y), lo.y), hi.y);
         }
     }
 }
@@ -47,9 +49,22 @@ void drawTriangle(const Point2f q[3], const Point2f p[3], int y0, int y1, Mat& m
 
 void rasterizeMaps(InputArray positionsIn, InputArray restIn, Size outputSize, OutputArray mapxOut,
                    OutputArray mapyOut) {
-    const Mat P = positionsIn.getMat(), R = restIn.getMat();
+    Mat P = positionsIn.getMat(), R = restIn.getMat();
     CV_Assert(P.type() == CV_32FC2 && R.type() == CV_32FC2 && P.size() == R.size());
     CV_Assert(P.rows >= 2 && P.cols >= 2 && outputSize.area() > 0);
+    // The outer ring of nodes, deformed and at rest alike, is pushed out by kBorderNudge px, as
+    // in the GPU's deform.vert: border nodes sit half a pixel inside the fixed frame and move by
+    // rounding-sized amounts in most poses, which must not drop a whole row or column of border
+    // pixels. Moving rest and deformed together keeps the rest pose the identity; the source
+    // positions are clamped back to the rest grid, so nothing samples outside the image.
+    const Point2f lo = R.at<Point2f>(0, 0), hi = R.at<Point2f>(R.rows - 1, R.cols - 1);
+    P = P.clone(), R = R.clone();
+    for (Mat* m : {&P, &R}) {
+        for (int gx = 0; gx < m->cols; ++gx)
+            m->at<Point2f>(0, gx).y -= kBorderNudge, m->at<Point2f>(m->rows - 1, gx).y += kBorderNudge;
+        for (int gy = 0; gy < m->rows; ++gy)
+            m->at<Point2f>(gy, 0).x -= kBorderNudge, m->at<Point2f>(gy, m->cols - 1).x += kBorderNudge;
+    }
     mapxOut.create(outputSize, CV_32F);
     mapyOut.create(outputSize, CV_32F);
     Mat mapx = mapxOut.getMat(), mapy = mapyOut.getMat();
@@ -82,10 +97,10 @@ void rasterizeMaps(InputArray positionsIn, InputArray restIn, Size outputSize, O
                 for (int gx = 0; gx + 1 < P.cols; ++gx) {
                     const Point2f qa[3] = {p0[gx], p0[gx + 1], p1[gx]};
                     const Point2f ra[3] = {r0[gx], r0[gx + 1], r1[gx]};
-                    drawTriangle(qa, ra, y0, y1, mapx, mapy);
+                    drawTriangle(qa, ra, y0, y1, lo, hi, mapx, mapy);
                     const Point2f qb[3] = {p0[gx + 1], p1[gx + 1], p1[gx]};
                     const Point2f rb[3] = {r0[gx + 1], r1[gx + 1], r1[gx]};
-                    drawTriangle(qb, rb, y0, y1, mapx, mapy);
+                    drawTriangle(qb, rb, y0, y1, lo, hi, mapx, mapy);
                 }
             }
         }
