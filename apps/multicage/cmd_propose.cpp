@@ -1,11 +1,171 @@
 // multicage propose IMAGE -o CAGE.yml: automatic multicage proposal.
+#include <filesystem>
+#include <iostream>
+#include <opencv2/imgproc.hpp>
+
 #include "cli_util.hpp"
 
 namespace multicage_cli {
 
+namespace {
+struct ProposeOptions {
+    std::string image, output, overlay, method = "auto";
+    int maxVertices = 80, maxPolygonVertices = 32, maxPolygons = 12, maxDepth = 3,
+        workingSize = 512;
+    float margin = -1.f;
+    double minArea = 0.004;
+    std::vector<int> rect;
+    bool protect = false;
+};
+
+void checkCageOutput(const std::string& path) {
+    const std::filesystem::path p(path);
+    const std::string ext = p.extension().string();
+    if (ext != ".yml" && ext != ".yaml" && ext != ".json")
+        throw Failure("cannot write " + path + ": a cage file ends in .yml, .yaml or .json");
+    const std::filesystem::path dir = p.has_parent_path() ? p.parent_path() : ".";
+    if (!std::filesystem::is_directory(dir))
+        throw Failure("cannot write " + path + ": no folder " + dir.string());
+}
+
+// "multicage: proposeMulticage: the image is constant ..." -> "the image is constant ...".
+std::string reason(const cv::Exception& e) {
+    std::string s = e.err;
+    for (const char* prefix : {"multicage: ", "proposeMulticage: ", "protectFeatures: "})
+        if (s.rfind(prefix, 0) == 0) s = s.substr(std::string(prefix).size());
+    return s;
+}
+
+void runPropose(const ProposeOptions& o) {
+    using namespace cv::multicage;
+    const auto t0 = std::chrono::steady_clock::now();
+    checkCageOutput(o.output);
+    if (!o.overlay.empty()) checkImageOutput(o.overlay);
+    cv::Mat image = readImage(o.image);
+    ProposeParams params;
+    params.method = parseProposeMethod(o.method);
+    params.maxVertices = o.maxVertices;
+    params.maxPolygonVertices = o.maxPolygonVertices;
+    params.maxPolygons = o.maxPolygons;
+    params.maxDepth = o.maxDepth;
+    params.margin = o.margin;
+    params.minRegionArea = o.minArea;
+    params.workingSize = o.workingSize;
+    if (o.rect.size() == 4) params.rect = cv::Rect(o.rect[0], o.rect[1], o.rect[2], o.rect[3]);
+    cv::Mat input = image;
+    if ((params.method == PROPOSE_MASK || params.method == PROPOSE_LABELS) &&
+        image.channels() != 1) {
+        if (params.method == PROPOSE_LABELS)
+            throw Failure(o.image + ": a label image has one channel (this one has " +
+                          std::to_string(image.channels()) + ")");
+        cv::cvtColor(image, input,
+                     image.channels() == 4 ? cv::COLOR_BGRA2GRAY : cv::COLOR_BGR2GRAY);
+    }
+    Multicage cage;
+    try {
+        cage = proposeMulticage(input, params);
+        if (o.protect) {
+            // Protect features inside every top-level polygon, largest budget first.
+            const int top = cage.polygonCount();
+            for (int p = 0; p < top; ++p)
+                if (cage.depth(p) == 1) cage = protectFeatures(image, cage, p, params);
+        }
+    } catch (const cv::Exception& e) {
+        throw Failure(o.image + ": " + reason(e));
+    }
+    if (cage.polygonCount() == 0)
+        throw Failure(o.image + ": no object found with --method " + o.method +
+                      " (try another --method, or a smaller --min-area); no cage written");
+    std::string why;
+    if (!cage.validate(&why))
+        throw Failure("internal error: the proposed multicage is invalid: " + why);
+    cage.save(o.output);
+    if (!o.overlay.empty()) {
+        cv::Mat overlay;
+        if (image.depth() != CV_8U) {
+            cv::normalize(image, overlay, 0, 255, cv::NORM_MINMAX, CV_8U);
+        } else {
+            overlay = image.clone();
+        }
+        if (overlay.channels() == 1) cv::cvtColor(overlay, overlay, cv::COLOR_GRAY2BGR);
+        if (overlay.channels() == 4) cv::cvtColor(overlay, overlay, cv::COLOR_BGRA2BGR);
+        if (params.method == PROPOSE_LABELS || params.method == PROPOSE_MASK)
+            cv::normalize(overlay, overlay, 0, 255, cv::NORM_MINMAX);
+        cage.draw(overlay, std::max(1, std::max(image.cols, image.rows) / 300));
+        imwriteAtomic(o.overlay, overlay);
+    }
+    int deepest = 0;
+    for (int p = 0; p < cage.polygonCount(); ++p) deepest = std::max(deepest, cage.depth(p));
+    std::cout << "wrote " << o.output << " (" << cage.polygonCount() << " polygons, "
+              << cage.vertexCount() << " vertices, depth up to " << deepest << ", "
+              << cvRound(msSince(t0)) << " ms)";
+    if (!o.overlay.empty()) std::cout << " and " << o.overlay;
+    std::cout << std::endl;
+}
+}  // namespace
+
 void addProposeCommand(CLI::App& app) {
-    CLI::App* cmd = app.add_subcommand("propose", "Propose a multicage for IMAGE (not available yet)");
-    cmd->callback([] { throw Failure("automatic proposal is not available in this build yet"); });
+    auto o = std::make_shared<ProposeOptions>();
+    CLI::App* cmd = app.add_subcommand(
+        "propose",
+        "Propose a multicage for IMAGE: find its objects, put one polygon around each (a margin "
+        "away), nest polygons where objects sit inside others, and simplify them to a vertex "
+        "budget. The result is always valid: simple, disjoint polygons inside the image, "
+        "oriented by depth.\n"
+        "Methods: auto (threshold on a plain background, else saliency), threshold (Otsu on the "
+        "distance from the border colour), adaptive (local threshold, uneven light), grabcut "
+        "(from --rect, or a rectangle found by saliency), saliency (fine grained), spectral "
+        "(spectral residual saliency, coarse and fast), mask (IMAGE is a mask: non-zero is "
+        "object), labels (IMAGE is a label image: each label its own polygon).\n"
+        "--protect adds inner polygons around the salient features inside each outer polygon: "
+        "moving the outer one then leaves them almost rigid.\n"
+        "Examples:\n"
+        "  multicage propose photo.jpg -o cage.yml --overlay check.png\n"
+        "  multicage propose photo.jpg -o cage.yml --method grabcut --rect 40 30 400 300\n"
+        "  multicage propose mask.png -o cage.yml --method mask --margin 12 --max-vertices 40\n"
+        "Then: multicage deform photo.jpg cage.yml -o out.png (after adding a pose).");
+    cmd->add_option("image", o->image,
+                    "Input image (or mask / label image with --method mask / labels)")
+        ->required();
+    cmd->add_option("-o,--output", o->output,
+                    "Cage file to write (.yml, .yaml or .json); written only on success")
+        ->required();
+    cmd->add_option("--overlay", o->overlay,
+                    "Also write the image with the polygons drawn, coloured by depth");
+    cmd->add_option("--method", o->method, "How objects are found (see above)")
+        ->capture_default_str()
+        ->check(CLI::IsMember({"auto", "threshold", "adaptive", "grabcut", "saliency", "spectral",
+                               "mask", "labels"}));
+    cmd->add_option("--max-vertices", o->maxVertices, "Vertex budget of the whole multicage")
+        ->capture_default_str()
+        ->check(CLI::Range(4, 100000));
+    cmd->add_option("--max-polygon-vertices", o->maxPolygonVertices, "Vertex budget of one polygon")
+        ->capture_default_str()
+        ->check(CLI::Range(4, 100000));
+    cmd->add_option("--max-polygons", o->maxPolygons,
+                    "At most this many polygons (the largest regions win)")
+        ->capture_default_str()
+        ->check(CLI::Range(1, 10000));
+    cmd->add_option("--max-depth", o->maxDepth, "Deepest nesting (1: no polygon inside another)")
+        ->capture_default_str()
+        ->check(CLI::Range(1, 100));
+    cmd->add_option(
+           "--margin", o->margin,
+           "Pixels between an object and its polygon (default: 1.2% of the image diagonal)")
+        ->check(CLI::Range(0.f, 10000.f));
+    cmd->add_option("--min-area", o->minArea,
+                    "Drop regions and holes smaller than this fraction of the image")
+        ->capture_default_str()
+        ->check(CLI::Range(0.0, 0.999));
+    cmd->add_option("--working-size", o->workingSize,
+                    "Segment a copy at most this many pixels wide or high (0: full size)")
+        ->capture_default_str()
+        ->check(CLI::Range(0, 100000));
+    cmd->add_option("--rect", o->rect, "GrabCut's starting rectangle: X Y WIDTH HEIGHT in pixels")
+        ->expected(4);
+    cmd->add_flag("--protect", o->protect,
+                  "Add inner polygons around the salient features inside each polygon");
+    cmd->callback([o] { runPropose(*o); });
 }
 
 }  // namespace multicage_cli

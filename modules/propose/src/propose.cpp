@@ -1,10 +1,538 @@
+// proposeMulticage and protectFeatures: segmentation -> nested regions -> polygons.
+//
+// Where polygons come from: the objects are dilated by the margin and closed by a small gap
+// (objects nearer than two gaps share a polygon), and every outer contour of that "cage
+// mask" (findContours, RETR_TREE) is one polygon; an object inside another object's hole is
+// one level deeper. Distinct contours of the cage mask are at least two gaps apart, so
+// simplifying each within a tolerance below the gap cannot make them cross; a tolerance
+// forced higher by the vertex budget is checked and repaired.
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <opencv2/imgproc.hpp>
 #include <opencv2/multicage/propose.hpp>
+
+#include "geometry.hpp"
+#include "segment.hpp"
 
 namespace cv {
 namespace multicage {
 
-Multicage proposeMulticage(InputArray, const ProposeParams&) {
-    CV_Error(Error::StsNotImplemented, "multicage: proposeMulticage is not implemented yet");
+using geometry::Polygon;
+using namespace propose_detail;
+
+namespace {
+
+constexpr int kMinPolygonVertices = 4;  // the bounding-box fallback needs 4
+
+void checkParams(const ProposeParams& p) {
+    auto bad = [](const char* what, double value, const char* want) {
+        CV_Error_(Error::StsOutOfRange,
+                  ("multicage: ProposeParams::%s = %g is out of range (%s)", what, value, want));
+    };
+    if (p.method < PROPOSE_AUTO || p.method > PROPOSE_LABELS)
+        bad("method", p.method, "a ProposeMethod");
+    if (p.maxVertices < kMinPolygonVertices) bad("maxVertices", p.maxVertices, ">= 4");
+    if (p.maxPolygonVertices < kMinPolygonVertices)
+        bad("maxPolygonVertices", p.maxPolygonVertices, ">= 4");
+    if (p.maxPolygons < 1) bad("maxPolygons", p.maxPolygons, ">= 1");
+    if (p.maxDepth < 1) bad("maxDepth", p.maxDepth, ">= 1");
+    if (!(p.margin < 1e6f)) bad("margin", p.margin, "a finite number of pixels");
+    if (!(p.minRegionArea >= 0 && p.minRegionArea < 1))
+        bad("minRegionArea", p.minRegionArea, "[0, 1)");
+    if (p.workingSize != 0 && p.workingSize < 32) bad("workingSize", p.workingSize, "0 or >= 32");
+    if (p.grabCutIterations < 1) bad("grabCutIterations", p.grabCutIterations, ">= 1");
+    if (p.grabCutMaxSide < 32) bad("grabCutMaxSide", p.grabCutMaxSide, ">= 32");
+}
+
+// The parameters in pixels of the working copy.
+struct Work {
+    Size full, size;
+    double scale = 1.0;    // full pixels per work pixel
+    float margin = 0.f;    // distance from object to polygon
+    float gap = 0.f;       // half the least distance between two polygons
+    int radius = 0;        // cleaning
+    double minArea = 0.0;  // pixels
+};
+
+Work resolve(Size full, const ProposeParams& p) {
+    Work w;
+    w.full = full;
+    const int longer = std::max(full.width, full.height);
+    w.scale = p.workingSize > 0 && longer > p.workingSize
+                  ? longer / static_cast<double>(p.workingSize)
+                  : 1.0;
+    w.size = w.scale > 1.0 ? Size(std::max(1, cvRound(full.width / w.scale)),
+                                  std::max(1, cvRound(full.height / w.scale)))
+                           : full;
+    const double diagonal = std::hypot(full.width, full.height);
+    const double margin = p.margin >= 0 ? p.margin : std::max(3.0, 0.012 * diagonal);
+    w.margin = static_cast<float>(std::max(1.0, margin / w.scale));
+    w.gap = std::max(1.5f, 0.4f * w.margin);
+    const int wlonger = std::max(w.size.width, w.size.height);
+    w.radius = p.morphologyRadius >= 0 ? cvRound(p.morphologyRadius / w.scale)
+                                       : std::max(1, cvRound(0.005 * wlonger));
+    w.minArea = p.minRegionArea * w.size.area();
+    return w;
+}
+
+Mat toWork(const Mat& img, const Work& w, int interpolation) {
+    if (img.size() == w.size) return img;
+    Mat out;
+    resize(img, out, w.size, 0, 0, interpolation);
+    return out;
+}
+
+Mat fromWork(const Mat& mask, const Work& w) {
+    if (mask.size() == w.full) return mask;
+    Mat out;
+    resize(mask, out, w.full, 0, 0, INTER_LINEAR);
+    threshold(out, out, 127, 255, THRESH_BINARY);
+    return out;
+}
+
+// Distance of every pixel to the nearest zero pixel of `src` (exact Euclidean).
+Mat distanceTo(const Mat& src) {
+    Mat d;
+    distanceTransform(src, d, DIST_L2, DIST_MASK_PRECISE, CV_32F);
+    return d;
+}
+
+// dilate(objects, margin), closed by gap. The image is padded first so that an object cut by
+// the image edge is dilated and closed as if it went on: its polygon then follows the edge.
+Mat cageMaskFromObjects(const Mat& objects, const Work& w) {
+    const int pad = static_cast<int>(std::ceil(w.margin + 2 * w.gap)) + 2;
+    Mat padded;
+    copyMakeBorder(objects, padded, pad, pad, pad, pad, BORDER_REPLICATE);
+    const Mat near = distanceTo(~padded) <= (w.margin + w.gap);
+    const Mat closed = distanceTo(near) > w.gap;
+    return closed(Rect(pad, pad, objects.cols, objects.rows)).clone();
+}
+
+// For a label image: each label component dilated by the margin into the pixels nearer to
+// it than to any other label, less a band of `gap` along the split, so that touching labels
+// get separate polygons and a label inside another one is nested in it.
+Mat cageMaskFromLabels(const Mat& labels, const Work& w) {
+    Mat objects = labels != 0;
+    Mat dist, nearest;
+    distanceTransform(~objects, dist, nearest, DIST_L2, DIST_MASK_5, DIST_LABEL_PIXEL);
+    // Every object pixel is a zero pixel with its own index: map indices back to labels.
+    double maxIndex;
+    minMaxLoc(nearest, nullptr, &maxIndex);
+    std::vector<int> owner(static_cast<size_t>(maxIndex) + 1, 0);
+    for (int y = 0; y < labels.rows; ++y)
+        for (int x = 0; x < labels.cols; ++x)
+            if (labels.at<int>(y, x) != 0) owner[nearest.at<int>(y, x)] = labels.at<int>(y, x);
+    Mat own(labels.size(), CV_32S);
+    for (int y = 0; y < labels.rows; ++y)
+        for (int x = 0; x < labels.cols; ++x) own.at<int>(y, x) = owner[nearest.at<int>(y, x)];
+    Mat region = dist <= w.margin;
+    Mat split(labels.size(), CV_8U, Scalar(0));
+    for (int y = 0; y < labels.rows; ++y)
+        for (int x = 0; x < labels.cols; ++x) {
+            if (!region.at<uchar>(y, x)) continue;
+            const int o = own.at<int>(y, x);
+            if ((x + 1 < labels.cols && region.at<uchar>(y, x + 1) && own.at<int>(y, x + 1) != o) ||
+                (y + 1 < labels.rows && region.at<uchar>(y + 1, x) && own.at<int>(y + 1, x) != o))
+                split.at<uchar>(y, x) = 255;
+        }
+    const Mat nearSplit = distanceTo(~split) <= w.gap;
+    region.setTo(0, nearSplit);
+    return region;
+}
+
+// One polygon to make: an outer contour of the cage mask.
+struct Region {
+    std::vector<Point> contour;
+    int depth = 1;
+    double area = 0;
+};
+
+// Outer contours at even levels of the contour tree, as regions with their depth.
+std::vector<Region> nestedRegions(const Mat& cageMask, int maxDepth, double minArea) {
+    Mat padded;  // a zero frame, so that a region filling the image still has a contour
+    copyMakeBorder(cageMask, padded, 1, 1, 1, 1, BORDER_CONSTANT, 0);
+    std::vector<std::vector<Point>> contours;
+    std::vector<Vec4i> hierarchy;
+    findContours(padded, contours, hierarchy, RETR_TREE, CHAIN_APPROX_SIMPLE, Point(-1, -1));
+    const int n = static_cast<int>(contours.size());
+    std::vector<int> level(n, -1);
+    std::vector<char> kept(n, 0);
+    std::vector<Region> regions;
+    // Parents come before children in findContours' order only sometimes: resolve levels by
+    // walking up, then keep a region when every outer ancestor was kept.
+    for (int i = 0; i < n; ++i) {
+        int l = 0;
+        for (int p = hierarchy[i][3]; p >= 0; p = hierarchy[p][3]) ++l;
+        level[i] = l;
+    }
+    std::vector<int> order(n);
+    std::iota(order.begin(), order.end(), 0);
+    std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return level[a] < level[b]; });
+    for (int i : order) {
+        if (level[i] % 2 != 0) {  // a hole: alive when its object is
+            kept[i] = kept[hierarchy[i][3]] && contourArea(contours[i]) >= minArea;
+            continue;
+        }
+        const int hole = hierarchy[i][3];
+        const int depth = level[i] / 2 + 1;
+        const double area = contourArea(contours[i]);
+        if ((hole >= 0 && !kept[hole]) || depth > maxDepth || area < minArea || area <= 0) continue;
+        kept[i] = 1;
+        regions.push_back(Region{contours[i], depth, area});
+    }
+    std::stable_sort(regions.begin(), regions.end(),
+                     [](const Region& a, const Region& b) { return a.area > b.area; });
+    return regions;
+}
+
+bool isSimple(const Polygon& p) {
+    if (p.size() < 3 || std::abs(geometry::signedArea(p)) < 1e-6) return false;
+    for (size_t i = 0; i < p.size(); ++i)
+        if (p[i] == p[(i + 1) % p.size()]) return false;
+    return !geometry::findCrossing({p}, nullptr);
+}
+
+Polygon toPolygon(const std::vector<Point>& points) {
+    Polygon p;
+    for (const Point& q : points)
+        if (p.empty() || Point2f(q) != p.back()) p.emplace_back(q);
+    while (p.size() > 1 && p.front() == p.back()) p.pop_back();
+    return p;
+}
+
+enum Mode { MODE_APPROX = 0, MODE_HULL = 1, MODE_BOX = 2 };
+
+// Douglas-Peucker within tolerance e; when that is not simple, the convex hull simplified
+// the same way (a subset of a convex polygon's vertices is convex, hence simple); when that
+// degenerates, the bounding box. `mode` is where to start and comes back as what was used.
+Polygon simplify(const std::vector<Point>& contour, double e, int* mode) {
+    std::vector<Point> approx;
+    if (*mode <= MODE_APPROX) {
+        approxPolyDP(contour, approx, e, true);
+        Polygon p = toPolygon(approx);
+        if (isSimple(p)) return *mode = MODE_APPROX, p;
+    }
+    if (*mode <= MODE_HULL) {
+        std::vector<Point> hull;
+        convexHull(contour, hull);
+        approxPolyDP(hull, approx, e, true);
+        Polygon p = toPolygon(approx);
+        if (isSimple(p)) return *mode = MODE_HULL, p;
+    }
+    *mode = MODE_BOX;
+    const Rect r = boundingRect(contour);
+    const float x0 = r.x, y0 = r.y, x1 = r.x + std::max(1, r.width - 1),
+                y1 = r.y + std::max(1, r.height - 1);
+    return {{x0, y0}, {x1, y0}, {x1, y1}, {x0, y1}};
+}
+
+// Work pixels -> input pixels. Contour points lie on pixel centres in [0, w-1]; those on the
+// image edge move 0.3 work pixels outwards so the edge pixels are strictly inside the
+// polygon, and everything stays strictly inside the frame (-0.5, -0.5)-(W-0.5, H-0.5).
+Polygon toFull(const Polygon& p, const Work& w) {
+    Polygon out;
+    out.reserve(p.size());
+    const float right = w.size.width - 1.f, bottom = w.size.height - 1.f;
+    const float sx = static_cast<float>(w.full.width) / w.size.width;
+    const float sy = static_cast<float>(w.full.height) / w.size.height;
+    for (Point2f q : p) {
+        if (q.x <= 0.f) q.x = -0.3f;
+        if (q.y <= 0.f) q.y = -0.3f;
+        if (q.x >= right) q.x = right + 0.3f;
+        if (q.y >= bottom) q.y = bottom + 0.3f;
+        out.emplace_back((q.x + 0.5f) * sx - 0.5f, (q.y + 0.5f) * sy - 0.5f);
+    }
+    return out;
+}
+
+struct Candidate {
+    const Region* region = nullptr;
+    double e = 0;
+    int mode = MODE_APPROX;
+    int refinements = 0;
+    Polygon polygon;  // input pixels
+    bool alive = true;
+};
+
+void make(Candidate& c, const Work& w) {
+    c.polygon = toFull(simplify(c.region->contour, c.e, &c.mode), w);
+}
+
+int aliveVertices(const std::vector<Candidate>& cs) {
+    int n = 0;
+    for (const Candidate& c : cs) n += c.alive ? static_cast<int>(c.polygon.size()) : 0;
+    return n;
+}
+
+// Simplifies every region within the vertex budgets. One tolerance for all (uniform
+// accuracy), raised until the total fits; a polygon over its own budget raises its own.
+std::vector<Candidate> simplifyAll(const std::vector<Region>& regions, const Work& w, int budget,
+                                   int polygonBudget) {
+    std::vector<Candidate> cs;
+    for (const Region& r : regions) {
+        Candidate c;
+        c.region = &r;
+        cs.push_back(c);
+    }
+    const double eMax = 4.0 * std::hypot(w.size.width, w.size.height);
+    for (double e = 0.5;; e *= 1.15) {
+        for (Candidate& c : cs) {
+            c.e = e, c.mode = MODE_APPROX;
+            make(c, w);
+            while (static_cast<int>(c.polygon.size()) > polygonBudget) {
+                c.e *= 1.15;
+                if (c.e > eMax) c.mode = MODE_BOX;
+                make(c, w);
+            }
+        }
+        if (aliveVertices(cs) <= budget) return cs;
+        if (e > eMax) {  // cannot happen with 4 vertices per region planned; be safe anyway
+            for (Candidate& c : cs) c.mode = MODE_BOX, make(c, w);
+            while (aliveVertices(cs) > budget) {
+                auto last = std::find_if(cs.rbegin(), cs.rend(),
+                                         [](const Candidate& c) { return c.alive; });
+                last->alive = false;
+            }
+            return cs;
+        }
+    }
+}
+
+// Makes the polygons (with `fixed` ones that must stay as they are) pairwise disjoint and
+// simple: a polygon that intersects itself falls back to its hull, then its box; of two
+// polygons that cross, the inner (else the smaller) one is first simplified more finely
+// while the budget allows, then dropped.
+void repair(std::vector<Candidate>& cs, const std::vector<Polygon>& fixed, const Work& w,
+            int budget) {
+    for (int iteration = 0; iteration < 1000; ++iteration) {
+        std::vector<Polygon> all = fixed;
+        std::vector<int> index(fixed.size(), -1);
+        for (int i = 0; i < static_cast<int>(cs.size()); ++i)
+            if (cs[i].alive) all.push_back(cs[i].polygon), index.push_back(i);
+        geometry::Crossing x;
+        if (!geometry::findCrossing(all, &x)) return;
+        const int a = index[x.polygonA], b = index[x.polygonB];
+        if (a < 0 && b < 0)
+            CV_Error(Error::StsBadArg,
+                     "multicage: the given multicage's polygons cross (validate() it first)");
+        if (x.polygonA == x.polygonB) {
+            Candidate& c = cs[a];
+            if (c.mode == MODE_BOX)
+                c.alive = false;
+            else
+                ++c.mode, make(c, w);
+            continue;
+        }
+        int victim;
+        if (a < 0 || b < 0)
+            victim = a < 0 ? b : a;
+        else if (cs[a].region->depth != cs[b].region->depth)
+            victim = cs[a].region->depth > cs[b].region->depth ? a : b;
+        else
+            victim = cs[a].region->area < cs[b].region->area ? a : b;
+        Candidate& v = cs[victim];
+        if (v.refinements < 3 && v.mode == MODE_APPROX) {
+            Candidate finer = v;
+            finer.e *= 0.5, ++finer.refinements;
+            make(finer, w);
+            const int total = aliveVertices(cs) - static_cast<int>(v.polygon.size()) +
+                              static_cast<int>(finer.polygon.size());
+            if (finer.mode == MODE_APPROX && total <= budget) {
+                v = finer;
+                continue;
+            }
+        }
+        v.alive = false;
+    }
+    CV_Error(Error::StsInternal,
+             "multicage: proposeMulticage: repairing the polygons did not converge");
+}
+
+// Regions in priority order (largest first) that fit the polygon count and vertex budget.
+std::vector<Region> selectRegions(std::vector<Region> regions, int maxPolygons, int budget) {
+    const int most = std::min(maxPolygons, budget / kMinPolygonVertices);
+    if (static_cast<int>(regions.size()) > most) regions.resize(std::max(0, most));
+    return regions;
+}
+
+struct Segmentation {
+    Mat objects;  // work size, 255 on objects (cleaned)
+    Mat labels;   // work size CV_32S for PROPOSE_LABELS, else empty
+};
+
+Segmentation segmentForProposal(const Mat& image, const Work& w, const ProposeParams& params) {
+    Segmentation s;
+    if (params.method == PROPOSE_MASK || params.method == PROPOSE_LABELS) {
+        if (image.empty())
+            CV_Error(Error::StsBadArg, "multicage: proposeMulticage: the mask is empty");
+        if (image.channels() != 1)
+            CV_Error_(Error::StsBadArg,
+                      ("multicage: proposeMulticage: a %s must have one channel (it has %d)",
+                       params.method == PROPOSE_MASK ? "mask" : "label image", image.channels()));
+        if (params.method == PROPOSE_MASK) {
+            s.objects = toWork(image != 0, w, INTER_NEAREST);
+            s.objects = cleanMask(s.objects, w.radius, w.minArea);
+        } else {
+            if (image.depth() != CV_8U && image.depth() != CV_16U && image.depth() != CV_32S)
+                CV_Error(
+                    Error::StsBadArg,
+                    "multicage: proposeMulticage: a label image must be CV_8U, CV_16U or CV_32S");
+            Mat l;
+            image.convertTo(l, CV_32S);
+            s.labels = toWork(l, w, INTER_NEAREST);
+            // Labels are the user's word: only regions below the minimum area go.
+            s.objects = cleanMask(s.labels != 0, 0, w.minArea);
+            s.labels.setTo(0, s.objects == 0);
+        }
+        return s;
+    }
+    const Mat img8 = to8Bit(image);
+    if (isConstant(img8))
+        CV_Error(Error::StsBadArg,
+                 "multicage: proposeMulticage: the image is constant (every pixel has the "
+                 "same value): there is nothing to segment");
+    const Mat work = toWork(img8, w, INTER_AREA);
+    int method = params.method;
+    if (method == PROPOSE_AUTO) {
+        // A plain background (most of the border strip near its median colour) is what a
+        // threshold wants; on anything else GrabCut, seeded by saliency, finds whole objects
+        // where saliency alone lights up texture.
+        const Mat strip = borderStrip(work.size());
+        const Mat far = (backgroundDistance(work, strip) > 24) & strip;
+        method =
+            countNonZero(far) < 0.25 * countNonZero(strip) ? PROPOSE_THRESHOLD : PROPOSE_GRABCUT;
+    }
+    s.objects = cleanMask(segmentImage(work, method, params, w.scale), w.radius, w.minArea);
+    return s;
+}
+
+}  // namespace
+
+const char* proposeMethodName(int method) {
+    static const char* names[] = {"auto",     "threshold", "adaptive", "grabcut",
+                                  "saliency", "spectral",  "mask",     "labels"};
+    return method >= 0 && method <= PROPOSE_LABELS ? names[method] : "unknown";
+}
+
+int parseProposeMethod(const String& name) {
+    for (int m = PROPOSE_AUTO; m <= PROPOSE_LABELS; ++m)
+        if (name == proposeMethodName(m)) return m;
+    return -1;
+}
+
+void proposeSegmentation(InputArray image, OutputArray mask, const ProposeParams& params) {
+    checkParams(params);
+    const Mat img = image.getMat();
+    if (img.empty())
+        CV_Error(Error::StsBadArg, "multicage: proposeSegmentation: the image is empty");
+    const Work w = resolve(img.size(), params);
+    fromWork(segmentForProposal(img, w, params).objects, w).copyTo(mask);
+}
+
+Multicage proposeMulticage(InputArray image, const ProposeParams& params) {
+    checkParams(params);
+    const Mat img = image.getMat();
+    if (img.empty()) CV_Error(Error::StsBadArg, "multicage: proposeMulticage: the image is empty");
+    const Work w = resolve(img.size(), params);
+    const Segmentation s = segmentForProposal(img, w, params);
+    const Mat cage = params.method == PROPOSE_LABELS ? cageMaskFromLabels(s.labels, w)
+                                                     : cageMaskFromObjects(s.objects, w);
+    const std::vector<Region> regions = selectRegions(
+        nestedRegions(cage, params.maxDepth, w.minArea), params.maxPolygons, params.maxVertices);
+    std::vector<Candidate> cs =
+        simplifyAll(regions, w, params.maxVertices, params.maxPolygonVertices);
+    repair(cs, {}, w, params.maxVertices);
+    Multicage out(img.size());
+    for (const Candidate& c : cs)
+        if (c.alive) out.addPolygon(c.polygon);
+    out.orient();
+    std::string why;
+    if (!out.validate(&why))
+        CV_Error_(Error::StsInternal,
+                  ("multicage: proposeMulticage made an invalid multicage: %s", why.c_str()));
+    return out;
+}
+
+Multicage protectFeatures(InputArray image, const Multicage& cage, int polygon,
+                          const ProposeParams& params) {
+    checkParams(params);
+    const Mat img = image.getMat();
+    if (img.empty()) CV_Error(Error::StsBadArg, "multicage: protectFeatures: the image is empty");
+    if (img.size() != cage.imageSize())
+        CV_Error_(
+            Error::StsBadSize,
+            ("multicage: protectFeatures: the image is %dx%d, the multicage was made for %dx%d",
+             img.cols, img.rows, cage.imageSize().width, cage.imageSize().height));
+    if (polygon < 0 || polygon >= cage.polygonCount())
+        CV_Error_(Error::StsOutOfRange,
+                  ("multicage: protectFeatures: polygon %d does not exist (the multicage has %d)",
+                   polygon, cage.polygonCount()));
+    std::string why;
+    if (!cage.validateGeometry(&why))
+        CV_Error_(Error::StsBadArg,
+                  ("multicage: protectFeatures: the multicage is not valid: %s", why.c_str()));
+    const int budget = params.maxVertices - cage.vertexCount();
+    const int slots = params.maxPolygons - cage.polygonCount();
+    Multicage out = cage;
+    if (budget < kMinPolygonVertices || slots < 1) return out;
+
+    const Work w = resolve(img.size(), params);
+    auto toWorkPoints = [&](const Polygon& p) {
+        std::vector<Point> q;
+        const double sx = w.size.width / static_cast<double>(w.full.width);
+        const double sy = w.size.height / static_cast<double>(w.full.height);
+        for (Point2f v : p)
+            q.emplace_back(cvRound(((v.x + 0.5) * sx - 0.5) * 16),
+                           cvRound(((v.y + 0.5) * sy - 0.5) * 16));
+        return q;
+    };
+    // Where protection may go: inside the polygon, outside the polygons already inside it.
+    Mat inside(w.size, CV_8U, Scalar(0));
+    std::vector<std::vector<Point>> outline = {toWorkPoints(cage.polygon(polygon))};
+    fillPoly(inside, outline, Scalar(255), LINE_8, 4);
+    const Polygon outer = cage.polygon(polygon);
+    for (int j = 0; j < cage.polygonCount(); ++j) {
+        if (j == polygon || !geometry::contains(outer, cage.polygon(j)[0])) continue;
+        std::vector<std::vector<Point>> inner = {toWorkPoints(cage.polygon(j))};
+        fillPoly(inside, inner, Scalar(0), LINE_8, 4);
+    }
+    const Mat insideDistance = distanceTo(inside);
+    const Mat allowed = insideDistance > (w.margin + w.gap);
+    if (countNonZero(allowed) == 0) return out;
+
+    Mat objects;
+    if (params.method == PROPOSE_MASK || params.method == PROPOSE_LABELS) {
+        objects = toWork(img != 0, w, INTER_NEAREST);
+    } else {
+        const Mat img8 = to8Bit(img);
+        if (isConstant(img8)) return out;
+        const Mat work = toWork(img8, w, INTER_AREA);
+        const Rect roi = boundingRect(inside);
+        const int method = params.method == PROPOSE_AUTO ? PROPOSE_SALIENCY : params.method;
+        // Segment the polygon's bounding box only, thresholds computed inside the polygon:
+        // what stands out there, not in the whole image.
+        objects = Mat::zeros(w.size, CV_8U);
+        segmentImage(work(roi), method, params, w.scale, inside(roi)).copyTo(objects(roi));
+    }
+    objects &= allowed;
+    objects = cleanMask(objects, w.radius, w.minArea);
+    if (countNonZero(objects) == 0) return out;
+    Mat cageMask = cageMaskFromObjects(objects, w);
+    cageMask &= (insideDistance > w.gap);
+    std::vector<Region> regions =
+        selectRegions(nestedRegions(cageMask, 1, w.minArea), slots, budget);
+    std::vector<Candidate> cs = simplifyAll(regions, w, budget, params.maxPolygonVertices);
+    std::vector<Polygon> fixed;
+    for (int j = 0; j < cage.polygonCount(); ++j) fixed.push_back(cage.polygon(j));
+    repair(cs, fixed, w, budget);
+    for (const Candidate& c : cs)
+        if (c.alive) out.addPolygon(c.polygon);
+    out.orient();
+    if (!out.validateGeometry(&why))
+        CV_Error_(Error::StsInternal,
+                  ("multicage: protectFeatures made an invalid multicage: %s", why.c_str()));
+    return out;
 }
 
 }  // namespace multicage

@@ -1,4 +1,7 @@
 // Automatic multicage proposal from an image (the paper's §6 future work).
+//
+//   segment -> clean -> nested contours -> dilate by a margin -> simplify to a vertex budget
+//   (keeping every polygon simple and all polygons disjoint) -> orient by depth -> validate
 #ifndef OPENCV2_MULTICAGE_PROPOSE_HPP
 #define OPENCV2_MULTICAGE_PROPOSE_HPP
 
@@ -7,12 +10,104 @@
 namespace cv {
 namespace multicage {
 
-struct CV_EXPORTS ProposeParams {
-    int maxVertices = 80;  //!< total vertex budget over all polygons
+/** How proposeMulticage() decides which pixels belong to an object. */
+enum ProposeMethod {
+    /** PROPOSE_THRESHOLD when the image border is mostly one colour (an object on a plain
+    background), else PROPOSE_GRABCUT from a rectangle found by saliency: whole objects in
+    photographs, at GrabCut's cost (see docs/propose/README.md). */
+    PROPOSE_AUTO = 0,
+    /** Otsu threshold on the distance from the background colour (the median colour of the
+    image border): objects on a plain background. */
+    PROPOSE_THRESHOLD = 1,
+    /** Adaptive (local mean) threshold of the same distance: uneven lighting. */
+    PROPOSE_ADAPTIVE = 2,
+    /** GrabCut from ProposeParams::rect, or from a rectangle around the salient part when
+    rect is empty. Runs on a copy downscaled to ProposeParams::grabCutMaxSide. */
+    PROPOSE_GRABCUT = 3,
+    /** opencv_contrib StaticSaliencyFineGrained, thresholded by Otsu. */
+    PROPOSE_SALIENCY = 4,
+    /** opencv_contrib StaticSaliencySpectralResidual (Hou & Zhang 2007): coarser, fastest. */
+    PROPOSE_SPECTRAL_RESIDUAL = 5,
+    /** The image is a user mask: one channel, non-zero pixels are objects. */
+    PROPOSE_MASK = 6,
+    /** The image is a label image (CV_8U, CV_16U or CV_32S, one channel): 0 is background,
+    every other label a class of its own. Touching labels are split along the line halfway
+    between them, so each label component gets its own polygon. */
+    PROPOSE_LABELS = 7
 };
 
-/** Proposes a valid, oriented multicage enclosing the image's objects. */
-CV_EXPORTS Multicage proposeMulticage(InputArray image, const ProposeParams& params = ProposeParams());
+/** Parameters of proposeMulticage() and protectFeatures(). Every field has a default that
+works on photographs; lengths are in pixels of the input image. */
+struct CV_EXPORTS ProposeParams {
+    int method = PROPOSE_AUTO;    //!< ProposeMethod
+    int maxVertices = 80;         //!< budget over all polygons (user vertices, frame excluded)
+    int maxPolygonVertices = 32;  //!< budget of one polygon (at least 4)
+    int maxPolygons = 12;         //!< the largest regions win when there are more
+    int maxDepth = 3;             //!< deepest nesting kept (1: top-level polygons only)
+    /** Distance from the object to its polygon. A polygon simplified within `margin` still
+    encloses every object pixel; < 0 picks 1.2% of the image diagonal (at least 3 px). */
+    float margin = -1.f;
+    /** Regions (and holes) smaller than this fraction of the image area are dropped. */
+    double minRegionArea = 0.004;
+    /** Radius of the morphological open/close that removes specks and bridges pin holes;
+    < 0 picks 0.5% of the longer image side (at least 1 px), 0 switches it off. */
+    int morphologyRadius = -1;
+    /** The proposal runs on a copy whose longer side is at most this (0: full size); the
+    polygons are scaled back. Segmentation does not need more, and time falls with area. */
+    int workingSize = 512;
+    Rect rect;  //!< GrabCut's initial rectangle (empty: found automatically)
+    int grabCutIterations = 4;
+    int grabCutMaxSide = 240;  //!< GrabCut's own working size (its cost is per pixel)
+};
+
+/** Proposes a valid, oriented multicage that encloses the objects of an image.
+
+Inputs:
+  image   8-bit (or 16-bit / float, rescaled) 1, 3 or 4 channels; for PROPOSE_MASK a
+          one-channel mask; for PROPOSE_LABELS a one-channel label image
+  params  method, vertex budgets, margin, minimum region area, maximum depth, ...
+Outputs:
+  a Multicage of the image's size whose polygons enclose the segmented regions at distance
+  `margin`, one polygon per region, nested as the regions are (an object inside another
+  object's hole gets depth 2), oriented (orient()), and always passing validate(): vertices
+  strictly inside the frame, every polygon simple, all polygons pairwise disjoint. Where
+  simplification would make polygons cross, the tolerance grows, then the convex hull is
+  tried, then the smaller (or inner) polygon is dropped.
+
+Returns a multicage with no polygon when no region is larger than minRegionArea. Throws a
+cv::Exception (StsBadArg) for an empty image or a constant one (nothing to segment) and for
+parameters out of range. */
+CV_EXPORTS Multicage proposeMulticage(InputArray image,
+                                      const ProposeParams& params = ProposeParams());
+
+/** The segmentation that proposeMulticage() encloses, after cleaning: CV_8UC1 of the image's
+size, 255 on the region pixels the polygons must contain (the same regions, before the
+budget keeps the largest). For PROPOSE_LABELS it holds the label components. */
+CV_EXPORTS void proposeSegmentation(InputArray image, OutputArray mask,
+                                    const ProposeParams& params = ProposeParams());
+
+/** Automatic feature preservation: proposes protective inner polygons around the salient
+features inside polygon `polygon` of `cage`, so that moving that polygon leaves them almost
+rigid (paper §3.1: an inner polygon protects what it encloses).
+
+Inputs:
+  image    the image the cage was drawn on (its size must match cage.imageSize())
+  cage     a valid multicage
+  polygon  index of the polygon the user will move
+  params   segmentation method (PROPOSE_AUTO: saliency within the polygon), margin, budgets;
+           maxVertices is the budget of the whole result, existing vertices included
+Outputs:
+  a copy of cage with the new polygons appended (existing polygons and poses unchanged,
+  poses extended with the new vertices at rest), oriented and valid. Features are kept inside
+  the polygon at least `margin` from its edges and from the polygons already nested in it.
+  No feature found or no budget left: the cage is returned unchanged. */
+CV_EXPORTS Multicage protectFeatures(InputArray image, const Multicage& cage, int polygon,
+                                     const ProposeParams& params = ProposeParams());
+
+/** Name of a ProposeMethod ("auto", "threshold", "adaptive", "grabcut", "saliency",
+"spectral", "mask", "labels"), and back; parseProposeMethod returns -1 for an unknown name. */
+CV_EXPORTS const char* proposeMethodName(int method);
+CV_EXPORTS int parseProposeMethod(const String& name);
 
 }  // namespace multicage
 }  // namespace cv

@@ -1,0 +1,295 @@
+#include "segment.hpp"
+
+#include <algorithm>
+#include <opencv2/imgproc.hpp>
+#include <opencv2/saliency.hpp>
+
+namespace cv {
+namespace multicage {
+namespace propose_detail {
+
+Mat to8Bit(const Mat& image) {
+    if (image.empty())
+        CV_Error(Error::StsBadArg, "multicage: proposeMulticage: the image is empty");
+    const int cn = image.channels();
+    if (cn != 1 && cn != 3 && cn != 4)
+        CV_Error_(
+            Error::StsBadArg,
+            ("multicage: proposeMulticage: the image has %d channels (1, 3 or 4 expected)", cn));
+    Mat img;
+    if (cn == 4)
+        cvtColor(image, img, COLOR_BGRA2BGR);
+    else
+        img = image;
+    if (img.depth() == CV_8U) return img;
+    Mat out;
+    if (img.depth() == CV_16U) {
+        img.convertTo(out, CV_8U, 1.0 / 257.0);
+    } else {
+        // Floats and other integers have no fixed range: stretch what is there.
+        double lo, hi;
+        minMaxLoc(img.reshape(1), &lo, &hi);
+        img.convertTo(out, CV_8U, hi > lo ? 255.0 / (hi - lo) : 0.0,
+                      hi > lo ? -lo * 255.0 / (hi - lo) : 0.0);
+    }
+    return out;
+}
+
+bool isConstant(const Mat& image) {
+    if (image.empty()) return true;
+    Mat first(1, 1, image.type());
+    image(Rect(0, 0, 1, 1)).copyTo(first);
+    Mat diff;
+    Mat ref;
+    repeat(first, image.rows, image.cols, ref);
+    compare(image.reshape(1), ref.reshape(1), diff, CMP_NE);
+    return countNonZero(diff) == 0;
+}
+
+int otsuThreshold(const Mat& img, const Mat& mask) {
+    CV_Assert(img.type() == CV_8UC1);
+    int histSize = 256;
+    float range[] = {0, 256};
+    const float* ranges[] = {range};
+    Mat hist;
+    calcHist(&img, 1, nullptr, mask, hist, 1, &histSize, ranges);
+    double total = 0, sum = 0;
+    for (int i = 0; i < 256; ++i) total += hist.at<float>(i), sum += i * hist.at<float>(i);
+    if (total <= 0) return 255;
+    // Otsu 1979: the threshold maximising the between-class variance.
+    double w0 = 0, sum0 = 0, best = -1;
+    int bestT = 0;
+    for (int t = 0; t < 255; ++t) {
+        w0 += hist.at<float>(t);
+        sum0 += t * hist.at<float>(t);
+        const double w1 = total - w0;
+        if (w0 == 0 || w1 == 0) continue;
+        const double m0 = sum0 / w0, m1 = (sum - sum0) / w1;
+        const double between = w0 * w1 * (m0 - m1) * (m0 - m1);
+        if (between > best) best = between, bestT = t;
+    }
+    return bestT;
+}
+
+Mat borderStrip(Size size) {
+    Mat strip(size, CV_8U, Scalar(255));
+    const int b = std::max(2, std::min(size.width, size.height) / 50);
+    if (size.width > 2 * b && size.height > 2 * b)
+        strip(Rect(b, b, size.width - 2 * b, size.height - 2 * b)).setTo(0);
+    return strip;
+}
+
+Mat backgroundDistance(const Mat& img, const Mat& backgroundMask) {
+    Mat lab;
+    if (img.channels() == 3)
+        cvtColor(img, lab, COLOR_BGR2Lab);
+    else
+        lab = img;
+    const int cn = lab.channels();
+    // The median ignores the objects that reach into the background sample.
+    std::vector<std::vector<uchar>> samples(cn);
+    for (int y = 0; y < lab.rows; ++y) {
+        const uchar* p = lab.ptr<uchar>(y);
+        const uchar* m = backgroundMask.ptr<uchar>(y);
+        for (int x = 0; x < lab.cols; ++x)
+            if (m[x])
+                for (int c = 0; c < cn; ++c) samples[c].push_back(p[x * cn + c]);
+    }
+    Scalar background;
+    for (int c = 0; c < cn; ++c) {
+        std::vector<uchar>& s = samples[c];
+        if (s.empty()) continue;
+        std::nth_element(s.begin(), s.begin() + s.size() / 2, s.end());
+        background[c] = s[s.size() / 2];
+    }
+    Mat diff;
+    lab.convertTo(diff, CV_32F);
+    subtract(diff, background, diff);
+    diff = diff.reshape(1, static_cast<int>(diff.total()));
+    multiply(diff, diff, diff);
+    Mat sq;
+    reduce(diff, sq, 1, REDUCE_SUM);
+    sqrt(sq, sq);
+    Mat out;
+    sq.reshape(1, img.rows).convertTo(out, CV_8U);
+    return out;
+}
+
+Mat saliencyMap(const Mat& img, bool spectralResidual) {
+    Ptr<saliency::StaticSaliency> algorithm;
+    if (spectralResidual)
+        algorithm = saliency::StaticSaliencySpectralResidual::create();
+    else
+        algorithm = saliency::StaticSaliencyFineGrained::create();
+    Mat map;
+    if (!algorithm->computeSaliency(img, map) || map.empty())
+        CV_Error(Error::StsError, "multicage: proposeMulticage: the saliency algorithm failed");
+    Mat f, out;
+    map.convertTo(f, CV_32F);
+    normalize(f, f, 0, 255, NORM_MINMAX);
+    f.convertTo(out, CV_8U);
+    if (out.size() != img.size()) resize(out, out, img.size(), 0, 0, INTER_LINEAR);
+    return out;
+}
+
+namespace {
+Mat thresholdAbove(const Mat& feature, int t, const Mat& region) {
+    Mat mask;
+    threshold(feature, mask, t, 255, THRESH_BINARY);
+    if (!region.empty()) mask &= region;
+    return mask;
+}
+
+// Objects differ from the background by at least this much (Lab units) or there are none:
+// Otsu splits pure noise in two as readily as a real object.
+constexpr int kMinContrast = 12;
+
+Mat segmentThreshold(const Mat& img, const Mat& region, bool adaptive) {
+    Mat background = region.empty() ? borderStrip(img.size()) : Mat();
+    if (!region.empty()) {
+        // Inside a polygon the background is the band along its edge.
+        Mat inner;
+        erode(region, inner, getStructuringElement(MORPH_ELLIPSE, Size(7, 7)));
+        background = region & ~inner;
+    }
+    Mat dist = backgroundDistance(img, background);
+    GaussianBlur(dist, dist, Size(5, 5), 0);
+    double hi;
+    minMaxLoc(dist, nullptr, &hi, nullptr, nullptr, region);
+    if (hi < kMinContrast) return Mat::zeros(img.size(), CV_8U);
+    if (!adaptive)
+        return thresholdAbove(dist, std::max(otsuThreshold(dist, region), kMinContrast / 2),
+                              region);
+    // Local mean threshold: the block spans about a sixth of the image, so an object smaller
+    // than that stands out from its surroundings even when the lighting changes.
+    const int block = std::max(3, std::max(img.cols, img.rows) / 6) | 1;
+    Mat mask;
+    adaptiveThreshold(dist, mask, 255, ADAPTIVE_THRESH_MEAN_C, THRESH_BINARY, block,
+                      -kMinContrast / 2.0);
+    if (!region.empty()) mask &= region;
+    return mask;
+}
+
+Mat segmentSaliency(const Mat& img, const Mat& region, bool spectral) {
+    Mat map = saliencyMap(img, spectral);
+    // Saliency responds to edges and texture; a blur of ~2% of the size turns the response
+    // into blobs that follow whole objects instead of their outlines.
+    const double sigma = std::max(1.0, 0.02 * std::max(img.cols, img.rows));
+    GaussianBlur(map, map, Size(), sigma);
+    double lo, hi;
+    minMaxLoc(map, &lo, &hi, nullptr, nullptr, region);
+    if (hi - lo < kMinContrast) return Mat::zeros(img.size(), CV_8U);
+    return thresholdAbove(map, otsuThreshold(map, region), region);
+}
+
+Rect automaticGrabCutRect(const Mat& img) {
+    Mat mask = segmentSaliency(img, Mat(), true);
+    Rect r = countNonZero(mask) > 0 ? boundingRect(mask) : Rect();
+    const int mx = std::max(2, img.cols * 3 / 100), my = std::max(2, img.rows * 3 / 100);
+    if (r.area() == 0) r = Rect(img.cols / 10, img.rows / 10, img.cols * 8 / 10, img.rows * 8 / 10);
+    // Grow by 5% of the image so the object's edges are inside, but leave a strip of
+    // background all round: GrabCut learns the background model from outside the rect.
+    r.x -= img.cols / 20, r.y -= img.rows / 20, r.width += img.cols / 10, r.height += img.rows / 10;
+    return r & Rect(mx, my, img.cols - 2 * mx, img.rows - 2 * my);
+}
+
+Mat segmentGrabCut(const Mat& img, const ProposeParams& params, double scale, const Mat& region) {
+    Mat color;
+    if (img.channels() == 1)
+        cvtColor(img, color, COLOR_GRAY2BGR);
+    else
+        color = img;
+    // GrabCut's cost is per pixel and per iteration: run it small, upscale the mask.
+    const double s =
+        std::min(1.0, params.grabCutMaxSide / static_cast<double>(std::max(img.cols, img.rows)));
+    Mat small;
+    if (s < 1.0)
+        resize(color, small, Size(), s, s, INTER_AREA);
+    else
+        small = color;
+    Rect rect;
+    if (!region.empty()) {
+        Mat r;
+        resize(region, r, small.size(), 0, 0, INTER_NEAREST);
+        rect = boundingRect(r);
+    } else if (params.rect.area() > 0) {
+        const double k = s / scale;  // input pixels -> small pixels
+        rect = Rect(cvFloor(params.rect.x * k), cvFloor(params.rect.y * k),
+                    cvCeil(params.rect.width * k), cvCeil(params.rect.height * k));
+    } else {
+        rect = automaticGrabCutRect(small);
+    }
+    rect &= Rect(1, 1, small.cols - 2, small.rows - 2);
+    if (rect.width < 2 || rect.height < 2)
+        CV_Error_(Error::StsBadArg,
+                  ("multicage: proposeMulticage: the GrabCut rectangle (%d, %d, %d, %d) "
+                   "is empty inside the image",
+                   params.rect.x, params.rect.y, params.rect.width, params.rect.height));
+    Mat labels(small.size(), CV_8U, Scalar(GC_BGD)), bgd, fgd;
+    labels(rect).setTo(GC_PR_FGD);
+    grabCut(small, labels, rect, bgd, fgd, params.grabCutIterations, GC_INIT_WITH_MASK);
+    Mat mask = (labels == GC_FGD) | (labels == GC_PR_FGD);
+    if (mask.size() != img.size()) {
+        resize(mask, mask, img.size(), 0, 0, INTER_LINEAR);
+        threshold(mask, mask, 127, 255, THRESH_BINARY);
+    }
+    if (!region.empty()) mask &= region;
+    return mask;
+}
+}  // namespace
+
+Mat segmentImage(const Mat& img, int method, const ProposeParams& params, double scale,
+                 const Mat& region) {
+    switch (method) {
+        case PROPOSE_THRESHOLD:
+            return segmentThreshold(img, region, false);
+        case PROPOSE_ADAPTIVE:
+            return segmentThreshold(img, region, true);
+        case PROPOSE_GRABCUT:
+            return segmentGrabCut(img, params, scale, region);
+        case PROPOSE_SALIENCY:
+            return segmentSaliency(img, region, false);
+        case PROPOSE_SPECTRAL_RESIDUAL:
+            return segmentSaliency(img, region, true);
+        default:
+            CV_Error_(Error::StsBadArg,
+                      ("multicage: proposeMulticage: method %d is not an image method", method));
+    }
+}
+
+Mat cleanMask(const Mat& mask, int radius, double minArea) {
+    Mat out = mask.clone();
+    if (radius > 0) {
+        const Mat disk = getStructuringElement(MORPH_ELLIPSE, Size(2 * radius + 1, 2 * radius + 1));
+        morphologyEx(out, out, MORPH_OPEN, disk);
+        // Close with a zero border of the kernel's size so objects cut by the image edge are
+        // not glued to it (the default border of morphologyEx would count as object).
+        Mat padded;
+        copyMakeBorder(out, padded, radius + 1, radius + 1, radius + 1, radius + 1, BORDER_CONSTANT,
+                       0);
+        morphologyEx(padded, padded, MORPH_CLOSE, disk, Point(-1, -1), 1, BORDER_CONSTANT, 0);
+        out = padded(Rect(radius + 1, radius + 1, mask.cols, mask.rows)).clone();
+    }
+    // Drop small regions, then fill small holes (a hole is a region of the background).
+    for (int pass = 0; pass < 2; ++pass) {
+        Mat subject = pass == 0 ? out : ~out;
+        Mat labels, stats, centroids;
+        const int n = connectedComponentsWithStats(subject, labels, stats, centroids, 8, CV_32S);
+        std::vector<uchar> small(n, 0);
+        bool any = false;
+        for (int i = 1; i < n; ++i)
+            if (stats.at<int>(i, CC_STAT_AREA) < minArea) small[i] = 1, any = true;
+        if (!any) continue;
+        for (int y = 0; y < out.rows; ++y) {
+            const int* l = labels.ptr<int>(y);
+            uchar* o = out.ptr<uchar>(y);
+            for (int x = 0; x < out.cols; ++x)
+                if (small[l[x]]) o[x] = pass == 0 ? 0 : 255;
+        }
+    }
+    return out;
+}
+
+}  // namespace propose_detail
+}  // namespace multicage
+}  // namespace cv

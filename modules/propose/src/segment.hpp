@@ -1,0 +1,45 @@
+// The segmentation stage of the proposal (private): image -> binary mask of objects.
+#ifndef MULTICAGE_PROPOSE_SEGMENT_HPP
+#define MULTICAGE_PROPOSE_SEGMENT_HPP
+
+#include <opencv2/multicage/propose.hpp>
+
+namespace cv {
+namespace multicage {
+namespace propose_detail {
+
+/** The input as 8-bit, 1 or 3 channels (alpha dropped; 16-bit and float rescaled). Throws
+StsBadArg for an empty image or an unsupported channel count. */
+Mat to8Bit(const Mat& image);
+/** True when every pixel of an image holds the same value in every channel. */
+bool isConstant(const Mat& image);
+
+/** Otsu's threshold over the pixels where mask is non-zero (the whole image when mask is
+empty); img is CV_8UC1. Returns the threshold t: pixels > t are the upper class. */
+int otsuThreshold(const Mat& img, const Mat& mask = Mat());
+
+/** Per pixel, the distance (Lab, 8-bit units, saturated to 255) from a background colour:
+the median over the pixels where `backgroundMask` is non-zero. img: CV_8UC1 or CV_8UC3. */
+Mat backgroundDistance(const Mat& img, const Mat& backgroundMask);
+/** backgroundMask for backgroundDistance(): a strip along the image border. */
+Mat borderStrip(Size size);
+
+/** The saliency map (CV_8UC1 of img's size, 0..255) of opencv_contrib's fine grained or
+spectral residual static saliency. */
+Mat saliencyMap(const Mat& img, bool spectralResidual);
+
+/** Raw segmentation (before cleaning) of an 8-bit work image: CV_8UC1, 255 on objects.
+`method` is one of the image-based methods (threshold, adaptive, grabcut, saliency,
+spectral); `region` (optional) restricts thresholds to the pixels inside it. */
+Mat segmentImage(const Mat& img, int method, const ProposeParams& params, double scale,
+                 const Mat& region = Mat());
+
+/** Opening then closing with a disk of `radius`, then regions and holes smaller than
+minArea pixels removed. */
+Mat cleanMask(const Mat& mask, int radius, double minArea);
+
+}  // namespace propose_detail
+}  // namespace multicage
+}  // namespace cv
+
+#endif
