@@ -332,7 +332,8 @@ TEST(Harmonic, SideBySidePicture) {
     const float a = static_cast<float>(10 * CV_PI / 180);
     for (size_t i = 0; i < cage.polygon(0).size(); ++i) {
         const Point2f d = pose[i] - centre;
-        pose[i] = centre + Point2f(std::cos(a) * d.x - std::sin(a) * d.y, 0.85f * (std::sin(a) * d.x + std::cos(a) * d.y));
+        pose[i] = centre + Point2f(std::cos(a) * d.x - std::sin(a) * d.y,
+                                   0.85f * (std::sin(a) * d.x + std::cos(a) * d.y));
     }
     Mat panels[2], motion[2];
     for (int k = 0; k < 2; ++k) {
@@ -361,11 +362,13 @@ TEST(Harmonic, SideBySidePicture) {
             for (int x = 0; x < image.cols; ++x)
                 if (pointPolygonTest(cage.polygon(1), Point2f(x, y), false) > 0)
                     bodyMotion = std::max(bodyMotion, double(magnitude.at<float>(y, x)));
-        std::printf("[ measured ] %s: largest motion inside the body polygon %.3f px\n", name, bodyMotion);
+        std::printf("[ measured ] %s: largest motion inside the body polygon %.3f px\n", name,
+                    bodyMotion);
         magnitude.convertTo(motion[k], CV_8U, 255.0 / 30.0);
         applyColorMap(motion[k], motion[k], COLORMAP_VIRIDIS);
         posed.draw(motion[k], 1, false);
-        putText(motion[k], format("%s: motion |p' - x|, 0 to 30 px; body: %.1f px", name, bodyMotion),
+        putText(motion[k],
+                format("%s: motion |p' - x|, 0 to 30 px; body: %.1f px", name, bodyMotion),
                 Point(8, 22), FONT_HERSHEY_SIMPLEX, 0.55, Scalar::all(0), 2, LINE_AA);
     }
     const Mat gapV(image.rows, 8, CV_8UC3, Scalar::all(255));

@@ -401,12 +401,18 @@ Binding bindHarmonic(const Multicage& multicage, int gridStep, HarmonicStats* st
         Range(0, static_cast<int>(jobs.size())),
         [&](const Range& range) {
             std::vector<double> Y;
+            std::vector<int> identity;
             for (int k = range.start; k < range.end; ++k) {
                 const Region& region = regions[jobs[k].first];
                 const int first = jobs[k].second, n = static_cast<int>(region.nodes.size());
                 const int width =
                     std::min(kBlock, static_cast<int>(region.vertices.size()) - first);
-                const int* P = region.factor->permutationP().indices().data();  // row r -> P[r]
+                // Row r of the system is row P[r] of the factor (no permutation: identity).
+                const auto& perm = region.factor->permutationP().indices();
+                if (perm.size() == 0 && static_cast<int>(identity.size()) < n)
+                    for (int r = static_cast<int>(identity.size()); r < n; ++r)
+                        identity.push_back(r);
+                const int* P = perm.size() ? perm.data() : identity.data();
                 Y.assign(static_cast<size_t>(n) * kBlock, 0.0);
                 for (int q = 0; q < width; ++q)
                     for (const auto& e : region.rhs[first + q])
