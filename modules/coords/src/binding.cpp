@@ -2,8 +2,10 @@
 #include <opencv2/core/utility.hpp>
 #include <opencv2/multicage/coordinates.hpp>
 
-#include <atomic>
 #include <mutex>
+#if defined(__linux__)
+#include <sys/mman.h>
+#endif
 
 #include "geometry.hpp"
 #include "harmonic.hpp"
@@ -96,10 +98,31 @@ void Binding::apply(InputArray poseIn, OutputArray positionsOut) const {
 
 namespace {
 
+// A binding is hundreds of MB written once: backing it with 2 MB pages (where the kernel
+// offers them on request) saves most of the page faults of the first touch.
+void adviseHugePages(Mat& m) {
+#if defined(__linux__) && defined(MADV_HUGEPAGE)
+    constexpr uintptr_t kHuge = 2u << 20;
+    const uintptr_t begin = (reinterpret_cast<uintptr_t>(m.data) + kHuge - 1) & ~(kHuge - 1);
+    const uintptr_t end = (reinterpret_cast<uintptr_t>(m.data) + m.total() * m.elemSize()) & ~(kHuge - 1);
+    if (end > begin) madvise(reinterpret_cast<void*>(begin), end - begin, MADV_HUGEPAGE);
+#endif
+}
+
 struct BoundPolygon {
     std::vector<Point2f> v;
     int first;    // coefficient index of vertex 0
     float sign;   // +1 or -1: the raw weights as if the polygon obeyed the orientation rule
+};
+
+// Per node of a row, in double: the total W = sum_j w_j, sum_j |w_j|, and the first moments
+// sum_j w_j (v_j - x) that measure the linear-precision residual.
+struct RowSums {
+    std::vector<double> xs, W, absW, sx, sy;
+    explicit RowSums(int m) : xs(m), W(m), absW(m), sx(m), sy(m) {}
+    void clear() {
+        for (auto* a : {&W, &absW, &sx, &sy}) std::fill(a->begin(), a->end(), 0.0);
+    }
 };
 
 // Raw mean value weights, times `sign`, of polygon v[0..n) for the nodes (xs[k], y), k < m.
@@ -108,7 +131,7 @@ struct BoundPolygon {
 // out[i] receives vertex i's row; tbuf is n*m scratch.
 MULTICAGE_TARGET_CLONES
 void rawWeightsRow(const Point2f* v, int n, float sign, const float* xs, int m, float y,
-                   float* const* out, float* tbuf, uchar* nearSingular) {
+                   float* const* out, float* tbuf, uchar* nearSingular, RowSums& sums) {
     for (int i = 0; i < n; ++i) {  // r_i, kept in the output row until pass 3
         const float vx = v[i].x, dy = v[i].y - y;
         float* r = out[i];
@@ -120,26 +143,87 @@ void rawWeightsRow(const Point2f* v, int n, float sign, const float* xs, int m, 
     for (int i = 0; i < n; ++i) {  // t_i for edge (v_i, v_{i+1})
         const int j = i + 1 == n ? 0 : i + 1;
         const float vix = v[i].x, diy = v[i].y - y, vjx = v[j].x, djy = v[j].y - y;
+        // det(s_i, s_{i+1}) = det(s_i, e_i) with the edge e_i = v_{i+1} - v_i: products of
+        // size r*|e| instead of r^2, so far less cancellation in float near long edges.
+        const float ex = v[j].x - v[i].x, ey = v[j].y - v[i].y;
         const float* ri = out[i];
         const float* rj = out[j];
         float* t = tbuf + static_cast<size_t>(i) * m;
         for (int k = 0; k < m; ++k) {
             const float dix = vix - xs[k], djx = vjx - xs[k];
-            const float A = dix * djy - diy * djx;
+            const float A = dix * ey - diy * ex;
             const float D = dix * djx + diy * djy;
             const float rr = ri[k] * rj[k];
-            const float tk = D > 0.f ? A / (rr + D) : (rr - D) / A;
-            t[k] = sign * tk;
+            // One division: select numerator and denominator first.
+            const float num = D > 0.f ? A : rr - D, den = D > 0.f ? rr + D : A;
+            t[k] = sign * num / den;
             // near a vertex (r small) or an edge (A small while the edge is seen at > 90 deg)
             const bool bad = ri[k] < 1e-3f || (D <= 0.f && std::abs(A) < 1e-4f * rr);
             nearSingular[k] |= static_cast<uchar>(bad);
         }
     }
-    for (int i = 0; i < n; ++i) {
+    for (int i = 0; i < n; ++i) {  // w_i, and the sums Algorithm 1 and the projection need
         const float* tprev = tbuf + static_cast<size_t>(i == 0 ? n - 1 : i - 1) * m;
         const float* t = tbuf + static_cast<size_t>(i) * m;
+        const double vx = v[i].x, dy = v[i].y - y;
         float* w = out[i];
-        for (int k = 0; k < m; ++k) w[k] = (tprev[k] + t[k]) / w[k];
+        for (int k = 0; k < m; ++k) {
+            const float wk = (tprev[k] + t[k]) / w[k];
+            w[k] = wk;
+            sums.W[k] += wk, sums.absW[k] += std::abs(wk);
+            sums.sx[k] += wk * (vx - sums.xs[k]), sums.sy[k] += wk * dy;
+        }
+    }
+}
+
+// Sums of the rest vertices' coordinates, for the Gram matrix of the linear-precision projection.
+struct VertexMoments {
+    double n = 0, sx = 0, sy = 0, sxx = 0, sxy = 0, syy = 0;
+    explicit VertexMoments(const std::vector<Point2f>& v) {
+        for (const Point2f& p : v) {
+            n += 1, sx += p.x, sy += p.y;
+            sxx += double(p.x) * p.x, sxy += double(p.x) * p.y, syy += double(p.y) * p.y;
+        }
+    }
+};
+
+// Algorithm 1's division by the total, fused with a correction of the float kernel's rounding.
+// That rounding leaves ~1e-7 relative noise in each raw weight, which at image coordinates of
+// ~1000 px is up to 1e-3 px of linear-precision error. True mean value coordinates satisfy
+// sum_j CC_j = 1 and sum_j CC_j (v_j - x) = 0 exactly, so projecting the computed ones
+// orthogonally onto that affine set can only bring them closer to the truth:
+// CC_j = w_j / W + l0 + l1 dx_j + l2 dy_j, (l0, l1, l2) from the 3x3 Gram system (in double).
+// Writes each node's conditioning |W| / sum |w_j| to kappa and flags non-finite or cancelling
+// totals in nearSingular (the caller redoes those nodes exactly).
+MULTICAGE_TARGET_CLONES
+void normalizeAndProject(float* const* out, int c, const Point2f* v, const VertexMoments& M,
+                         double y, int m, RowSums& s, uchar* nearSingular, double* kappa,
+                         float* inv, float* l0, float* l1, float* l2) {
+    for (int k = 0; k < m; ++k) {
+        const double x = s.xs[k], invW = 1.0 / s.W[k];
+        kappa[k] = std::abs(s.W[k]) / s.absW[k];
+        if (!(kappa[k] >= 1e-6)) nearSingular[k] = 1;  // also catches NaN
+        const double a = M.n, b = M.sx - M.n * x, cc = M.sy - M.n * y;
+        const double d = M.sxx - 2 * x * M.sx + M.n * x * x;
+        const double e = M.sxy - x * M.sy - y * M.sx + M.n * x * y;
+        const double f = M.syy - 2 * y * M.sy + M.n * y * y;
+        const double r1 = -s.sx[k] * invW, r2 = -s.sy[k] * invW;  // the sum is 1 by construction
+        // Cramer's rule on the symmetric positive definite [[a b c] [b d e] [c e f]] (the frame
+        // alone spans the plane), right-hand side (0, r1, r2).
+        const double A = d * f - e * e, B = cc * e - b * f, C = b * e - cc * d;
+        const double invDet = 1.0 / (a * A + b * B + cc * C);
+        l0[k] = static_cast<float>((B * r1 + C * r2) * invDet);
+        l1[k] = static_cast<float>(((a * f - cc * cc) * r1 + (b * cc - a * e) * r2) * invDet);
+        l2[k] = static_cast<float>(((b * cc - a * e) * r1 + (a * d - b * b) * r2) * invDet);
+        inv[k] = static_cast<float>(invW);
+    }
+    for (int j = 0; j < c; ++j) {
+        const float vx = v[j].x, dy = static_cast<float>(v[j].y - y);
+        float* w = out[j];
+        for (int k = 0; k < m; ++k) {
+            const float dx = vx - static_cast<float>(s.xs[k]);
+            w[k] = w[k] * inv[k] + (l0[k] + l1[k] * dx + l2[k] * dy);
+        }
     }
 }
 
@@ -197,45 +281,39 @@ Binding bind(const Multicage& multicage, int coordinates, int gridStep) {
     }
     polygons.push_back(BoundPolygon{multicage.frame(), c - 4, 1.f});
 
+    const VertexMoments moments(b.restVertices);
     b.coefficients.create(c, N, CV_32F);
+    adviseHugePages(b.coefficients);
     std::mutex worstLock;
     double worst = 2.0;
     Point2f worstAt;
     parallel_for_(Range(0, b.gridSize.height), [&](const Range& rows) {
-        std::vector<float> xs(m), tbuf(static_cast<size_t>(maxN) * m), sum(m), absSum(m);
+        std::vector<float> xs(m), tbuf(static_cast<size_t>(maxN) * m), inv(m), l0(m), l1(m), l2(m);
+        std::vector<double> kappa(m);
+        RowSums sums(m);
         std::vector<uchar> nearSingular(m);
         std::vector<float*> out(c);
         std::vector<double> exact(c);
         double localWorst = 2.0;
         Point2f localAt;
-        for (int gx = 0; gx < m; ++gx) xs[gx] = b.node(gx, 0).x;
+        for (int gx = 0; gx < m; ++gx) xs[gx] = b.node(gx, 0).x, sums.xs[gx] = xs[gx];
         for (int gy = rows.start; gy < rows.end; ++gy) {
-            const float y = b.node(0, gy).y;
+            const double y = b.node(0, gy).y;
             for (int j = 0; j < c; ++j) out[j] = b.coefficients.ptr<float>(j) + static_cast<size_t>(gy) * m;
             std::fill(nearSingular.begin(), nearSingular.end(), 0);
+            sums.clear();
             for (const BoundPolygon& p : polygons)
-                rawWeightsRow(p.v.data(), static_cast<int>(p.v.size()), p.sign, xs.data(), m, y,
-                              out.data() + p.first, tbuf.data(), nearSingular.data());
-            std::fill(sum.begin(), sum.end(), 0.f);
-            std::fill(absSum.begin(), absSum.end(), 0.f);
-            for (int j = 0; j < c; ++j)
-                for (int k = 0; k < m; ++k) sum[k] += out[j][k], absSum[k] += std::abs(out[j][k]);
+                rawWeightsRow(p.v.data(), static_cast<int>(p.v.size()), p.sign, xs.data(), m, float(y),
+                              out.data() + p.first, tbuf.data(), nearSingular.data(), sums);
+            normalizeAndProject(out.data(), c, b.restVertices.data(), moments, y, m, sums,
+                                nearSingular.data(), kappa.data(), inv.data(), l0.data(), l1.data(),
+                                l2.data());
             for (int k = 0; k < m; ++k) {
-                // Sums of non-finite or cancelling weights are redone in double as well.
-                if (!std::isfinite(absSum[k]) || std::abs(sum[k]) < 1e-4f * absSum[k]) nearSingular[k] = 1;
-                sum[k] = 1.f / sum[k];
-            }
-            for (int j = 0; j < c; ++j)
-                for (int k = 0; k < m; ++k) out[j][k] *= sum[k];
-            for (int k = 0; k < m; ++k) {
-                double kappa;
                 if (nearSingular[k]) {
-                    kappa = bindNodeExact(polygons, Point2d(xs[k], y), exact.data(), c);
+                    kappa[k] = bindNodeExact(polygons, Point2d(xs[k], y), exact.data(), c);
                     for (int j = 0; j < c; ++j) out[j][k] = static_cast<float>(exact[j]);
-                } else {
-                    kappa = 1.0 / (std::abs(sum[k]) * absSum[k]);
                 }
-                if (kappa < localWorst) localWorst = kappa, localAt = Point2f(xs[k], y);
+                if (kappa[k] < localWorst) localWorst = kappa[k], localAt = Point2f(xs[k], float(y));
             }
         }
         std::lock_guard<std::mutex> lock(worstLock);
