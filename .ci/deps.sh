@@ -1,0 +1,16 @@
+#!/usr/bin/env bash
+# Installs everything multicage needs to build, test and run, from Debian bookworm's archive.
+# Run as root (or with sudo available). Safe to run again: apt skips what is installed.
+set -euo pipefail
+SUDO=""
+if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
+export DEBIAN_FRONTEND=noninteractive
+$SUDO apt-get update -qq
+$SUDO apt-get install -y -qq --no-install-recommends \
+    ca-certificates cmake ninja-build g++ pkg-config \
+    libopencv-dev libopencv-contrib-dev \
+    libglm-dev libepoxy-dev libegl-dev libgl-dev libegl-mesa0 libgl1-mesa-dri \
+    libeigen3-dev libcli11-dev \
+    libgtest-dev libgmock-dev libbenchmark-dev \
+    > /dev/null
+echo "deps.sh: build and test dependencies installed"
