@@ -15,32 +15,55 @@ constexpr float kBorderNudge = 1.f / 64;  // px; must equal kBorderNudge in shad
 inline double cross(Point2d a, Point2d b) { return a.x * b.y - a.y * b.x; }
 
 // Writes, for every pixel centre of rows [y0, y1) inside triangle q (deformed), the matching
-// point of triangle p (rest). Edges are inclusive with a small tolerance so that neighbouring
-// triangles leave no crack; on a shared edge both write almost the same value.
+// point of triangle p (rest). Inside a triangle the inverse map is affine, so each row is a
+// span [xl, xr] found from the three barycentric edge functions, filled by a straight loop.
+// Edges are inclusive with a small tolerance so that neighbouring triangles leave no crack;
+// on a shared edge both write almost the same value.
 void drawTriangle(const Point2f q[3], const Point2f p[3], int y0, int y1, Point2f lo, Point2f hi,
                   Mat& mapx, Mat& mapy) {
     const Point2d q0 = q[0], q1 = q[1], q2 = q[2];
-    const double area = cross(q1 - q0, q2 - q0);
-    if (!(std::abs(area) > 1e-12)) return;  // degenerate (or NaN)
-    const double minX = std::min({q0.x, q1.x, q2.x}), maxX = std::max({q0.x, q1.x, q2.x});
     const double minY = std::min({q0.y, q1.y, q2.y}), maxY = std::max({q0.y, q1.y, q2.y});
-    const int xa = std::max(0, static_cast<int>(std::ceil(minX)));
-    const int xb = std::min(mapx.cols - 1, static_cast<int>(std::floor(maxX)));
     const int ya = std::max(y0, static_cast<int>(std::ceil(minY)));
     const int yb = std::min(y1 - 1, static_cast<int>(std::floor(maxY)));
-    if (xa > xb || ya > yb) return;
-    const double inv = 1.0 / area, eps = -1e-7;
+    if (ya > yb) return;
+    const double minX = std::min({q0.x, q1.x, q2.x}), maxX = std::max({q0.x, q1.x, q2.x});
+    const int xa = std::max(0, static_cast<int>(std::ceil(minX)));
+    const int xb = std::min(mapx.cols - 1, static_cast<int>(std::floor(maxX)));
+    if (xa > xb) return;
+    const double area = cross(q1 - q0, q2 - q0);
+    if (!(std::abs(area) > 1e-12)) return;  // degenerate (or NaN)
+    const double inv = 1.0 / area;
+    // Barycentric l_i(x, y) = (cross(a, b) + x (a.y - b.y) + y (b.x - a.x)) / area for the
+    // edge (a, b) opposite vertex i.
+    const Point2d e[3][2] = {{q1, q2}, {q2, q0}, {q0, q1}};
+    double ax[3], ay[3], a0[3];
+    for (int i = 0; i < 3; ++i) {
+        const Point2d a = e[i][0], b = e[i][1];
+        ax[i] = (a.y - b.y) * inv, ay[i] = (b.x - a.x) * inv, a0[i] = cross(a, b) * inv;
+    }
+    // The rest position as an affine function of the output pixel: r = p2 + l0 (p0-p2) + l1 (p1-p2).
+    const Point2d d0 = Point2d(p[0]) - Point2d(p[2]), d1 = Point2d(p[1]) - Point2d(p[2]);
+    const double mxx = ax[0] * d0.x + ax[1] * d1.x, mxy = ay[0] * d0.x + ay[1] * d1.x;
+    const double mx0 = p[2].x + a0[0] * d0.x + a0[1] * d1.x;
+    const double myx = ax[0] * d0.y + ax[1] * d1.y, myy = ay[0] * d0.y + ay[1] * d1.y;
+    const double my0 = p[2].y + a0[0] * d0.y + a0[1] * d1.y;
+    constexpr double eps = -1e-7;
     for (int y = ya; y <= yb; ++y) {
+        double left = xa, right = xb;
+        for (int i = 0; i < 3; ++i) {  // l_i(x) = ax x + c >= eps
+            const double c = a0[i] + ay[i] * y;
+            if (ax[i] > 0) left = std::max(left, (eps - c) / ax[i]);
+            else if (ax[i] < 0) right = std::min(right, (eps - c) / ax[i]);
+            else if (c < eps) right = -1;
+        }
+        const int xl = static_cast<int>(std::ceil(left)), xr = static_cast<int>(std::floor(right));
+        if (xl > xr) continue;
         float* mx = mapx.ptr<float>(y);
         float* my = mapy.ptr<float>(y);
-        for (int x = xa; x <= xb; ++x) {
-            const Point2d s(x, y);
-            const double l0 = cross(q1 - s, q2 - s) * inv;
-            const double l1 = cross(q2 - s, q0 - s) * inv;
-            const double l2 = 1.0 - l0 - l1;
-            if (l0 < eps || l1 < eps || l2 < eps) continue;
-            mx[x] = std::min(std::max(static_cast<float>(l0 * p[0].x + l1 * p[1].x + l2 * p[2].x), lo.x), hi.x);
-            my[x] = std::min(std::max(static_cast<float>(l0 * p[0].y + l1 * p[1].y + l2 * p[2].y), lo.y), hi.y);
+        const double bx = mxy * y + mx0, by = myy * y + my0;
+        for (int x = xl; x <= xr; ++x) {
+            mx[x] = std::min(std::max(static_cast<float>(mxx * x + bx), lo.x), hi.x);
+            my[x] = std::min(std::max(static_cast<float>(myx * x + by), lo.y), hi.y);
         }
     }
 }
