@@ -12,5 +12,6 @@ $SUDO apt-get install -y -qq --no-install-recommends \
     libglm-dev libepoxy-dev libegl-dev libgl-dev libegl-mesa0 libgl1-mesa-dri \
     libeigen3-dev libcli11-dev \
     libgtest-dev libgmock-dev libbenchmark-dev \
+    python3-dev pybind11-dev python3-numpy python3-opencv python3-pytest \
     > /dev/null
 echo "deps.sh: build and test dependencies installed"

@@ -34,6 +34,7 @@ void addDemoCommand(CLI::App& app);
 void addDeformCommand(CLI::App& app);
 void addProposeCommand(CLI::App& app);
 void addBenchCommand(CLI::App& app);
+void addAnimateCommand(CLI::App& app);
 
 }  // namespace multicage_cli
 

@@ -8,6 +8,8 @@
 #include <opencv2/multicage/coordinates.hpp>
 #include <opencv2/multicage/packing.hpp>
 #include <opencv2/multicage/deformer.hpp>
+#include <opencv2/multicage/gpu.hpp>
 #include <opencv2/multicage/propose.hpp>
+#include <opencv2/multicage/animate.hpp>
 
 #endif
