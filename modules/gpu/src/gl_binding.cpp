@@ -1,5 +1,8 @@
 #include "gl_binding.hpp"
 
+#include <chrono>
+#include <tuple>
+
 namespace cv {
 namespace multicage {
 namespace gpu {
@@ -32,7 +35,7 @@ std::string instantiate(std::string source) {
 }  // namespace
 
 void bindMeanValue(const Multicage& multicage, const PackLayout& layout, GLuint texture, bool half,
-                   Binding* b) {
+                   Binding* b, double* shaderBuildMs) {
     const int c = b->coefficientCount(), m = b->gridSize.width, n = b->gridSize.height;
     // Vertices in coefficient order and each polygon's orientation sign, as bind() does.
     std::vector<Vec2f> vertices(b->restVertices.begin(), b->restVertices.end());
@@ -52,8 +55,11 @@ void bindMeanValue(const Multicage& multicage, const PackLayout& layout, GLuint 
         m, n, b->gridStep, b->imageSize.width, b->imageSize.height, static_cast<int>(polygons.size()),
         layout.cols, layout.blocksPerLayer(), layout.layers > 1 ? 1 : 0, half ? "rgba16f" : "rgba32f");
     // Shaders come from shaders/, the float/double instantiation is done here.
+    const auto t = std::chrono::steady_clock::now();
     const std::string source = instantiate(shaderSource("bind_mean_value.comp"));
     GLuint program = buildComputeProgramFromText(defines, source, "bind_mean_value.comp");
+    if (shaderBuildMs)
+        *shaderBuildMs += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t).count();
 
     GLuint buffers[2], conditioning;
     glGenBuffers(2, buffers);

@@ -15,7 +15,7 @@ immutable GL_TEXTURE_2D (or GL_TEXTURE_2D_ARRAY when layout.layers > 1) of layou
 in RGBA32F or RGBA16F (half). Fills binding->minConditioning and worstNode; the
 coefficients themselves stay on the GPU. Needs a current GL 4.3 context. */
 void bindMeanValue(const Multicage& multicage, const PackLayout& layout, GLuint texture, bool half,
-                   Binding* binding);
+                   Binding* binding, double* shaderBuildMs = nullptr);
 
 }  // namespace gpu
 }  // namespace multicage

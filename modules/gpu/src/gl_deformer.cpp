@@ -75,7 +75,7 @@ struct GLDeformer::Impl {
     GLuint imageProgram = 0, mapsProgram = 0, vao = 0, indices = 0;
     GLuint coefficients = 0, pose = 0, image = 0, output = 0, maps = 0, outputFbo = 0, mapsFbo = 0;
     GLsizei indexCount = 0;
-    double shaderMs = 0;
+    Timings timings;
 
     Size size() const { return binding.imageSize; }
     GLenum coefficientTarget() const { return layout.layers > 1 ? GL_TEXTURE_2D_ARRAY : GL_TEXTURE_2D; }
@@ -136,11 +136,12 @@ struct GLDeformer::Impl {
             layout.cols, layout.blocksPerLayer(), layout.layers > 1 ? 1 : 0);
         imageProgram = buildProgram(defines, "deform.vert", "deform_image.frag");
         mapsProgram = buildProgram(defines, "deform.vert", "deform_maps.frag");
-        shaderMs = msSince(t);
+        timings.shaderBuild = msSince(t);
         setPose(std::vector<Point2f>(binding.restVertices));
     }
 
     void uploadCoefficients() {
+        const auto t = std::chrono::steady_clock::now();
         Mat packed;
         packCoefficients(binding, layout, packed, half ? CV_16F : CV_32F);
         glBindTexture(coefficientTarget(), coefficients);
@@ -154,6 +155,8 @@ struct GLDeformer::Impl {
             glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, layout.textureSize.width, layout.textureSize.height,
                             GL_RGBA, type, packed.data);
         checkGl("uploading the coefficients");
+        glFinish();
+        timings.packUpload = msSince(t);
     }
 
     void upload(const Mat& src) {
@@ -263,7 +266,13 @@ GLDeformer::GLDeformer(InputArray image, const Multicage& rest, int gridStep,
     impl_->coefficientsOnCpu = false;
     try {
         impl_->init(img, params);
-        gpu::bindMeanValue(rest, impl_->layout, impl_->coefficients, impl_->half, &b);
+        glFinish();  // the image upload is not binding time
+        const auto t = std::chrono::steady_clock::now();
+        const double renderShaders = impl_->timings.shaderBuild;
+        // It reads the conditioning back, so the dispatches have finished when it returns.
+        gpu::bindMeanValue(rest, impl_->layout, impl_->coefficients, impl_->half, &b,
+                           &impl_->timings.shaderBuild);
+        impl_->timings.binding = msSince(t) - (impl_->timings.shaderBuild - renderShaders);
     } catch (...) {
         impl_->release();
         throw;
@@ -328,7 +337,7 @@ unsigned GLDeformer::outputTexture() const { return impl_->output; }
 unsigned GLDeformer::mapsTexture() const { return impl_->maps; }
 unsigned GLDeformer::coefficientTexture() const { return impl_->coefficients; }
 const PackLayout& GLDeformer::layout() const { return impl_->layout; }
-double GLDeformer::shaderBuildMs() const { return impl_->shaderMs; }
+const GLDeformer::Timings& GLDeformer::timings() const { return impl_->timings; }
 void GLDeformer::finish() { glFinish(); }
 
 size_t GLDeformer::coefficientBytes() const {

@@ -114,8 +114,13 @@ public:
     size_t coefficientBytes() const;      //!< GPU memory of the packed coefficients
     /** The binding (from the GPU texture when bound on the GPU: read back on first use). */
     const Binding& binding();
-    /** Milliseconds spent building the generated shaders (for the bench). */
-    double shaderBuildMs() const;
+    /** Where construction spent its time, in milliseconds (for the bench). */
+    struct Timings {
+        double shaderBuild = 0;  //!< compiling and linking the generated shaders
+        double packUpload = 0;   //!< packing a CPU binding and uploading it (0 if bound here)
+        double binding = 0;      //!< the compute-shader binding (0 if given a CPU binding)
+    };
+    const Timings& timings() const;
     /** glFinish(): waits until every command so far has run (for timing). */
     void finish();
 
