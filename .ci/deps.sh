@@ -11,6 +11,7 @@ $SUDO apt-get install -y -qq --no-install-recommends \
     libopencv-dev libopencv-contrib-dev \
     libglm-dev libepoxy-dev libegl-dev libgl-dev libegl-mesa0 libgl1-mesa-dri \
     libeigen3-dev libcli11-dev \
+    libgif-dev \
     libgtest-dev libgmock-dev libbenchmark-dev \
     python3-dev pybind11-dev python3-numpy python3-opencv python3-pytest \
     > /dev/null
