@@ -8,7 +8,7 @@ namespace multicage_cli {
 
 namespace {
 struct DeformOptions {
-    std::string image, cage, output, pose, backend = "auto", coords = "mvc";
+    std::string image, cage, output, pose, backend = "auto", coords;
     int gridStep = 1;
     std::vector<double> border;
 };
@@ -32,7 +32,7 @@ void runDeform(const DeformOptions& o) {
     }
     DeformParams params;
     params.backend = parseBackend(o.backend);
-    params.coordinates = parseCoordinates(o.coords);
+    params.coordinates = o.coords.empty() ? cage.coordinates() : parseCoordinates(o.coords);
     params.gridStep = o.gridStep;
     for (size_t i = 0; i < o.border.size() && i < 4; ++i) params.borderValue[static_cast<int>(i)] = o.border[i];
 
@@ -76,7 +76,8 @@ void addDeformCommand(CLI::App& app) {
     cmd->add_option("--pose", o->pose, "Pose name in the cage file (default: the first pose)");
     cmd->add_option("--backend", o->backend, "auto (GPU if available, else CPU), cpu or gpu")->capture_default_str()
         ->check(CLI::IsMember({"auto", "cpu", "gpu"}));
-    cmd->add_option("--coords", o->coords, "Cage coordinates: mvc (mean value) or harmonic")->capture_default_str()
+    cmd->add_option("--coords", o->coords,
+                    "Cage coordinates: mvc (mean value) or harmonic (default: the cage file's choice)")
         ->check(CLI::IsMember({"mvc", "harmonic"}));
     cmd->add_option("--grid-step", o->gridStep,
                     "A mesh node every N pixels: 1 is exact, larger binds N^2 times faster")->capture_default_str()

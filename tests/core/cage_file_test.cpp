@@ -16,6 +16,7 @@ Multicage sampleCage() {
     for (Point2f& p : pose) p = p * 1.01f + Point2f(0.123456789f, -1.0f / 3.0f);
     cage.addPose("stretch", pose, 1.5);
     cage.addPose("rest", cage.vertices());
+    cage.setCoordinates(1);
     return cage;
 }
 void writeText(const std::string& path, const std::string& text) { std::ofstream(path) << text; }
@@ -38,6 +39,7 @@ TEST(CageFile, RoundTripIsExactInYamlAndJson) {
         cage.save(dir + name);
         const Multicage back = Multicage::load(dir + name);
         EXPECT_EQ(back.imageSize(), cage.imageSize());
+        EXPECT_EQ(back.coordinates(), 1) << name;
         ASSERT_EQ(back.polygonCount(), cage.polygonCount());
         for (int p = 0; p < cage.polygonCount(); ++p) EXPECT_EQ(back.polygon(p), cage.polygon(p)) << name;
         ASSERT_EQ(back.poseCount(), 2);
@@ -73,6 +75,7 @@ TEST(CageFile, MalformedFilesNameTheField) {
         {"polygons:\n  - [ 1, 1, 5, 1, 5, 5 ]\n", "image_size: missing"},
         {"image_size: [ 10 ]\npolygons: []\n", "image_size: must be [ width, height ]"},
         {"image_size: [ 10, 10 ]\n", "polygons: missing"},
+        {"image_size: [ 10, 10 ]\ncoordinates: wachspress\npolygons: []\n", "coordinates: must be mean_value or harmonic"},
         {"image_size: [ 10, 10 ]\npolygons:\n  - [ 1, 1, 5, 1, 5, 5 ]\n  - [ 1, 7, 2, 7, 2 ]\n",
          "polygons[1]: odd number of coordinates (5)"},
         {"image_size: [ 10, 10 ]\npolygons:\n  - [ 1, 1, 5, one, 5, 5 ]\n",

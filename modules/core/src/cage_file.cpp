@@ -53,6 +53,7 @@ std::string checkedFormat(const String& path) {
 
 void Multicage::write(FileStorage& fs) const {
     fs << "image_size" << "[:" << imageSize_.width << imageSize_.height << "]";
+    fs << "coordinates" << (coordinates_ == 1 ? "harmonic" : "mean_value");
     fs << "polygons" << "[";
     for (const auto& polygon : polygons_) writeCoordinates(fs, polygon);
     fs << "]";
@@ -74,6 +75,13 @@ void Multicage::read(const FileNode& root) {
         static_cast<int>(size[0]) <= 0 || static_cast<int>(size[1]) <= 0)
         malformed("image_size", "must be [ width, height ] with two positive integers");
     cage.imageSize_ = Size(static_cast<int>(size[0]), static_cast<int>(size[1]));
+
+    const FileNode coordinates = root["coordinates"];  // optional, mean value by default
+    if (!coordinates.empty()) {
+        const std::string name = coordinates.isString() ? static_cast<std::string>(coordinates) : "";
+        if (name == "harmonic") cage.coordinates_ = 1;
+        else if (name != "mean_value") malformed("coordinates", "must be mean_value or harmonic");
+    }
 
     const FileNode polygons = root["polygons"];
     if (polygons.empty() && !polygons.isSeq()) malformed("polygons", "missing");

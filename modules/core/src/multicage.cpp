@@ -226,6 +226,14 @@ int Multicage::findPose(const std::string& name) const {
     return -1;
 }
 
+int Multicage::coordinates() const { return coordinates_; }
+
+void Multicage::setCoordinates(int coordinates) {
+    if (coordinates != 0 && coordinates != 1)
+        CV_Error_(Error::StsOutOfRange, ("multicage: unknown coordinate type %d (0 mean value, 1 harmonic)", coordinates));
+    coordinates_ = coordinates;
+}
+
 Multicage Multicage::scaled(Size newSize) const {
     CV_Assert(imageSize_.area() > 0 && newSize.area() > 0);
     const float sx = static_cast<float>(newSize.width) / imageSize_.width;

@@ -94,6 +94,11 @@ public:
     /** Index of the pose called name, or -1. */
     int findPose(const std::string& name) const;
 
+    /** The cage coordinates this multicage is meant to be bound with (a CoordinateType:
+    0 mean value, 1 harmonic), saved in the cage file as `coordinates: mean_value|harmonic`. */
+    int coordinates() const;
+    void setCoordinates(int coordinates);
+
     /** The same multicage for an image of another size: every coordinate c becomes
     (c + 0.5) * newSize / imageSize - 0.5, so the frame maps onto the new frame. */
     Multicage scaled(Size newSize) const;
@@ -115,6 +120,7 @@ private:
     Size imageSize_;
     std::vector<std::vector<Point2f>> polygons_;
     std::vector<Pose> poses_;
+    int coordinates_ = 0;
 };
 
 /** Writes an image through a temporary file in the same folder and a rename, so that the
