@@ -6,10 +6,10 @@
 
 #include "testing.hpp"
 
-#define MULTICAGE_REQUIRE_GPU()                                                 \
-    do {                                                                        \
-        std::string why_;                                                       \
-        if (!cv::multicage::gpuAvailable(&why_)) GTEST_SKIP() << why_;          \
+#define MULTICAGE_REQUIRE_GPU()                                        \
+    do {                                                               \
+        std::string why_;                                              \
+        if (!cv::multicage::gpuAvailable(&why_)) GTEST_SKIP() << why_; \
     } while (0)
 
 namespace multicage_testing {
@@ -26,7 +26,9 @@ inline void gpuAndCpu(const cv::Mat& image, const cv::multicage::Binding& b,
 }
 
 /** Largest absolute difference, as a double. */
-inline double maxAbsDiff(const cv::Mat& a, const cv::Mat& b) { return cv::norm(a, b, cv::NORM_INF); }
+inline double maxAbsDiff(const cv::Mat& a, const cv::Mat& b) {
+    return cv::norm(a, b, cv::NORM_INF);
+}
 
 }  // namespace multicage_testing
 

@@ -33,7 +33,8 @@ TEST(GpuBinding, EqualsCpuOnButterfly) {
 
 TEST(GpuBinding, EqualsCpuOnLotusAndRandomMulticages) {
     MULTICAGE_REQUIRE_GPU();
-    expectSameBinding(multicage_fixtures::lotusMulticage(Size(1024, 768), 68), 4, "lotus 1024x768/68");
+    expectSameBinding(multicage_fixtures::lotusMulticage(Size(1024, 768), 68), 4,
+                      "lotus 1024x768/68");
     RNG rng(42);
     for (int i = 0; i < 3; ++i) {
         const Multicage cage = multicage_fixtures::randomMulticage(rng, Size(300, 220), 3, 3, 10);

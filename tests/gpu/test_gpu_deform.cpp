@@ -1,7 +1,6 @@
 // The GPU Deformer against the CPU reference: same poses, same pictures.
-#include <thread>
-
 #include <opencv2/imgproc.hpp>
+#include <thread>
 
 #include "gpu_testing.hpp"
 
@@ -56,7 +55,8 @@ TEST(GpuDeform, AgreesWithCpuOnButterfly) {
     MULTICAGE_REQUIRE_GPU();
     const Multicage cage = butterflyCage(true);
     // Wings stretched sideways, the body nested inside them.
-    expectAgreement("butterfly.jpg", cage, multicage_fixtures::stretchPolygon(cage, 0, 1.12f, 0.9f), 1);
+    expectAgreement("butterfly.jpg", cage, multicage_fixtures::stretchPolygon(cage, 0, 1.12f, 0.9f),
+                    1);
     expectAgreement("butterfly.jpg", cage, multicage_fixtures::wavePose(cage, 10.f, 0.3f), 2);
 }
 
@@ -120,7 +120,9 @@ TEST(GpuDeform, AllDepthsAndChannelCounts) {
             EXPECT_GE(psnr(g, c), 40.0);
             gpu->deform(rest, r);
             // One 8-bit level, in each depth's units.
-            EXPECT_LE(maxAbsDiff(r, img), depth == CV_8U ? 1.0 : depth == CV_16U ? 257.0 : 1.0 / 255);
+            EXPECT_LE(maxAbsDiff(r, img), depth == CV_8U    ? 1.0
+                                          : depth == CV_16U ? 257.0
+                                                            : 1.0 / 255);
         }
 }
 
@@ -136,7 +138,8 @@ TEST(GpuDeform, UncoveredPixelsGetBorderValue) {
     // The frame shrunk by 10 px on every side: a 10 px band nothing covers.
     std::vector<Point2f> pose = b.restVertices;
     const Point2f centre(79.5f, 59.5f);
-    for (size_t j = pose.size() - 4; j < pose.size(); ++j) pose[j] = centre + (pose[j] - centre) * 0.8f;
+    for (size_t j = pose.size() - 4; j < pose.size(); ++j)
+        pose[j] = centre + (pose[j] - centre) * 0.8f;
     Mat g, c;
     gpu->deform(pose, g);
     cpu->deform(pose, c);
@@ -280,7 +283,8 @@ TEST(GpuDeform, HalfFloatCoefficients) {
     double ex, ey;
     minMaxLoc(abs(x16 - x32), nullptr, &ex, nullptr, nullptr, both);
     minMaxLoc(abs(y16 - y32), nullptr, &ey, nullptr, nullptr, both);
-    std::printf("half-float vs float32 maps on the GPU, butterfly: max %.4f px\n", std::max(ex, ey));
+    std::printf("half-float vs float32 maps on the GPU, butterfly: max %.4f px\n",
+                std::max(ex, ey));
     EXPECT_LT(std::max(ex, ey), 0.05);
     EXPECT_GT(std::max(ex, ey), 0.0);  // the half-float texture really is in use
     Mat g, c, r;

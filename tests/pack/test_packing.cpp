@@ -67,10 +67,12 @@ static void expectBitExactRoundTrip(const Binding& b, const PackLayout& layout) 
     Mat packed, back;
     packCoefficients(b, layout, packed);
     ASSERT_EQ(packed.type(), CV_32FC4);
-    ASSERT_EQ(packed.size(), Size(layout.textureSize.width, layout.textureSize.height * layout.layers));
+    ASSERT_EQ(packed.size(),
+              Size(layout.textureSize.width, layout.textureSize.height * layout.layers));
     unpackCoefficients(packed, layout, b.coefficientCount(), back);
     ASSERT_EQ(back.size(), b.coefficients.size());
-    EXPECT_EQ(0, std::memcmp(back.ptr(), b.coefficients.ptr(), b.coefficients.total() * sizeof(float)));
+    EXPECT_EQ(
+        0, std::memcmp(back.ptr(), b.coefficients.ptr(), b.coefficients.total() * sizeof(float)));
 }
 
 TEST(Packing, PackUnpackBitExact) {
@@ -128,7 +130,8 @@ static HalfError halfFloatError(const Binding& b, const std::vector<Point2f>& po
     h.apply(pose, p16);
     HalfError e{norm(p32, p16, NORM_INF), 0, 0, norm(b.coefficients, NORM_INF)};
     const std::vector<Point2f> full = b.completePose(pose);
-    for (int j = 0; j < b.coefficientCount(); ++j) e.maxMove = std::max(e.maxMove, double(norm(full[j] - b.restVertices[j])));
+    for (int j = 0; j < b.coefficientCount(); ++j)
+        e.maxMove = std::max(e.maxMove, double(norm(full[j] - b.restVertices[j])));
     for (int k = 0; k < b.nodeCount(); ++k) {
         Point2d s(0, 0);
         for (int j = 0; j < b.coefficientCount(); ++j)
@@ -144,12 +147,14 @@ TEST(Packing, HalfFloatPositionErrorIsSmallInDisplacementForm) {
     const Multicage butterfly = multicage_testing::butterflyCage(true);
     const Binding bl = bind(lotus, MEAN_VALUE, 4), bb = bind(butterfly, MEAN_VALUE, 1);
     const HalfError el = halfFloatError(bl, multicage_fixtures::wavePose(lotus, 12.f, 0.5f));
-    const HalfError eb = halfFloatError(bb, multicage_fixtures::stretchPolygon(butterfly, 0, 1.12f, 0.9f));
+    const HalfError eb =
+        halfFloatError(bb, multicage_fixtures::stretchPolygon(butterfly, 0, 1.12f, 0.9f));
     for (const auto& [name, e] : {std::make_pair("lotus 1024x768/68, wave 12 px", el),
                                   std::make_pair("butterfly, wings x1.12 y0.9", eb)})
-        std::printf("half-float position error, %s (vertices moved up to %.1f px, max |CC| %.2f): "
-                    "displacement form %.4f px, plain form %.4f px\n",
-                    name, e.maxMove, e.maxCoefficient, e.displacement, e.plain);
+        std::printf(
+            "half-float position error, %s (vertices moved up to %.1f px, max |CC| %.2f): "
+            "displacement form %.4f px, plain form %.4f px\n",
+            name, e.maxMove, e.maxCoefficient, e.displacement, e.plain);
     // Half floats carry 11 significant bits: the error is about 2^-11 * |CC| * |v' - v| summed
     // over the vertices, i.e. a small fraction of a pixel for moves of tens of pixels.
     EXPECT_LT(el.displacement, 0.05);

@@ -49,7 +49,8 @@ const HeadlessDisplay& headlessDisplay() {
                 for (EGLint i = 0; i < count; ++i) {
                     const char* ext = eglQueryDeviceStringEXT(devices[i], EGL_EXTENSIONS);
                     if (hasExtension(ext, "EGL_MESA_device_software")) continue;  // llvmpipe
-                    EGLDisplay dpy = eglGetPlatformDisplayEXT(EGL_PLATFORM_DEVICE_EXT, devices[i], nullptr);
+                    EGLDisplay dpy =
+                        eglGetPlatformDisplayEXT(EGL_PLATFORM_DEVICE_EXT, devices[i], nullptr);
                     EGLint major, minor;
                     if (dpy != EGL_NO_DISPLAY && eglInitialize(dpy, &major, &minor)) {
                         d.display = dpy;
@@ -60,7 +61,8 @@ const HeadlessDisplay& headlessDisplay() {
             }
         }
         if (platformBase && hasExtension(client, "EGL_MESA_platform_surfaceless")) {
-            EGLDisplay dpy = eglGetPlatformDisplayEXT(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr);
+            EGLDisplay dpy = eglGetPlatformDisplayEXT(EGL_PLATFORM_SURFACELESS_MESA,
+                                                      EGL_DEFAULT_DISPLAY, nullptr);
             EGLint major, minor;
             if (dpy != EGL_NO_DISPLAY && eglInitialize(dpy, &major, &minor)) {
                 d.display = dpy;
@@ -71,8 +73,9 @@ const HeadlessDisplay& headlessDisplay() {
                     cv::format("%x", eglGetError()) + ")";
             return;
         }
-        d.why = "no headless EGL platform: neither a hardware EGL_EXT_platform_device nor "
-                "EGL_MESA_platform_surfaceless is available";
+        d.why =
+            "no headless EGL platform: neither a hardware EGL_EXT_platform_device nor "
+            "EGL_MESA_platform_surfaceless is available";
     });
     return d;
 }
@@ -101,9 +104,13 @@ std::unique_ptr<EglContext> EglContext::create(std::string* why) {
     }
     EGLContext ctx = EGL_NO_CONTEXT;
     for (int minor : {5, 3}) {  // 4.5 preferred; 4.3 has everything used here (compute, SSBO)
-        const EGLint attribs[] = {EGL_CONTEXT_MAJOR_VERSION, 4, EGL_CONTEXT_MINOR_VERSION, minor,
+        const EGLint attribs[] = {EGL_CONTEXT_MAJOR_VERSION,
+                                  4,
+                                  EGL_CONTEXT_MINOR_VERSION,
+                                  minor,
                                   EGL_CONTEXT_OPENGL_PROFILE_MASK,
-                                  EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT, EGL_NONE};
+                                  EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT,
+                                  EGL_NONE};
         ctx = eglCreateContext(d.display, config, EGL_NO_CONTEXT, attribs);
         if (ctx != EGL_NO_CONTEXT) break;
     }
@@ -136,12 +143,15 @@ static void* bindGlApi() {
 }
 
 EglContext::Scope::Scope(const EglContext& c)
-    : prevDisplay_(bindGlApi()), prevContext_(eglGetCurrentContext()),
-      prevDraw_(eglGetCurrentSurface(EGL_DRAW)), prevRead_(eglGetCurrentSurface(EGL_READ)) {
+    : prevDisplay_(bindGlApi()),
+      prevContext_(eglGetCurrentContext()),
+      prevDraw_(eglGetCurrentSurface(EGL_DRAW)),
+      prevRead_(eglGetCurrentSurface(EGL_READ)) {
     if (!eglMakeCurrent(c.display_, EGL_NO_SURFACE, EGL_NO_SURFACE, c.context_))
         CV_Error_(Error::GpuApiCallError,
                   ("multicage: eglMakeCurrent failed (EGL error 0x%x); is this Deformer in use "
-                   "on another thread?", eglGetError()));
+                   "on another thread?",
+                   eglGetError()));
 }
 
 EglContext::Scope::~Scope() {

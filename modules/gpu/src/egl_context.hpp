@@ -13,7 +13,7 @@ namespace gpu {
 (EGL_EXT_platform_device, skipping Mesa's software device), else Mesa's surfaceless platform
 (llvmpipe on machines without a GPU). No surface: rendering goes to framebuffer objects. */
 class EglContext {
-public:
+  public:
     /** nullptr with the reason in *why when no display or no GL 4.3+ core context exists. */
     static std::unique_ptr<EglContext> create(std::string* why);
     ~EglContext();
@@ -27,20 +27,20 @@ public:
     was current before (usually nothing). A context is current on one thread at a time:
     one Deformer must not be used by two threads at once. */
     class Scope {
-    public:
+      public:
         explicit Scope(const EglContext& context);
         ~Scope();
         Scope(const Scope&) = delete;
         Scope& operator=(const Scope&) = delete;
 
-    private:
+      private:
         void* prevDisplay_;
         void* prevContext_;
         void* prevDraw_;
         void* prevRead_;
     };
 
-private:
+  private:
     EglContext() = default;
     void* display_ = nullptr;
     void* context_ = nullptr;

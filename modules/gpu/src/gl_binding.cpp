@@ -43,8 +43,8 @@ void bindMeanValue(const Multicage& multicage, const PackLayout& layout, GLuint 
     for (int p = 0; p < multicage.polygonCount(); ++p) {
         const bool wantPositive = multicage.depth(p) % 2 == 0;
         const int sign = (multicage.signedArea(p) > 0) == wantPositive ? 1 : -1;
-        polygons.emplace_back(multicage.polygonOffset(p), static_cast<int>(multicage.polygon(p).size()),
-                              sign, 0);
+        polygons.emplace_back(multicage.polygonOffset(p),
+                              static_cast<int>(multicage.polygon(p).size()), sign, 0);
     }
     polygons.emplace_back(c - 4, 4, 1, 0);  // the frame: depth 0, A > 0
 
@@ -52,21 +52,25 @@ void bindMeanValue(const Multicage& multicage, const PackLayout& layout, GLuint 
         "#define GRID_W %d\n#define GRID_H %d\n#define GRID_STEP %d\n#define IMAGE_W %d\n"
         "#define IMAGE_H %d\n#define POLYGONS %d\n#define BLOCK_COLS %d\n#define BLOCKS_PER_LAYER "
         "%d\n#define LAYERED %d\n#define COEFF_FORMAT %s\n",
-        m, n, b->gridStep, b->imageSize.width, b->imageSize.height, static_cast<int>(polygons.size()),
-        layout.cols, layout.blocksPerLayer(), layout.layers > 1 ? 1 : 0, half ? "rgba16f" : "rgba32f");
+        m, n, b->gridStep, b->imageSize.width, b->imageSize.height,
+        static_cast<int>(polygons.size()), layout.cols, layout.blocksPerLayer(),
+        layout.layers > 1 ? 1 : 0, half ? "rgba16f" : "rgba32f");
     // Shaders come from shaders/, the float/double instantiation is done here.
     const auto t = std::chrono::steady_clock::now();
     const std::string source = instantiate(shaderSource("bind_mean_value.comp"));
     GLuint program = buildComputeProgramFromText(defines, source, "bind_mean_value.comp");
     if (shaderBuildMs)
-        *shaderBuildMs += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t).count();
+        *shaderBuildMs +=
+            std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t).count();
 
     GLuint buffers[2], conditioning;
     glGenBuffers(2, buffers);
     glBindBuffer(GL_SHADER_STORAGE_BUFFER, buffers[0]);
-    glBufferData(GL_SHADER_STORAGE_BUFFER, vertices.size() * sizeof(Vec2f), vertices.data(), GL_STATIC_DRAW);
+    glBufferData(GL_SHADER_STORAGE_BUFFER, vertices.size() * sizeof(Vec2f), vertices.data(),
+                 GL_STATIC_DRAW);
     glBindBuffer(GL_SHADER_STORAGE_BUFFER, buffers[1]);
-    glBufferData(GL_SHADER_STORAGE_BUFFER, polygons.size() * sizeof(Vec4i), polygons.data(), GL_STATIC_DRAW);
+    glBufferData(GL_SHADER_STORAGE_BUFFER, polygons.size() * sizeof(Vec4i), polygons.data(),
+                 GL_STATIC_DRAW);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, buffers[0]);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, buffers[1]);
     glGenTextures(1, &conditioning);

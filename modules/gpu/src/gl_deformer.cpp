@@ -27,13 +27,19 @@ PixelFormat pixelFormat(int type) {
     const int depth = CV_MAT_DEPTH(type), cn = CV_MAT_CN(type);
     const GLenum format = cn == 1 ? GL_RED : cn == 3 ? GL_RGB : GL_RGBA;
     switch (depth) {
-        case CV_8U: return {cn == 1 ? GLenum(GL_R8) : GLenum(GL_RGBA8), format, GL_UNSIGNED_BYTE, 1.0 / 255};
-        case CV_16U: return {cn == 1 ? GLenum(GL_R16) : GLenum(GL_RGBA16), format, GL_UNSIGNED_SHORT, 1.0 / 65535};
-        case CV_32F: return {cn == 1 ? GLenum(GL_R32F) : GLenum(GL_RGBA32F), format, GL_FLOAT, 1.0};
+        case CV_8U:
+            return {cn == 1 ? GLenum(GL_R8) : GLenum(GL_RGBA8), format, GL_UNSIGNED_BYTE,
+                    1.0 / 255};
+        case CV_16U:
+            return {cn == 1 ? GLenum(GL_R16) : GLenum(GL_RGBA16), format, GL_UNSIGNED_SHORT,
+                    1.0 / 65535};
+        case CV_32F:
+            return {cn == 1 ? GLenum(GL_R32F) : GLenum(GL_RGBA32F), format, GL_FLOAT, 1.0};
     }
     CV_Error_(Error::StsUnsupportedFormat,
               ("multicage: unsupported image type %s; use CV_8U, CV_16U or CV_32F with 1, 3 or 4 "
-               "channels", typeToString(type).c_str()));
+               "channels",
+               typeToString(type).c_str()));
 }
 
 GLuint makeTexture(GLenum target) {
@@ -78,7 +84,9 @@ struct GLDeformer::Impl {
     Timings timings;
 
     Size size() const { return binding.imageSize; }
-    GLenum coefficientTarget() const { return layout.layers > 1 ? GL_TEXTURE_2D_ARRAY : GL_TEXTURE_2D; }
+    GLenum coefficientTarget() const {
+        return layout.layers > 1 ? GL_TEXTURE_2D_ARRAY : GL_TEXTURE_2D;
+    }
 
     void init(const Mat& img, const GLDeformerParams& params) {
         if (glVersion() < 43)
@@ -88,14 +96,16 @@ struct GLDeformer::Impl {
         glGetIntegerv(GL_MAX_TEXTURE_SIZE, &maxTexture);
         glGetIntegerv(GL_MAX_ARRAY_TEXTURE_LAYERS, &maxLayers);
         if (params.maxTextureSize > 0) maxTexture = std::min(maxTexture, params.maxTextureSize);
-        layout = choosePackLayout(binding.gridSize, binding.coefficientCount(), maxTexture, maxLayers);
+        layout =
+            choosePackLayout(binding.gridSize, binding.coefficientCount(), maxTexture, maxLayers);
         coefficients = makeTexture(coefficientTarget());
         const GLenum internal = half ? GL_RGBA16F : GL_RGBA32F;
         if (layout.layers > 1)
             glTexStorage3D(GL_TEXTURE_2D_ARRAY, 1, internal, layout.textureSize.width,
                            layout.textureSize.height, layout.layers);
         else
-            glTexStorage2D(GL_TEXTURE_2D, 1, internal, layout.textureSize.width, layout.textureSize.height);
+            glTexStorage2D(GL_TEXTURE_2D, 1, internal, layout.textureSize.width,
+                           layout.textureSize.height);
         checkGl("allocating the coefficient texture");
 
         pose = makeTexture(GL_TEXTURE_1D);
@@ -122,7 +132,8 @@ struct GLDeformer::Impl {
         glBindVertexArray(vao);
         glGenBuffers(1, &indices);
         glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, indices);
-        glBufferData(GL_ELEMENT_ARRAY_BUFFER, idx.size() * sizeof(GLuint), idx.data(), GL_STATIC_DRAW);
+        glBufferData(GL_ELEMENT_ARRAY_BUFFER, idx.size() * sizeof(GLuint), idx.data(),
+                     GL_STATIC_DRAW);
         glBindVertexArray(0);
         checkGl("uploading the mesh");
 
@@ -132,8 +143,8 @@ struct GLDeformer::Impl {
             "#define GRID_W %d\n#define GRID_H %d\n#define GRID_STEP %d\n#define IMAGE_W %d\n"
             "#define IMAGE_H %d\n#define BLOCKS %d\n#define BLOCK_COLS %d\n"
             "#define BLOCKS_PER_LAYER %d\n#define LAYERED %d\n",
-            m, n, binding.gridStep, binding.imageSize.width, binding.imageSize.height, layout.blocks,
-            layout.cols, layout.blocksPerLayer(), layout.layers > 1 ? 1 : 0);
+            m, n, binding.gridStep, binding.imageSize.width, binding.imageSize.height,
+            layout.blocks, layout.cols, layout.blocksPerLayer(), layout.layers > 1 ? 1 : 0);
         imageProgram = buildProgram(defines, "deform.vert", "deform_image.frag");
         mapsProgram = buildProgram(defines, "deform.vert", "deform_maps.frag");
         timings.shaderBuild = msSince(t);
@@ -152,8 +163,8 @@ struct GLDeformer::Impl {
             glTexSubImage3D(GL_TEXTURE_2D_ARRAY, 0, 0, 0, 0, layout.textureSize.width,
                             layout.textureSize.height, layout.layers, GL_RGBA, type, packed.data);
         else
-            glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, layout.textureSize.width, layout.textureSize.height,
-                            GL_RGBA, type, packed.data);
+            glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, layout.textureSize.width,
+                            layout.textureSize.height, GL_RGBA, type, packed.data);
         checkGl("uploading the coefficients");
         glFinish();
         timings.packUpload = msSince(t);
@@ -161,9 +172,10 @@ struct GLDeformer::Impl {
 
     void upload(const Mat& src) {
         if (src.type() != imageType || src.size() != size())
-            CV_Error_(Error::StsBadArg, ("multicage: setImage expects a %dx%d %s image, got %dx%d %s",
-                                         size().width, size().height, typeToString(imageType).c_str(),
-                                         src.cols, src.rows, typeToString(src.type()).c_str()));
+            CV_Error_(Error::StsBadArg,
+                      ("multicage: setImage expects a %dx%d %s image, got %dx%d %s", size().width,
+                       size().height, typeToString(imageType).c_str(), src.cols, src.rows,
+                       typeToString(src.type()).c_str()));
         const Mat img = src.isContinuous() ? src : src.clone();
         glBindTexture(GL_TEXTURE_2D, image);
         glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
@@ -189,7 +201,8 @@ struct GLDeformer::Impl {
         const float W = static_cast<float>(size().width), H = static_cast<float>(size().height);
         glUseProgram(program);
         // pixel centre x -> (x + 0.5) / W in [0, 1] -> clip [-1, 1]
-        glUniform4f(0, 2.f / W, flipY ? -2.f / H : 2.f / H, 1.f / W - 1.f, flipY ? 1.f - 1.f / H : 1.f / H - 1.f);
+        glUniform4f(0, 2.f / W, flipY ? -2.f / H : 2.f / H, 1.f / W - 1.f,
+                    flipY ? 1.f - 1.f / H : 1.f / H - 1.f);
         glActiveTexture(GL_TEXTURE0);
         glBindTexture(coefficientTarget(), coefficients);
         glActiveTexture(GL_TEXTURE1);
@@ -255,8 +268,9 @@ GLDeformer::GLDeformer(InputArray image, const Multicage& rest, int gridStep,
     std::string why;
     if (!rest.validateGeometry(&why)) CV_Error(Error::StsBadArg, "multicage: cannot bind: " + why);
     if (rest.imageSize() != img.size())
-        CV_Error_(Error::StsBadSize, ("multicage: the image is %dx%d but the multicage was made for %dx%d",
-                                      img.cols, img.rows, rest.imageSize().width, rest.imageSize().height));
+        CV_Error_(Error::StsBadSize,
+                  ("multicage: the image is %dx%d but the multicage was made for %dx%d", img.cols,
+                   img.rows, rest.imageSize().width, rest.imageSize().height));
     Binding& b = impl_->binding;
     b.imageSize = rest.imageSize();
     b.gridStep = gridStep;
@@ -279,18 +293,27 @@ GLDeformer::GLDeformer(InputArray image, const Multicage& rest, int gridStep,
     }
 }
 
-GLDeformer::~GLDeformer() { impl_->release(); }
+GLDeformer::~GLDeformer() {
+    impl_->release();
+}
 
-void GLDeformer::setPose(InputArray pose) { impl_->setPose(pose); }
-void GLDeformer::setImage(InputArray image) { impl_->upload(image.getMat()); }
-void GLDeformer::draw(bool flipY) { impl_->draw(impl_->imageProgram, flipY); }
+void GLDeformer::setPose(InputArray pose) {
+    impl_->setPose(pose);
+}
+void GLDeformer::setImage(InputArray image) {
+    impl_->upload(image.getMat());
+}
+void GLDeformer::draw(bool flipY) {
+    impl_->draw(impl_->imageProgram, flipY);
+}
 
 unsigned GLDeformer::render(const Scalar& border) {
     impl_->ensureOutput();
     glBindFramebuffer(GL_FRAMEBUFFER, impl_->outputFbo);
     glViewport(0, 0, impl_->size().width, impl_->size().height);
-    const float clear[4] = {float(border[0] * impl_->fmt.scale), float(border[1] * impl_->fmt.scale),
-                            float(border[2] * impl_->fmt.scale), float(border[3] * impl_->fmt.scale)};
+    const float clear[4] = {
+        float(border[0] * impl_->fmt.scale), float(border[1] * impl_->fmt.scale),
+        float(border[2] * impl_->fmt.scale), float(border[3] * impl_->fmt.scale)};
     glClearBufferfv(GL_COLOR, 0, clear);
     impl_->draw(impl_->imageProgram, false);
     return impl_->output;
@@ -333,12 +356,24 @@ void GLDeformer::readMaps(OutputArray mapx, OutputArray mapy) {
     split(xy, planes);
 }
 
-unsigned GLDeformer::outputTexture() const { return impl_->output; }
-unsigned GLDeformer::mapsTexture() const { return impl_->maps; }
-unsigned GLDeformer::coefficientTexture() const { return impl_->coefficients; }
-const PackLayout& GLDeformer::layout() const { return impl_->layout; }
-const GLDeformer::Timings& GLDeformer::timings() const { return impl_->timings; }
-void GLDeformer::finish() { glFinish(); }
+unsigned GLDeformer::outputTexture() const {
+    return impl_->output;
+}
+unsigned GLDeformer::mapsTexture() const {
+    return impl_->maps;
+}
+unsigned GLDeformer::coefficientTexture() const {
+    return impl_->coefficients;
+}
+const PackLayout& GLDeformer::layout() const {
+    return impl_->layout;
+}
+const GLDeformer::Timings& GLDeformer::timings() const {
+    return impl_->timings;
+}
+void GLDeformer::finish() {
+    glFinish();
+}
 
 size_t GLDeformer::coefficientBytes() const {
     const PackLayout& l = impl_->layout;
@@ -354,7 +389,8 @@ const Binding& GLDeformer::binding() {
         glPixelStorei(GL_PACK_ROW_LENGTH, 0);
         glGetTexImage(impl_->coefficientTarget(), 0, GL_RGBA, GL_FLOAT, packed.data);
         gpu::checkGl("reading the GPU binding back");
-        unpackCoefficients(packed, l, impl_->binding.coefficientCount(), impl_->binding.coefficients);
+        unpackCoefficients(packed, l, impl_->binding.coefficientCount(),
+                           impl_->binding.coefficients);
         impl_->coefficientsOnCpu = true;
     }
     return impl_->binding;

@@ -8,21 +8,29 @@ namespace gpu {
 
 static const char* glErrorName(GLenum e) {
     switch (e) {
-        case GL_INVALID_ENUM: return "GL_INVALID_ENUM";
-        case GL_INVALID_VALUE: return "GL_INVALID_VALUE";
-        case GL_INVALID_OPERATION: return "GL_INVALID_OPERATION";
-        case GL_INVALID_FRAMEBUFFER_OPERATION: return "GL_INVALID_FRAMEBUFFER_OPERATION";
-        case GL_OUT_OF_MEMORY: return "GL_OUT_OF_MEMORY";
-        default: return "unknown GL error";
+        case GL_INVALID_ENUM:
+            return "GL_INVALID_ENUM";
+        case GL_INVALID_VALUE:
+            return "GL_INVALID_VALUE";
+        case GL_INVALID_OPERATION:
+            return "GL_INVALID_OPERATION";
+        case GL_INVALID_FRAMEBUFFER_OPERATION:
+            return "GL_INVALID_FRAMEBUFFER_OPERATION";
+        case GL_OUT_OF_MEMORY:
+            return "GL_OUT_OF_MEMORY";
+        default:
+            return "unknown GL error";
     }
 }
 
 void checkGl(const char* where) {
     std::string errors;
     for (GLenum e; (e = glGetError()) != GL_NO_ERROR && errors.size() < 200;)
-        errors += std::string(errors.empty() ? "" : ", ") + glErrorName(e) + cv::format(" (0x%x)", e);
+        errors +=
+            std::string(errors.empty() ? "" : ", ") + glErrorName(e) + cv::format(" (0x%x)", e);
     if (!errors.empty())
-        CV_Error(Error::GpuApiCallError, std::string("multicage: OpenGL error in ") + where + ": " + errors);
+        CV_Error(Error::GpuApiCallError,
+                 std::string("multicage: OpenGL error in ") + where + ": " + errors);
 }
 
 std::string shaderSource(std::string_view name) {
@@ -72,13 +80,15 @@ static GLuint link(std::initializer_list<GLuint> shaders, const char* what) {
         std::vector<char> log(std::max(len, 1) + 1, '\0');
         glGetProgramInfoLog(p, len, nullptr, log.data());
         glDeleteProgram(p);
-        CV_Error(Error::GpuApiCallError, std::string("multicage: cannot link ") + what + ":\n" + log.data());
+        CV_Error(Error::GpuApiCallError,
+                 std::string("multicage: cannot link ") + what + ":\n" + log.data());
     }
     checkGl(what);
     return p;
 }
 
-GLuint buildProgram(const std::string& defines, std::string_view vertex, std::string_view fragment) {
+GLuint buildProgram(const std::string& defines, std::string_view vertex,
+                    std::string_view fragment) {
     const std::string what = std::string(vertex) + " + " + std::string(fragment);
     GLuint vs = compile(GL_VERTEX_SHADER, withDefines(defines, shaderSource(vertex)),
                         std::string(vertex).c_str());

@@ -15,7 +15,7 @@ namespace {
 /** Each instance owns one EGL context; every call makes it current on the calling thread
 and releases it afterwards, so Deformers on different threads never share GL state. */
 class GpuDeformer final : public Deformer {
-public:
+  public:
     GpuDeformer(std::unique_ptr<EglContext> context, const DeformParams& params)
         : context_(std::move(context)), border_(params.borderValue) {}
 
@@ -55,7 +55,7 @@ public:
     const Binding& binding() const override { return *binding_; }
     String getDefaultName() const override { return "multicage.GpuDeformer"; }
 
-private:
+  private:
     void make(const Mat& image, const Binding& b, const DeformParams&, const GLDeformerParams& p) {
         gl_.reset(new GLDeformer(image, b, p));
     }
@@ -109,12 +109,15 @@ Binding bindOnGpu(const Multicage& multicage, int gridStep) {
 HeadlessGLContext::HeadlessGLContext() {
     std::string why;
     context_ = gpu::EglContext::create(&why);
-    if (!context_) CV_Error(Error::GpuNotSupported, "multicage: no headless OpenGL context: " + why);
+    if (!context_)
+        CV_Error(Error::GpuNotSupported, "multicage: no headless OpenGL context: " + why);
 }
 
 HeadlessGLContext::~HeadlessGLContext() = default;
 
-std::string HeadlessGLContext::description() const { return context_->description(); }
+std::string HeadlessGLContext::description() const {
+    return context_->description();
+}
 
 struct HeadlessGLContext::Scope::State {
     gpu::EglContext::Scope scope;

@@ -3,7 +3,6 @@
 #define MULTICAGE_GPU_BACKEND_HPP
 
 #include <opencv2/multicage/deformer.hpp>
-
 #include <string>
 
 namespace cv {

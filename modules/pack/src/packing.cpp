@@ -1,8 +1,7 @@
 // Paper §4, Eq. 6-7: the block layout of the packed coefficient texture, and packing itself.
+#include <cmath>
 #include <opencv2/core/utility.hpp>
 #include <opencv2/multicage/packing.hpp>
-
-#include <cmath>
 
 namespace cv {
 namespace multicage {
@@ -31,14 +30,16 @@ PackLayout paperPackLayout(Size gridSize, int coefficientCount) {
     return layout;
 }
 
-PackLayout choosePackLayout(Size gridSize, int coefficientCount, int maxTextureSize, int maxLayers) {
+PackLayout choosePackLayout(Size gridSize, int coefficientCount, int maxTextureSize,
+                            int maxLayers) {
     PackLayout paper = paperPackLayout(gridSize, coefficientCount);
     if (paper.textureSize.width <= maxTextureSize && paper.textureSize.height <= maxTextureSize)
         return paper;
     if (gridSize.width > maxTextureSize || gridSize.height > maxTextureSize)
         CV_Error_(Error::StsOutOfRange,
                   ("multicage: the node grid %dx%d is larger than the texture limit %d; use a "
-                   "larger gridStep", gridSize.width, gridSize.height, maxTextureSize));
+                   "larger gridStep",
+                   gridSize.width, gridSize.height, maxTextureSize));
     if (paper.blocks > maxLayers)
         CV_Error_(Error::StsOutOfRange,
                   ("multicage: %d coefficient blocks need more than the %d texture array layers",
@@ -56,15 +57,17 @@ static void checkLayout(const PackLayout& layout, Size gridSize, int c) {
         layout.blocksPerLayer() * layout.layers < layout.blocks)
         CV_Error_(Error::StsBadArg,
                   ("multicage: pack layout (%d blocks of %dx%d) does not fit a %dx%d grid with %d "
-                   "coefficients", layout.blocks, layout.blockSize.width, layout.blockSize.height,
-                   gridSize.width, gridSize.height, c));
+                   "coefficients",
+                   layout.blocks, layout.blockSize.width, layout.blockSize.height, gridSize.width,
+                   gridSize.height, c));
 }
 
 void packCoefficients(const Binding& binding, const PackLayout& layout, OutputArray packedOut,
                       int depth) {
     CV_Assert(!binding.empty() && binding.coefficients.type() == CV_32F);
     CV_Assert(depth == CV_32F || depth == CV_16F);
-    const int c = binding.coefficientCount(), m = binding.gridSize.width, n = binding.gridSize.height;
+    const int c = binding.coefficientCount(), m = binding.gridSize.width,
+              n = binding.gridSize.height;
     checkLayout(layout, binding.gridSize, c);
     const Size full(layout.textureSize.width, layout.textureSize.height * layout.layers);
     Mat packed = Mat::zeros(full, CV_32FC4);
