@@ -1,0 +1,48 @@
+# Script for Python.InstalledModuleImports: the module as users get it from `cmake --install`.
+file(REMOVE_RECURSE ${WORK_DIR})
+set(prefix ${WORK_DIR}/prefix)
+function(run)
+    execute_process(COMMAND ${ARGN} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+    if(NOT rc EQUAL 0)
+        message(FATAL_ERROR "failed (${rc}): ${ARGN}\n${out}\n${err}")
+    endif()
+    message(STATUS "${out}")
+endfunction()
+run(${CMAKE_COMMAND} --install ${BUILD_DIR} --prefix ${prefix})
+set(site ${prefix}/${PYDIR})
+foreach(f ${PYDIR}/multicage/__init__.py ${DATADIR}/multicage/samples/python/augment.py)
+    if(NOT EXISTS ${prefix}/${f})
+        message(FATAL_ERROR "the install lacks ${f}")
+    endif()
+endforeach()
+# Only the prefix on the path: the package and libmulticage (through the RPATH) must both
+# come from the prefix, not from the build tree.
+set(check [=[
+import os, sys, numpy as np, multicage as mc
+prefix = os.path.realpath(sys.argv[1])
+mod = os.path.realpath(mc._multicage.__file__)
+assert mod.startswith(prefix + os.sep), "the extension came from " + mod
+libs = [l.split()[-1] for l in open("/proc/self/maps") if "libmulticage.so" in l]
+assert libs and all(os.path.realpath(l).startswith(prefix + os.sep) for l in libs), libs
+cage = mc.Multicage((64, 48))
+cage.add_polygon(np.array([[10, 10], [50, 12], [48, 40], [12, 36]], np.float32))
+cage.orient()
+ok, why = cage.validate()
+assert ok, why
+image = np.arange(64 * 48, dtype=np.uint8).reshape(48, 64)
+out = mc.deform_image(image, cage, cage.rest_pose(), backend="cpu")
+assert out.shape == image.shape and out.dtype == image.dtype
+print("imported", mod, "with", libs[0])
+]=])
+file(WRITE ${WORK_DIR}/check.py "${check}")
+run(${CMAKE_COMMAND} -E env --unset=PYTHONPATH PYTHONPATH=${site} PYTHONNOUSERSITE=1
+    ${PYTHON} ${WORK_DIR}/check.py ${prefix})
+# The installed sample runs from the prefix too.
+set(sample ${prefix}/${DATADIR}/multicage/samples/python/augment.py)
+run(${CMAKE_COMMAND} -E env PYTHONPATH=${site} PYTHONNOUSERSITE=1 ${PYTHON} ${sample} --help)
+run(${CMAKE_COMMAND} -E env PYTHONPATH=${site} PYTHONNOUSERSITE=1 ${PYTHON} ${sample}
+    ${SOURCE_DIR}/samples/data/HappyFish.jpg -o ${WORK_DIR}/augmented -n 2 --seed 1 --backend cpu)
+if(NOT EXISTS ${WORK_DIR}/augmented/HappyFish_001.png OR NOT EXISTS ${WORK_DIR}/augmented/HappyFish_001_mask.png)
+    message(FATAL_ERROR "the installed sample wrote no images into ${WORK_DIR}/augmented")
+endif()
+message(STATUS "installed Python module OK")
