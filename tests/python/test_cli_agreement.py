@@ -1,0 +1,99 @@
+"""The Python module and the C++ `multicage` tool give the same pixels for the same inputs:
+both are the one library, so any difference is a conversion bug (dtype, channels, strides,
+cage scaling, pose order)."""
+
+import cv2
+import numpy as np
+import pytest
+
+import multicage as mc
+
+
+def cli_deform(cli, tmp_path, image_path, cage_path, *args):
+    out = tmp_path / "cli_out.png" if not str(image_path).endswith(".tiff") else tmp_path / "cli_out.tiff"
+    cli("deform", image_path, cage_path, "-o", out, *args)
+    result = cv2.imread(str(out), cv2.IMREAD_UNCHANGED)
+    assert result is not None
+    return result
+
+
+def assert_same_pixels(python, cli):
+    assert python.shape == cli.shape and python.dtype == cli.dtype
+    diff = np.count_nonzero(python != cli)
+    assert np.array_equal(python, cli), f"{diff} values differ between the Python module and the CLI"
+
+
+@pytest.mark.parametrize("backend", ["cpu", "gpu"])
+def test_deform_sample_equals_cli(cli, gpu, tmp_path, butterfly, butterfly_cage, butterfly_cage_path, backend):
+    if backend == "gpu" and not gpu:
+        pytest.skip("no headless EGL context here")
+    from conftest import DATA
+    expected = cli_deform(cli, tmp_path, DATA / "butterfly.jpg", butterfly_cage_path,
+                          "--pose", "flap", "--backend", backend)
+    deformer = mc.Deformer(butterfly, butterfly_cage, backend=backend)
+    assert deformer.backend == backend
+    got = deformer.deform(butterfly_cage.pose("flap").vertices)
+    assert not np.array_equal(got, butterfly), "the pose should move pixels"
+    assert_same_pixels(got, expected)
+    # The one-shot form and a Binding shared through bind() are the same computation.
+    assert_same_pixels(mc.deform_image(butterfly, butterfly_cage, butterfly_cage.pose(0).vertices,
+                                       backend=backend), expected)
+
+
+def test_grid_step_and_harmonic_equal_cli(cli, tmp_path, butterfly, butterfly_cage, butterfly_cage_path):
+    from conftest import DATA
+    expected = cli_deform(cli, tmp_path, DATA / "butterfly.jpg", butterfly_cage_path,
+                          "--backend", "cpu", "--grid-step", "3", "--coords", "harmonic")
+    binding = mc.bind(butterfly_cage, coordinates="harmonic", grid_step=3)
+    assert binding.grid_step == 3 and binding.coordinates == "harmonic"
+    deformer = mc.Deformer(butterfly, binding, backend=mc.Backend.CPU)
+    assert_same_pixels(deformer.deform(butterfly_cage.pose(0).vertices), expected)
+
+
+@pytest.mark.parametrize("kind", ["bgra16", "gray8", "float32"])
+def test_other_types_and_a_scaled_cage_equal_cli(cli, tmp_path, butterfly, butterfly_cage, butterfly_cage_path, kind):
+    """A cage drawn for 493x356 applied to a 301x217 image: the CLI scales it, Python does
+    it with Multicage.scaled; 16-bit BGRA, 8-bit gray and float BGRA images keep their type."""
+    small = cv2.resize(butterfly, (301, 217), interpolation=cv2.INTER_AREA)
+    if kind == "bgra16":
+        alpha = np.tile(np.linspace(0, 255, 301, dtype=np.uint8), (217, 1))
+        image = np.dstack([small, alpha]).astype(np.uint16) * 257
+        path = tmp_path / "in.png"
+    elif kind == "gray8":
+        image = cv2.cvtColor(small, cv2.COLOR_BGR2GRAY)
+        path = tmp_path / "in.png"
+    else:
+        # Four channels: OpenCV writes 3-channel float TIFF lossily (SGILOG), 1 and 4 exactly.
+        image = cv2.cvtColor(small, cv2.COLOR_BGR2BGRA).astype(np.float32) / 255.0
+        path = tmp_path / "in.tiff"
+    assert cv2.imwrite(str(path), image)
+    assert np.array_equal(cv2.imread(str(path), cv2.IMREAD_UNCHANGED), image)
+    expected = cli_deform(cli, tmp_path, path, butterfly_cage_path, "--backend", "cpu", "--grid-step", "2")
+    cage = butterfly_cage.scaled((301, 217))
+    assert cage.image_size == (301, 217)
+    got = mc.Deformer(image, cage, backend="cpu", grid_step=2).deform(cage.pose(0).vertices)
+    assert got.dtype == image.dtype and got.shape == image.shape
+    assert_same_pixels(got, expected)
+
+
+def test_python_cage_file_and_propose_equal_cli(cli, tmp_path):
+    """propose: the CLI's cage file and propose_multicage hold the same polygons; a pose added
+    and saved from Python deforms the same in the CLI."""
+    from conftest import DATA
+    image_path = DATA / "HappyFish.jpg"
+    image = cv2.imread(str(image_path), cv2.IMREAD_UNCHANGED)
+    cli("propose", image_path, "-o", tmp_path / "cli_cage.yml", "--max-vertices", "40")
+    from_cli = mc.Multicage.load(str(tmp_path / "cli_cage.yml"))
+    cage = mc.propose_multicage(image, max_vertices=40)
+    assert cage.polygon_count >= 1 and cage.validate() == (True, "")
+    assert from_cli.polygon_count == cage.polygon_count
+    for i in range(cage.polygon_count):
+        assert np.array_equal(from_cli.polygon(i), cage.polygon(i)), f"polygon {i} differs"
+
+    pose = cage.rest_pose()
+    pose[:, 0] += np.where(pose[:, 0] > pose[:, 0].mean(), 6.0, -6.0).astype(np.float32)
+    cage.add_pose("wider", pose)
+    cage.save(str(tmp_path / "py_cage.yml"))
+    expected = cli_deform(cli, tmp_path, image_path, tmp_path / "py_cage.yml", "--pose", "wider", "--backend", "cpu")
+    got = mc.Deformer(image, mc.Multicage.load(str(tmp_path / "py_cage.yml")), backend="cpu").deform(pose)
+    assert_same_pixels(got, expected)

@@ -1,0 +1,134 @@
+"""Bad input fails early with an exception that says what is wrong; library errors keep the
+C++ library's own message (no 'OpenCV(...) file.cpp:123' wrapping)."""
+
+import re
+
+import numpy as np
+import pytest
+
+import multicage as mc
+from conftest import square
+
+
+@pytest.fixture()
+def deformer(butterfly, butterfly_cage):
+    return mc.Deformer(butterfly, butterfly_cage, backend="cpu", grid_step=4)
+
+
+@pytest.mark.parametrize("dtype", [np.float64, np.int8, np.int32, np.bool_, np.float16])
+def test_wrong_image_dtype_is_a_type_error(butterfly, butterfly_cage, dtype):
+    with pytest.raises(TypeError, match=r"image: dtype \w+ is not supported; use uint8, uint16 or float32"):
+        mc.Deformer(butterfly.astype(dtype), butterfly_cage)
+    with pytest.raises(TypeError, match="uint8, uint16 or float32"):
+        mc.deform_image(butterfly.astype(dtype), butterfly_cage, butterfly_cage.rest_pose())
+
+
+@pytest.mark.parametrize("shape,message", [
+    ((356, 493, 2), r"2 channels \(shape \(356, 493, 2\)\) are not supported"),
+    ((356, 493, 5), r"5 channels"),
+    ((356, 493, 3, 1), r"shape \(356, 493, 3, 1\) is not an image"),
+    ((493,), r"shape \(493,\) is not an image"),
+    ((0, 493, 3), r"the image is empty"),
+])
+def test_wrong_image_shape_is_a_value_error(butterfly_cage, shape, message):
+    with pytest.raises(ValueError, match=message):
+        mc.Deformer(np.zeros(shape, np.uint8), butterfly_cage)
+
+
+def test_not_an_array_is_a_type_error(butterfly, butterfly_cage):
+    with pytest.raises(TypeError, match="expected a numpy array .* got list"):
+        mc.Deformer(butterfly.tolist(), butterfly_cage)
+
+
+def test_image_of_another_size_names_both_sizes(butterfly, butterfly_cage):
+    with pytest.raises(mc.Error, match="the image is 493x100 but the multicage was made for 493x356") as e:
+        mc.Deformer(butterfly[:100], butterfly_cage)
+    assert isinstance(e.value, ValueError)
+    assert not str(e.value).startswith("OpenCV"), "the message must be the library's, not cv::Exception::what()"
+    assert e.value.code < 0 and e.value.func
+
+
+def test_pose_of_the_wrong_length(deformer, butterfly_cage):
+    pose = butterfly_cage.rest_pose()
+    message = r"^multicage: the pose has 19 vertices; the multicage has 20 \(or 24 with the frame corners\)$"
+    for call in (deformer.deform, deformer.compute_maps, deformer.folded_triangles):
+        with pytest.raises(mc.Error, match=message):
+            call(pose[:19])
+    # vertex_count and vertex_count + 4 are both fine
+    assert deformer.deform(pose).shape == deformer.deform(butterfly_cage.vertices()).shape
+
+
+@pytest.mark.parametrize("value", [np.nan, np.inf])
+def test_non_finite_pose_names_the_point(deformer, butterfly_cage, value):
+    pose = butterfly_cage.rest_pose()
+    pose[7, 1] = value
+    with pytest.raises(ValueError, match=r"pose: point 7 is not finite"):
+        deformer.deform(pose)
+    with pytest.raises(ValueError, match=r"point 7 is not finite"):
+        butterfly_cage.add_pose("bad", pose)
+
+
+@pytest.mark.parametrize("pose,error,message", [
+    (np.zeros((20, 3), np.float32), ValueError, r"pose: shape \(20, 3\) is not a list of points; expected Nx2"),
+    (np.zeros(40, np.float32), ValueError, r"shape \(40,\)"),
+    (np.array([["a", "b"]] * 20), TypeError, r"pose: dtype <U1 is not a real number type"),
+])
+def test_pose_of_the_wrong_shape_or_type(deformer, pose, error, message):
+    with pytest.raises(error, match=message):
+        deformer.deform(pose)
+
+
+def test_contours_from_cv2_are_points(butterfly_cage):
+    # cv2.findContours gives Nx1x2 int32: accepted as points.
+    cage = mc.Multicage((100, 80))
+    contour = square(10, 10, 60, 50).astype(np.int32).reshape(-1, 1, 2)
+    assert cage.add_polygon(contour) == 0
+    assert np.array_equal(cage.polygon(0), square(10, 10, 60, 50))
+
+
+def test_invalid_multicage_reports_where():
+    cage = mc.Multicage((100, 100))
+    cage.add_polygon(square(10, 10, 60, 60))
+    cage.add_polygon(square(40, 40, 90, 90))  # crosses polygon 0
+    ok, why = cage.validate()
+    assert not ok and "polygon 1" in why and "polygon 0" in why
+    with pytest.raises(mc.Error, match="polygon 1"):
+        cage.validate(raise_error=True)
+    with pytest.raises(mc.Error, match="^multicage: cannot bind: " + re.escape(why) + "$"):
+        mc.Deformer(np.zeros((100, 100), np.uint8), cage, backend="cpu")
+    with pytest.raises(mc.Error, match="cannot bind"):
+        mc.bind(cage)
+
+
+def test_bad_parameters(butterfly, butterfly_cage):
+    with pytest.raises(ValueError, match=r"backend: 'cuda' is not one of 'auto', 'cpu', 'gpu'"):
+        mc.Deformer(butterfly, butterfly_cage, backend="cuda")
+    with pytest.raises(ValueError, match=r"coordinates: 'wachspress' is not one of"):
+        mc.Deformer(butterfly, butterfly_cage, coordinates="wachspress")
+    with pytest.raises(ValueError, match="grid_step: must be >= 1"):
+        mc.Deformer(butterfly, butterfly_cage, grid_step=0)
+    with pytest.raises(TypeError, match="expected a multicage.Multicage or a multicage.Binding"):
+        mc.Deformer(butterfly, "cage.yml")
+    with pytest.raises(TypeError, match=r"unexpected keyword argument 'max_vertex'.*max_vertices"):
+        mc.propose_multicage(butterfly, max_vertex=10)
+    with pytest.raises(ValueError, match="method: 'magic' is not one of"):
+        mc.propose_multicage(butterfly, method="magic")
+    with pytest.raises(mc.Error, match="constant"):
+        mc.propose_multicage(np.zeros((50, 50), np.uint8))
+    with pytest.raises(TypeError, match=r"expected \(width, height\)"):
+        mc.Multicage((100,))
+    with pytest.raises(IndexError, match=r"polygon 7 does not exist \(there are 2 polygons\)"):
+        butterfly_cage.polygon(7)
+    with pytest.raises(KeyError, match="no pose named 'nope' .*flap"):
+        butterfly_cage.pose("nope")
+
+
+def test_library_errors_keep_their_message(tmp_path):
+    with pytest.raises(mc.Error, match="^meanValueCoordinates: the polygon has 2 vertices, it needs at least 3$"):
+        mc.mean_value_coordinates([[0, 0], [1, 0]], [[0.5, 0.5]])
+    with pytest.raises(mc.Error, match="cannot be opened"):
+        mc.Multicage.load(str(tmp_path / "missing.yml"))
+    bad = tmp_path / "bad.yml"
+    bad.write_text("%YAML:1.0\n---\nimage_size: [ 100, 100 ]\npolygons:\n   - [ 1, 2, 3, 4, 5, 6, 7 ]\n")
+    with pytest.raises(mc.Error, match=r"polygons\[0\]"):
+        mc.Multicage.load(str(bad))
