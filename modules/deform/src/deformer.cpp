@@ -8,6 +8,11 @@
 namespace cv {
 namespace multicage {
 
+static std::string formatBytes(size_t bytes) {
+    const double mib = bytes / (1024.0 * 1024.0);
+    return mib >= 1024 ? format("%.1f GiB", mib / 1024) : format("%.0f MiB", mib);
+}
+
 Ptr<Deformer> Deformer::create(InputArray image, const Multicage& rest, const DeformParams& params) {
     checkImage(image);
     if (rest.imageSize() != image.size())
@@ -23,7 +28,35 @@ Ptr<Deformer> Deformer::create(InputArray image, const Multicage& rest, const De
             CV_Error(Error::StsNotImplemented, "multicage: BACKEND_GPU requested but " + why);
         CV_LOG_WARNING(NULL, "multicage: no GPU for gpuBinding (" << why << "); binding on the CPU");
     }
-    return create(image, bind(rest, params.coordinates, params.gridStep), params);
+    const int c = rest.vertexCount() + 4;
+    DeformParams chosen = params;
+    const size_t need = bindingMemory(image.size(), c, params.gridStep);
+    if (params.memoryBudget > 0 && need > params.memoryBudget) {
+        const int fits = gridStepForBudget(image.size(), c, params.memoryBudget, params.gridStep);
+        const std::string what = format(
+            "a %dx%d image with %d vertices needs %s of coefficients at grid step %d, over the "
+            "%s budget (DeformParams::memoryBudget); grid step %d fits (%s)",
+            image.cols(), image.rows(), rest.vertexCount(), formatBytes(need).c_str(), params.gridStep,
+            formatBytes(params.memoryBudget).c_str(), fits,
+            formatBytes(bindingMemory(image.size(), c, fits)).c_str());
+        if (!params.autoGridStep) CV_Error(Error::StsNoMem, "multicage: " + what);
+        CV_LOG_WARNING(NULL, "multicage: " << what << "; using grid step " << fits);
+        chosen.gridStep = fits;
+    }
+    return create(image, bind(rest, chosen.coordinates, chosen.gridStep), chosen);
+}
+
+size_t bindingMemory(Size imageSize, int coefficientCount, int gridStep) {
+    return size_t(gridSizeFor(imageSize, gridStep).area()) * size_t(coefficientCount) * sizeof(float);
+}
+
+int gridStepForBudget(Size imageSize, int coefficientCount, size_t budget, int minStep) {
+    int step = std::max(1, minStep);
+    if (budget == 0) return step;
+    while (bindingMemory(imageSize, coefficientCount, step) > budget &&
+           step < std::max(imageSize.width, imageSize.height))
+        ++step;
+    return step;
 }
 
 Ptr<Deformer> Deformer::create(InputArray imageIn, const Binding& binding, const DeformParams& params) {

@@ -23,7 +23,19 @@ struct CV_EXPORTS DeformParams {
     bool halfFloat = false;
     /** GPU backend: compute the mean value binding in a compute shader instead of on the CPU. */
     bool gpuBinding = false;
+    /** Most bytes the coefficients may take (nodes x coefficients x 4); 0 means no limit.
+    The default, 1 GiB, holds a 4096x4096 image with 60 vertices at grid step 1. */
+    size_t memoryBudget = size_t(1) << 30;
+    /** When the coefficients at gridStep would exceed memoryBudget: true raises the grid step
+    to the smallest that fits (and logs the choice); false throws, naming the memory needed
+    and the grid step that would fit. */
+    bool autoGridStep = true;
 };
+
+/** Bytes of the coefficients of a binding: nodes(imageSize, gridStep) x coefficientCount x 4. */
+CV_EXPORTS size_t bindingMemory(Size imageSize, int coefficientCount, int gridStep);
+/** The smallest grid step >= minStep whose binding fits in budget bytes (0: no limit). */
+CV_EXPORTS int gridStepForBudget(Size imageSize, int coefficientCount, size_t budget, int minStep = 1);
 
 /** Binds an image to a multicage once, then deforms it for any number of poses.
 
