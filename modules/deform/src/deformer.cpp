@@ -20,14 +20,6 @@ Ptr<Deformer> Deformer::create(InputArray image, const Multicage& rest, const De
                   ("multicage: the image is %dx%d but the multicage was made for %dx%d; use "
                    "Multicage::scaled(image.size())",
                    image.cols(), image.rows(), rest.imageSize().width, rest.imageSize().height));
-    if (params.gpuBinding && params.coordinates == MEAN_VALUE && params.backend != BACKEND_CPU) {
-        std::string why;
-        Ptr<Deformer> gpu = gpu::createDeformer(image.getMat(), rest, params, &why);
-        if (gpu) return gpu;
-        if (params.backend == BACKEND_GPU)
-            CV_Error(Error::StsNotImplemented, "multicage: BACKEND_GPU requested but " + why);
-        CV_LOG_WARNING(NULL, "multicage: no GPU for gpuBinding (" << why << "); binding on the CPU");
-    }
     const int c = rest.vertexCount() + 4;
     DeformParams chosen = params;
     const size_t need = bindingMemory(image.size(), c, params.gridStep);
@@ -42,6 +34,14 @@ Ptr<Deformer> Deformer::create(InputArray image, const Multicage& rest, const De
         if (!params.autoGridStep) CV_Error(Error::StsNoMem, "multicage: " + what);
         CV_LOG_WARNING(NULL, "multicage: " << what << "; using grid step " << fits);
         chosen.gridStep = fits;
+    }
+    if (chosen.gpuBinding && chosen.coordinates == MEAN_VALUE && params.backend != BACKEND_CPU) {
+        std::string why;
+        Ptr<Deformer> gpu = gpu::createDeformer(image.getMat(), rest, chosen, &why);
+        if (gpu) return gpu;
+        if (params.backend == BACKEND_GPU)
+            CV_Error(Error::StsNotImplemented, "multicage: BACKEND_GPU requested but " + why);
+        CV_LOG_WARNING(NULL, "multicage: no GPU for gpuBinding (" << why << "); binding on the CPU");
     }
     return create(image, bind(rest, chosen.coordinates, chosen.gridStep), chosen);
 }
