@@ -14,5 +14,6 @@ $SUDO apt-get install -y -qq --no-install-recommends \
     libgif-dev \
     libgtest-dev libgmock-dev libbenchmark-dev \
     python3-dev pybind11-dev python3-numpy python3-opencv python3-pytest \
+    libglfw3-dev libimgui-dev xvfb xauth \
     > /dev/null
 echo "deps.sh: build and test dependencies installed"
