@@ -1,6 +1,7 @@
 // Animation output: PNG frames, video through OpenCV's videoio, GIF through giflib. Every
 // writer works on a temporary file or folder beside the target and renames it at the end.
 #include <gif_lib.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <atomic>
@@ -167,7 +168,6 @@ protected:
     void writeFrame(const Mat& frame) override {
         Mat bgr = toBgr8(frame, floatScale_);
         if (frames_ == 0) open(bgr.size());
-        // H.264 and MPEG-4 store 4:2:0 chroma: odd sizes are padded by repeating the edge.
         if (bgr.size() != encoded_) copyMakeBorder(bgr, bgr, 0, encoded_.height - bgr.rows, 0,
                                                    encoded_.width - bgr.cols, BORDER_REPLICATE);
         writer_.write(bgr);
@@ -182,14 +182,12 @@ protected:
 
 private:
     void open(Size size) {
-        encoded_ = size;
+        // H.264, MPEG-4 and FFmpeg's Motion JPEG store 4:2:0 chroma and would drop an odd
+        // last column or row: pad to even sizes instead.
+        encoded_ = Size((size.width + 1) & ~1, (size.height + 1) & ~1);
         std::vector<std::string> codecs;
-        if (format_ == ANIMATION_MP4) {
-            codecs = {"avc1", "mp4v"};
-            encoded_ = Size((size.width + 1) & ~1, (size.height + 1) & ~1);
-        } else {
-            codecs = {"MJPG"};
-        }
+        if (format_ == ANIMATION_MP4) codecs = {"avc1", "mp4v"};
+        else codecs = {"MJPG"};
         for (const std::string& c : codecs) {
             if (writer_.open(temp_.string(), CAP_FFMPEG, VideoWriter::fourcc(c[0], c[1], c[2], c[3]), fps_,
                              encoded_, true))
@@ -262,6 +260,10 @@ protected:
     }
     void commit() override {
         close();
+        // giflib creates the file 0600; give it the permissions of any new file.
+        const mode_t mask = ::umask(0);
+        ::umask(mask);
+        fs::permissions(temp_, static_cast<fs::perms>(0666 & ~mask));
         fs::rename(temp_, target_);
     }
 

@@ -102,7 +102,8 @@ frames folder is replaced only if it holds nothing but frame_NNNN.png files.
 
 Frames: all the same size, CV_8UC1, CV_8UC3 (BGR) or CV_8UC4 (BGRA; alpha dropped for
 video and GIF); 16-bit and float frames are scaled to 8 bits for video and GIF (PNG frames
-keep their depth). GIF: one palette of 255 colours found by k-means on the first frame
+keep their depth). Video frames of odd width or height are padded by one pixel (the edge
+repeated), since 4:2:0 chroma needs even sizes. GIF: one palette of 255 colours found by k-means on the first frame
 (deformed frames reuse the image's colours), unchanged pixels written as transparent and
 each frame cropped to what changed, repeats forever. Delays are in 1/100 s, at least 2. */
 class CV_EXPORTS AnimationWriter {
