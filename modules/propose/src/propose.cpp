@@ -8,6 +8,7 @@
 // forced higher by the vertex budget is checked and repaired.
 #include <algorithm>
 #include <cmath>
+#include <deque>
 #include <numeric>
 #include <opencv2/imgproc.hpp>
 #include <opencv2/multicage/propose.hpp>
@@ -146,6 +147,9 @@ struct Region {
     std::vector<Point> contour;
     int depth = 1;
     double area = 0;
+    Mat distance;  // from the filled contour, within `roi`; made when first needed
+    Rect roi;
+    Mat limit;  // work-size mask the grown region must stay in (empty: the image)
 };
 
 // Outer contours at even levels of the contour tree, as regions with their depth.
@@ -247,7 +251,7 @@ Polygon toFull(const Polygon& p, const Work& w) {
 }
 
 struct Candidate {
-    const Region* region = nullptr;
+    Region* region = nullptr;
     double e = 0;
     int mode = MODE_APPROX;
     int refinements = 0;
@@ -255,8 +259,38 @@ struct Candidate {
     bool alive = true;
 };
 
+// The region grown by `grow` pixels (its outer contour). Douglas-Peucker cuts corners by up to
+// its tolerance; approximating the contour of the region grown by that much instead keeps
+// the polygon around the region, so a tolerance forced above the margin by the vertex budget
+// still encloses the objects.
+std::vector<Point> grownContour(Region& r, double grow, Size size) {
+    if (grow <= 0) return r.contour;
+    if (r.distance.empty()) {
+        const int pad = std::max(size.width, size.height) / 4 + 2;
+        const Rect box = boundingRect(r.contour);
+        r.roi = Rect(box.x - pad, box.y - pad, box.width + 2 * pad, box.height + 2 * pad) &
+                Rect(Point(), size);
+        Mat filled(r.roi.size(), CV_8U, Scalar(0));
+        drawContours(filled, std::vector<std::vector<Point>>{r.contour}, 0, Scalar(255), FILLED,
+                     LINE_8, noArray(), INT_MAX, -r.roi.tl());
+        r.distance = distanceTo(~filled);
+    }
+    Mat grown;
+    Mat within = r.distance <= grow;
+    if (!r.limit.empty()) within &= r.limit(r.roi);
+    copyMakeBorder(within, grown, 1, 1, 1, 1, BORDER_CONSTANT, 0);
+    std::vector<std::vector<Point>> contours;
+    findContours(grown, contours, RETR_EXTERNAL, CHAIN_APPROX_SIMPLE, r.roi.tl() - Point(1, 1));
+    if (contours.empty()) return r.contour;
+    return *std::max_element(contours.begin(), contours.end(), [](const auto& a, const auto& b) {
+        return contourArea(a) < contourArea(b);
+    });
+}
+
 void make(Candidate& c, const Work& w) {
-    c.polygon = toFull(simplify(c.region->contour, c.e, &c.mode), w);
+    // The margin absorbs half of the tolerance: the polygon stays at least margin / 2 away.
+    const double grow = c.e + 1.0 - 0.5 * w.margin;
+    c.polygon = toFull(simplify(grownContour(*c.region, grow, w.size), c.e, &c.mode), w);
 }
 
 int aliveVertices(const std::vector<Candidate>& cs) {
@@ -267,10 +301,10 @@ int aliveVertices(const std::vector<Candidate>& cs) {
 
 // Simplifies every region within the vertex budgets. One tolerance for all (uniform
 // accuracy), raised until the total fits; a polygon over its own budget raises its own.
-std::vector<Candidate> simplifyAll(const std::vector<Region>& regions, const Work& w, int budget,
+std::vector<Candidate> simplifyAll(std::vector<Region>& regions, const Work& w, int budget,
                                    int polygonBudget) {
     std::vector<Candidate> cs;
-    for (const Region& r : regions) {
+    for (Region& r : regions) {
         Candidate c;
         c.region = &r;
         cs.push_back(c);
@@ -299,19 +333,61 @@ std::vector<Candidate> simplifyAll(const std::vector<Region>& regions, const Wor
     }
 }
 
+// Raises c's tolerance until it fits `cap` vertices (and `room`, when given).
+void fit(Candidate& c, const Work& w, int cap) {
+    make(c, w);
+    while (static_cast<int>(c.polygon.size()) > cap) {
+        c.e *= 1.15;
+        make(c, w);
+    }
+}
+
 // Makes the polygons (with `fixed` ones that must stay as they are) pairwise disjoint and
-// simple: a polygon that intersects itself falls back to its hull, then its box; of two
-// polygons that cross, the inner (else the smaller) one is first simplified more finely
-// while the budget allows, then dropped.
+// simple, and keeps the nesting the regions had:
+// - a polygon that intersects itself falls back to its hull, then its box;
+// - of two crossing polygons at different depths, the inner one is simplified more finely
+//   while the budget allows, else dropped (its region lies inside the outer one anyway);
+// - two crossing siblings are first refined the same way, then merged into one polygon
+//   around both (the convex hull of their regions), so that no object is left uncaged;
+// - a polygon that came to contain a sibling (a large tolerance grows polygons) swallows it:
+//   the sibling is dropped, as its region is inside.
+// `depthOffset` is the depth of the polygon the regions sit in (0 for a whole image).
 void repair(std::vector<Candidate>& cs, const std::vector<Polygon>& fixed, const Work& w,
-            int budget) {
+            int budget, int cap, int depthOffset) {
+    std::deque<Region> merged;  // regions made here; candidates point into it
+    auto refine = [&](int i) {
+        if (cs[i].refinements >= 3 || cs[i].mode != MODE_APPROX) return false;
+        Candidate finer = cs[i];
+        finer.e *= 0.5, ++finer.refinements;
+        make(finer, w);
+        const int total = aliveVertices(cs) - static_cast<int>(cs[i].polygon.size()) +
+                          static_cast<int>(finer.polygon.size());
+        if (finer.mode != MODE_APPROX || total > budget ||
+            static_cast<int>(finer.polygon.size()) > cap)
+            return false;
+        cs[i] = finer;
+        return true;
+    };
     for (int iteration = 0; iteration < 1000; ++iteration) {
         std::vector<Polygon> all = fixed;
         std::vector<int> index(fixed.size(), -1);
         for (int i = 0; i < static_cast<int>(cs.size()); ++i)
             if (cs[i].alive) all.push_back(cs[i].polygon), index.push_back(i);
         geometry::Crossing x;
-        if (!geometry::findCrossing(all, &x)) return;
+        if (!geometry::findCrossing(all, &x)) {
+            const std::vector<int> depth = geometry::depths(all);
+            bool changed = false;
+            for (size_t k = fixed.size(); k < all.size() && !changed; ++k) {
+                const Candidate& c = cs[index[k]];
+                if (depth[k] <= c.region->depth + depthOffset) continue;
+                for (size_t j = fixed.size(); j < all.size() && !changed; ++j)
+                    if (j != k && cs[index[j]].region->depth >= c.region->depth &&
+                        geometry::contains(all[j], all[k][0]))
+                        cs[index[k]].alive = false, changed = true;
+            }
+            if (!changed) return;
+            continue;
+        }
         const int a = index[x.polygonA], b = index[x.polygonB];
         if (a < 0 && b < 0)
             CV_Error(Error::StsBadArg,
@@ -324,26 +400,37 @@ void repair(std::vector<Candidate>& cs, const std::vector<Polygon>& fixed, const
                 ++c.mode, make(c, w);
             continue;
         }
-        int victim;
-        if (a < 0 || b < 0)
-            victim = a < 0 ? b : a;
-        else if (cs[a].region->depth != cs[b].region->depth)
-            victim = cs[a].region->depth > cs[b].region->depth ? a : b;
-        else
-            victim = cs[a].region->area < cs[b].region->area ? a : b;
-        Candidate& v = cs[victim];
-        if (v.refinements < 3 && v.mode == MODE_APPROX) {
-            Candidate finer = v;
-            finer.e *= 0.5, ++finer.refinements;
-            make(finer, w);
-            const int total = aliveVertices(cs) - static_cast<int>(v.polygon.size()) +
-                              static_cast<int>(finer.polygon.size());
-            if (finer.mode == MODE_APPROX && total <= budget) {
-                v = finer;
-                continue;
-            }
+        if (a < 0 || b < 0) {  // against a fixed polygon: only ours can give way
+            const int v = a < 0 ? b : a;
+            if (!refine(v)) cs[v].alive = false;
+            continue;
         }
-        v.alive = false;
+        if (cs[a].region->depth != cs[b].region->depth) {
+            const int v = cs[a].region->depth > cs[b].region->depth ? a : b;
+            if (!refine(v)) cs[v].alive = false;
+            continue;
+        }
+        const int small = cs[a].region->area < cs[b].region->area ? a : b;
+        const int large = small == a ? b : a;
+        if (refine(small) || refine(large)) continue;
+        Region m;
+        std::vector<Point> both = cs[a].region->contour;
+        both.insert(both.end(), cs[b].region->contour.begin(), cs[b].region->contour.end());
+        convexHull(both, m.contour);
+        m.depth = cs[a].region->depth;
+        m.area = cs[a].region->area + cs[b].region->area;
+        merged.push_back(std::move(m));
+        Candidate c;
+        c.region = &merged.back();
+        c.e = std::max(cs[a].e, cs[b].e);
+        cs[a].alive = cs[b].alive = false;
+        fit(c, w, cap);
+        cs.push_back(c);
+        Candidate& added = cs.back();
+        while (aliveVertices(cs) > budget && added.mode != MODE_BOX) {
+            added.e *= 1.3;
+            make(added, w);
+        }
     }
     CV_Error(Error::StsInternal,
              "multicage: proposeMulticage: repairing the polygons did not converge");
@@ -438,11 +525,11 @@ Multicage proposeMulticage(InputArray image, const ProposeParams& params) {
     const Segmentation s = segmentForProposal(img, w, params);
     const Mat cage = params.method == PROPOSE_LABELS ? cageMaskFromLabels(s.labels, w)
                                                      : cageMaskFromObjects(s.objects, w);
-    const std::vector<Region> regions = selectRegions(
-        nestedRegions(cage, params.maxDepth, w.minArea), params.maxPolygons, params.maxVertices);
+    std::vector<Region> regions = selectRegions(nestedRegions(cage, params.maxDepth, w.minArea),
+                                                params.maxPolygons, params.maxVertices);
     std::vector<Candidate> cs =
         simplifyAll(regions, w, params.maxVertices, params.maxPolygonVertices);
-    repair(cs, {}, w, params.maxVertices);
+    repair(cs, {}, w, params.maxVertices, params.maxPolygonVertices, 0);
     Multicage out(img.size());
     for (const Candidate& c : cs)
         if (c.alive) out.addPolygon(c.polygon);
@@ -498,7 +585,10 @@ Multicage protectFeatures(InputArray image, const Multicage& cage, int polygon,
         fillPoly(inside, inner, Scalar(0), LINE_8, 4);
     }
     const Mat insideDistance = distanceTo(inside);
-    const Mat allowed = insideDistance > (w.margin + w.gap);
+    // A protective polygon keeps a band of two margins to the moved polygon: the band is
+    // what absorbs the deformation, and a thin one would fold.
+    const float band = 2 * w.margin + w.gap;
+    const Mat allowed = insideDistance > (band + w.margin);
     if (countNonZero(allowed) == 0) return out;
 
     Mat objects;
@@ -519,13 +609,15 @@ Multicage protectFeatures(InputArray image, const Multicage& cage, int polygon,
     objects = cleanMask(objects, w.radius, w.minArea);
     if (countNonZero(objects) == 0) return out;
     Mat cageMask = cageMaskFromObjects(objects, w);
-    cageMask &= (insideDistance > w.gap);
+    const Mat limit = insideDistance > band;
+    cageMask &= limit;
     std::vector<Region> regions =
         selectRegions(nestedRegions(cageMask, 1, w.minArea), slots, budget);
+    for (Region& r : regions) r.limit = limit;
     std::vector<Candidate> cs = simplifyAll(regions, w, budget, params.maxPolygonVertices);
     std::vector<Polygon> fixed;
     for (int j = 0; j < cage.polygonCount(); ++j) fixed.push_back(cage.polygon(j));
-    repair(cs, fixed, w, budget);
+    repair(cs, fixed, w, budget, params.maxPolygonVertices, cage.depth(polygon));
     for (const Candidate& c : cs)
         if (c.alive) out.addPolygon(c.polygon);
     out.orient();

@@ -1,0 +1,458 @@
+// Automatic multicage proposal: validity, coverage, budgets, nesting, feature protection.
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "testing.hpp"
+
+using namespace cv::multicage;
+using multicage_testing::readSample;
+
+namespace {
+
+// Pixels inside a polygon (centres inside or on it), as a mask of the image's size.
+cv::Mat fill(const std::vector<cv::Point2f>& polygon, cv::Size size) {
+    cv::Mat m(size, CV_8U, cv::Scalar(0));
+    std::vector<std::vector<cv::Point>> pts(1);
+    for (const cv::Point2f& p : polygon) pts[0].emplace_back(cvRound(p.x * 16), cvRound(p.y * 16));
+    cv::fillPoly(m, pts, cv::Scalar(255), cv::LINE_8, 4);
+    return m;
+}
+
+cv::Mat fillAll(const Multicage& cage) {
+    cv::Mat m(cage.imageSize(), CV_8U, cv::Scalar(0));
+    for (int p = 0; p < cage.polygonCount(); ++p) m |= fill(cage.polygon(p), cage.imageSize());
+    return m;
+}
+
+double iou(const cv::Mat& a, const cv::Mat& b) {
+    const double inter = cv::countNonZero(a & b), uni = cv::countNonZero(a | b);
+    return uni > 0 ? inter / uni : 0.0;
+}
+
+// A mask dilated by a Euclidean radius (what "the dilated shape" means below).
+cv::Mat dilated(const cv::Mat& mask, float radius) {
+    cv::Mat d;
+    cv::distanceTransform(~mask, d, cv::DIST_L2, cv::DIST_MASK_PRECISE);
+    return d <= radius;
+}
+
+int polygonAt(const Multicage& cage, cv::Point2f p) {
+    int best = -1;
+    for (int i = 0; i < cage.polygonCount(); ++i)
+        if (cv::pointPolygonTest(cage.polygon(i), p, false) > 0 &&
+            (best < 0 || cage.depth(i) > cage.depth(best)))
+            best = i;
+    return best;
+}
+
+// Random shapes: blobs, rings (some with a disk inside), stars, touching pairs, and shapes
+// whose centre is near or beyond the image border.
+cv::Mat randomShapes(cv::RNG& rng, cv::Size size) {
+    cv::Mat mask(size, CV_8U, cv::Scalar(0));
+    const int n = rng.uniform(1, 5);
+    const float s = static_cast<float>(std::min(size.width, size.height));
+    for (int k = 0; k < n; ++k) {
+        cv::Point2f c(rng.uniform(0.f, 1.f) * size.width, rng.uniform(0.f, 1.f) * size.height);
+        const float r = rng.uniform(0.08f, 0.3f) * s;
+        switch (rng.uniform(0, 6)) {
+            case 0:  // blob
+                cv::ellipse(mask,
+                            cv::RotatedRect(c, cv::Size2f(2 * r, rng.uniform(0.6f, 2.f) * r),
+                                            rng.uniform(0.f, 180.f)),
+                            cv::Scalar(255), cv::FILLED);
+                break;
+            case 1: {  // ring, maybe with a disk inside
+                const float t = rng.uniform(0.15f, 0.4f) * r;
+                cv::circle(mask, c, cvRound(r - t / 2), cv::Scalar(255), std::max(2, cvRound(t)));
+                if (rng.uniform(0, 2))
+                    cv::circle(mask, c, cvRound(rng.uniform(0.15f, 0.4f) * r), cv::Scalar(255),
+                               cv::FILLED);
+                break;
+            }
+            case 2: {  // star
+                std::vector<float> radii;
+                const int m = rng.uniform(5, 14);
+                for (int i = 0; i < m; ++i) radii.push_back(r * rng.uniform(0.35f, 1.f));
+                std::vector<std::vector<cv::Point>> pts(1);
+                for (cv::Point2f p :
+                     multicage_fixtures::starPolygon(c, radii, rng.uniform(0.f, 6.f)))
+                    pts[0].emplace_back(p);
+                cv::fillPoly(mask, pts, cv::Scalar(255));
+                break;
+            }
+            case 3: {  // touching pair
+                const float r2 = r * rng.uniform(0.5f, 1.f);
+                const float a = rng.uniform(0.f, 6.3f);
+                cv::circle(mask, c, cvRound(r), cv::Scalar(255), cv::FILLED);
+                cv::circle(mask, c + (r + r2) * cv::Point2f(std::cos(a), std::sin(a)), cvRound(r2),
+                           cv::Scalar(255), cv::FILLED);
+                break;
+            }
+            case 4: {  // cut by the border
+                c.x = rng.uniform(0, 2) ? rng.uniform(-0.5f, 0.3f) * r
+                                        : size.width - rng.uniform(-0.5f, 0.3f) * r;
+                cv::rectangle(
+                    mask,
+                    cv::Rect(cvRound(c.x - r), cvRound(c.y - r / 2), cvRound(2 * r), cvRound(r)),
+                    cv::Scalar(255), cv::FILLED);
+                break;
+            }
+            default: {  // thin bar (simplification stress)
+                const cv::Point2f d = r * cv::Point2f(std::cos(k * 1.3f), std::sin(k * 1.3f));
+                cv::line(mask, c - d, c + d, cv::Scalar(255), rng.uniform(3, 8));
+                break;
+            }
+        }
+    }
+    return mask;
+}
+
+// The mask as a photograph: dark shapes of one colour on a light noisy background.
+cv::Mat render(cv::RNG& rng, const cv::Mat& mask) {
+    const cv::Scalar bg(rng.uniform(190, 255), rng.uniform(190, 255), rng.uniform(190, 255));
+    const cv::Scalar fg(rng.uniform(0, 120), rng.uniform(0, 120), rng.uniform(0, 120));
+    cv::Mat img(mask.size(), CV_8UC3, bg), noise(mask.size(), CV_16SC3), out;
+    img.setTo(fg, mask);
+    cv::randn(noise, cv::Scalar::all(0), cv::Scalar::all(6));
+    img.convertTo(img, CV_16SC3);
+    cv::Mat(img + noise).convertTo(out, CV_8UC3);
+    return out;
+}
+
+}  // namespace
+
+// Item 2: every proposal is valid, encloses what was segmented, and holds its budgets.
+TEST(Propose, AlwaysValidCoveringAndWithinBudgetOnRandomImages) {
+    cv::RNG rng(20240611);
+    int invalid = 0, overBudget = 0, images = 0, withPolygons = 0;
+    double segmented = 0, covered = 0, marginPixels = 0, marginCovered = 0;
+    std::string firstProblem;
+    for (int i = 0; i < 520; ++i) {
+        const cv::Size size(rng.uniform(96, 224), rng.uniform(96, 224));
+        const cv::Mat mask = randomShapes(rng, size);
+        ProposeParams params;
+        params.method = i % 2 ? PROPOSE_THRESHOLD : PROPOSE_MASK;
+        params.margin = static_cast<float>(rng.uniform(2, 9));
+        params.maxVertices = std::vector<int>{24, 40, 80}[rng.uniform(0, 3)];
+        params.maxPolygonVertices = std::vector<int>{8, 16, 32}[rng.uniform(0, 3)];
+        params.maxDepth = rng.uniform(1, 4);
+        params.minRegionArea = 0.002;
+        const cv::Mat input = params.method == PROPOSE_MASK ? mask : render(rng, mask);
+        Multicage cage;
+        try {
+            cage = proposeMulticage(input, params);
+        } catch (const cv::Exception& e) {
+            if (cv::countNonZero(mask) == 0) continue;  // a constant photograph: an error by design
+            ++invalid;
+            if (firstProblem.empty())
+                firstProblem = "image " + std::to_string(i) + " threw: " + e.err;
+            continue;
+        }
+        ++images;
+        std::string why;
+        if (!cage.validate(&why)) {
+            ++invalid;
+            if (firstProblem.empty()) firstProblem = "image " + std::to_string(i) + ": " + why;
+        }
+        bool within =
+            cage.vertexCount() <= params.maxVertices && cage.polygonCount() <= params.maxPolygons;
+        for (int p = 0; p < cage.polygonCount(); ++p)
+            within = within &&
+                     static_cast<int>(cage.polygon(p).size()) <= params.maxPolygonVertices &&
+                     cage.depth(p) <= params.maxDepth;
+        overBudget += !within;
+        if (cage.polygonCount() == 0) continue;
+        ++withPolygons;
+        cv::Mat seg;
+        proposeSegmentation(input, seg, params);
+        const cv::Mat inside = fillAll(cage);
+        segmented += cv::countNonZero(seg);
+        covered += cv::countNonZero(seg & inside);
+        // The margin: the segmentation grown by half the margin is still inside.
+        const cv::Mat grown = dilated(seg, 0.5f * params.margin);
+        marginPixels += cv::countNonZero(grown);
+        marginCovered += cv::countNonZero(grown & inside);
+    }
+    const double coverage = covered / segmented, marginCoverage = marginCovered / marginPixels;
+    std::cout << "[ propose  ] " << images << " random images, " << withPolygons
+              << " with polygons, " << invalid << " invalid, " << overBudget
+              << " over budget, coverage " << 100 * coverage << "%, half-margin coverage "
+              << 100 * marginCoverage << "%" << std::endl;
+    EXPECT_GE(images, 500);
+    EXPECT_EQ(invalid, 0) << firstProblem;
+    EXPECT_EQ(overBudget, 0);
+    EXPECT_GE(coverage, 0.995);
+    EXPECT_GE(marginCoverage, 0.99);
+}
+
+// Item 3: known nesting.
+TEST(Propose, DiskInsideRingGivesNestedPolygonsMatchingTheDilatedShapes) {
+    const cv::Size size(260, 220);
+    const cv::Point c(130, 110);
+    cv::Mat ring(size, CV_8U, cv::Scalar(0)), disk = ring.clone(), ringFilled = ring.clone();
+    cv::circle(ring, c, 80, cv::Scalar(255), cv::FILLED);
+    cv::circle(ring, c, 55, cv::Scalar(0), cv::FILLED);
+    cv::circle(ringFilled, c, 80, cv::Scalar(255), cv::FILLED);
+    cv::circle(disk, c, 25, cv::Scalar(255), cv::FILLED);
+    for (int method : {PROPOSE_MASK, PROPOSE_THRESHOLD}) {
+        ProposeParams params;
+        params.method = method;
+        params.margin = 6;
+        cv::RNG rng(7);
+        const cv::Mat input =
+            method == PROPOSE_MASK ? cv::Mat(ring | disk) : render(rng, ring | disk);
+        const Multicage cage = proposeMulticage(input, params);
+        ASSERT_TRUE(cage.validate());
+        ASSERT_EQ(cage.polygonCount(), 2) << proposeMethodName(method);
+        const int outer = cage.depth(0) == 1 ? 0 : 1, inner = 1 - outer;
+        EXPECT_EQ(cage.depth(outer), 1);
+        EXPECT_EQ(cage.depth(inner), 2);
+        const double iouRing = iou(fill(cage.polygon(outer), size), dilated(ringFilled, 6));
+        const double iouDisk = iou(fill(cage.polygon(inner), size), dilated(disk, 6));
+        std::cout << "[ propose  ] " << proposeMethodName(method) << ": IoU ring " << iouRing
+                  << ", disk " << iouDisk << std::endl;
+        EXPECT_GE(iouRing, 0.9);
+        EXPECT_GE(iouDisk, 0.9);
+    }
+}
+
+TEST(Propose, SeparateObjectsGetSeparatePolygons) {
+    const cv::Size size(300, 180);
+    cv::Mat a(size, CV_8U, cv::Scalar(0)), b = a.clone();
+    cv::circle(a, cv::Point(70, 90), 45, cv::Scalar(255), cv::FILLED);
+    cv::rectangle(b, cv::Rect(170, 40, 90, 100), cv::Scalar(255), cv::FILLED);
+    ProposeParams params;
+    params.method = PROPOSE_MASK;
+    params.margin = 8;
+    const Multicage cage = proposeMulticage(a | b, params);
+    ASSERT_TRUE(cage.validate());
+    ASSERT_EQ(cage.polygonCount(), 2);
+    for (const cv::Mat& shape : {a, b}) {
+        const cv::Mat target = dilated(shape, 8);
+        const int p =
+            polygonAt(cage, cv::Point2f(cv::boundingRect(shape).tl() + cv::Point(20, 20)));
+        ASSERT_GE(p, 0);
+        EXPECT_EQ(cage.depth(p), 1);
+        const double v = iou(fill(cage.polygon(p), size), target);
+        std::cout << "[ propose  ] separate object IoU " << v << std::endl;
+        EXPECT_GE(v, 0.9);
+    }
+}
+
+TEST(Propose, ObjectTouchingTheBorderIsEnclosedAlongTheEdge) {
+    const cv::Size size(240, 200);
+    cv::Mat shape(size, CV_8U, cv::Scalar(0));
+    cv::ellipse(shape, cv::Point(0, 100), cv::Size(90, 60), 0, 0, 360, cv::Scalar(255), cv::FILLED);
+    cv::rectangle(shape, cv::Rect(150, 150, 60, 50), cv::Scalar(255),
+                  cv::FILLED);  // on the bottom edge
+    ProposeParams params;
+    params.method = PROPOSE_MASK;
+    params.margin = 6;
+    const Multicage cage = proposeMulticage(shape, params);
+    std::string why;
+    ASSERT_TRUE(cage.validate(&why)) << why;
+    ASSERT_EQ(cage.polygonCount(), 2);
+    const cv::Mat inside = fillAll(cage);
+    // Every object pixel, those on the image edge included, is inside.
+    EXPECT_EQ(cv::countNonZero(shape & ~inside), 0);
+    const double v = iou(inside, dilated(shape, 6));
+    std::cout << "[ propose  ] border object IoU " << v << std::endl;
+    EXPECT_GE(v, 0.9);
+}
+
+TEST(Propose, TouchingLabelsGetSeparatePolygonsAndNestedLabelsNest) {
+    cv::Mat labels(200, 300, CV_32S, cv::Scalar(0));
+    labels(cv::Rect(30, 40, 100, 120)).setTo(1);
+    labels(cv::Rect(130, 40, 100, 120)).setTo(2);  // touches label 1
+    labels(cv::Rect(160, 80, 40, 40)).setTo(3);    // inside label 2
+    ProposeParams params;
+    params.method = PROPOSE_LABELS;
+    params.margin = 5;
+    const Multicage cage = proposeMulticage(labels, params);
+    std::string why;
+    ASSERT_TRUE(cage.validate(&why)) << why;
+    ASSERT_EQ(cage.polygonCount(), 3);
+    const int p1 = polygonAt(cage, {60, 100}), p2 = polygonAt(cage, {215, 60}),
+              p3 = polygonAt(cage, {180, 100});
+    EXPECT_EQ(cage.depth(p1), 1);
+    EXPECT_EQ(cage.depth(p2), 1);
+    EXPECT_EQ(cage.depth(p3), 2);
+    EXPECT_NE(p1, p2);
+}
+
+TEST(Propose, BudgetsHoldOnComplexShapes) {
+    // A comb: many teeth want many vertices.
+    cv::Mat comb(200, 300, CV_8U, cv::Scalar(0));
+    comb(cv::Rect(20, 20, 260, 30)).setTo(255);
+    for (int x = 20; x < 280; x += 20) comb(cv::Rect(x, 50, 8, 120)).setTo(255);
+    for (int budget : {4, 8, 12, 20, 40}) {
+        ProposeParams params;
+        params.method = PROPOSE_MASK;
+        params.margin = 3;
+        params.maxVertices = budget;
+        params.maxPolygonVertices = budget;
+        const Multicage cage = proposeMulticage(comb, params);
+        ASSERT_TRUE(cage.validate());
+        ASSERT_EQ(cage.polygonCount(), 1);
+        EXPECT_LE(cage.vertexCount(), budget);
+    }
+}
+
+TEST(Propose, ConstantImageIsAnErrorAndEmptyMaskGivesNoPolygon) {
+    EXPECT_THROW(proposeMulticage(cv::Mat(100, 120, CV_8UC3, cv::Scalar(40, 50, 60))),
+                 cv::Exception);
+    EXPECT_THROW(proposeMulticage(cv::Mat()), cv::Exception);
+    ProposeParams params;
+    params.method = PROPOSE_MASK;
+    EXPECT_EQ(proposeMulticage(cv::Mat::zeros(100, 120, CV_8U), params).polygonCount(), 0);
+    params.maxVertices = 2;
+    EXPECT_THROW(proposeMulticage(cv::Mat::zeros(100, 120, CV_8U), params), cv::Exception);
+}
+
+TEST(Propose, EveryMethodGivesAValidCage) {
+    const cv::Mat image = readSample("butterfly.jpg");
+    for (int method : {PROPOSE_AUTO, PROPOSE_THRESHOLD, PROPOSE_ADAPTIVE, PROPOSE_GRABCUT,
+                       PROPOSE_SALIENCY, PROPOSE_SPECTRAL_RESIDUAL}) {
+        ProposeParams params;
+        params.method = method;
+        const Multicage cage = proposeMulticage(image, params);
+        std::string why;
+        EXPECT_TRUE(cage.validate(&why)) << proposeMethodName(method) << ": " << why;
+        EXPECT_GE(cage.polygonCount(), 1) << proposeMethodName(method);
+        EXPECT_LE(cage.vertexCount(), params.maxVertices);
+        EXPECT_EQ(parseProposeMethod(proposeMethodName(method)), method);
+    }
+    ProposeParams params;
+    params.method = PROPOSE_GRABCUT;
+    params.rect = cv::Rect(10, 20, 470, 300);
+    EXPECT_TRUE(proposeMulticage(image, params).validate());
+}
+
+// Item 4: the sample photographs, default parameters.
+TEST(Propose, SamplePhotosGiveValidCagesWithinTheDefaultBudget) {
+    for (const char* name : {"butterfly.jpg", "fruits.jpg", "messi5.jpg", "HappyFish.jpg",
+                             "building.jpg", "smarties.png"}) {
+        const Multicage cage = proposeMulticage(readSample(name));
+        std::string why;
+        EXPECT_TRUE(cage.validate(&why)) << name << ": " << why;
+        EXPECT_GE(cage.polygonCount(), 1) << name;
+        EXPECT_LE(cage.vertexCount(), 80) << name;
+    }
+    // "Follows the object": the butterfly's body and wings are in, the leaves around are out.
+    const Multicage butterfly = proposeMulticage(readSample("butterfly.jpg"));
+    for (cv::Point2f in : {cv::Point2f(235, 180), cv::Point2f(80, 200), cv::Point2f(420, 190),
+                           cv::Point2f(300, 250)})
+        EXPECT_GE(polygonAt(butterfly, in), 0) << "butterfly point " << in << " is outside";
+    for (cv::Point2f out :
+         {cv::Point2f(40, 40), cv::Point2f(60, 330), cv::Point2f(450, 335), cv::Point2f(246, 25)})
+        EXPECT_LT(polygonAt(butterfly, out), 0) << "background point " << out << " is inside";
+}
+
+// Item 5: protective polygons make the features inside a moved polygon nearly rigid.
+TEST(Propose, ProtectedFeaturesDistortFiveTimesLess) {
+    const cv::Size size(320, 240);
+    cv::Mat image(size, CV_8UC3);
+    cv::RNG rng(3);
+    cv::randu(image, cv::Scalar::all(150), cv::Scalar::all(190));  // textured background
+    cv::GaussianBlur(image, image, cv::Size(5, 5), 0);
+    cv::Mat feature(size, CV_8U, cv::Scalar(0));
+    cv::ellipse(feature, cv::Point(175, 115), cv::Size(34, 24), 20, 0, 360, cv::Scalar(255),
+                cv::FILLED);
+    image.setTo(cv::Scalar(40, 30, 160), feature);
+    cv::line(image, cv::Point(150, 105), cv::Point(200, 125), cv::Scalar(240, 240, 240), 3);
+    Multicage cage(size);
+    cage.addPolygon(std::vector<cv::Point2f>{
+        {40, 30}, {280, 25}, {295, 120}, {270, 215}, {50, 210}, {25, 120}});
+    cage.orient();
+    ProposeParams params;
+    params.method = PROPOSE_THRESHOLD;
+    params.margin = 8;
+    const Multicage protectedCage = protectFeatures(image, cage, 0, params);
+    std::string why;
+    ASSERT_TRUE(protectedCage.validate(&why)) << why;
+    ASSERT_EQ(protectedCage.polygonCount(), 2);
+    EXPECT_EQ(protectedCage.depth(1), 2);
+    EXPECT_EQ(cv::countNonZero(feature & ~fill(protectedCage.polygon(1), size)), 0)
+        << "the feature is enclosed";
+
+    // The user stretches the outer polygon (not a similarity); the inner one stays at rest.
+    const int step = 2;
+    auto residual = [&](const Multicage& c) {
+        const Binding binding = bind(c, MEAN_VALUE, step);
+        const std::vector<cv::Point2f> pose =
+            multicage_fixtures::stretchPolygon(c, 0, 1.35f, 0.8f, {10, -5});
+        cv::Mat moved;
+        binding.apply(pose, moved);
+        std::vector<cv::Point2f> rest, after;
+        for (int gy = 0; gy < binding.gridSize.height; ++gy)
+            for (int gx = 0; gx < binding.gridSize.width; ++gx) {
+                const cv::Point2f p = binding.node(gx, gy);
+                if (!feature.at<uchar>(cvRound(p.y), cvRound(p.x))) continue;
+                rest.push_back(p);
+                after.push_back(moved.at<cv::Point2f>(gy, gx));
+            }
+        EXPECT_GT(rest.size(), 100u);
+        return multicage_testing::similarityResidual(rest, after);
+    };
+    const double without = residual(cage), with = residual(protectedCage);
+    std::cout << "[ propose  ] feature residual without protection " << without << " px, with "
+              << with << " px, ratio " << without / with << std::endl;
+    EXPECT_GE(without, 5 * with);
+}
+
+TEST(Propose, ProtectFeaturesOnAPhotoAddsValidInnerPolygons) {
+    const cv::Mat image = readSample("butterfly.jpg");
+    const Multicage cage = proposeMulticage(image);
+    ASSERT_GE(cage.polygonCount(), 1);
+    const Multicage out = protectFeatures(image, cage, 0);
+    std::string why;
+    ASSERT_TRUE(out.validate(&why)) << why;
+    EXPECT_GT(out.polygonCount(), cage.polygonCount());
+    EXPECT_LE(out.vertexCount(), ProposeParams().maxVertices);
+    for (int p = cage.polygonCount(); p < out.polygonCount(); ++p) EXPECT_EQ(out.depth(p), 2);
+    for (int p = 0; p < cage.polygonCount(); ++p) EXPECT_EQ(out.polygon(p), cage.polygon(p));
+}
+
+#ifdef MULTICAGE_CLI_PATH
+// Item 7: the command line writes a cage only when it has a valid one.
+TEST(ProposeCli, WritesAValidCageAndRefusesBlankImages) {
+    namespace fs = std::filesystem;
+    const std::string dir = multicage_testing::tempDir("propose_cli");
+    const std::string cli = MULTICAGE_CLI_PATH;
+    auto run = [&](const std::string& args) {
+        return std::system(
+            (cli + " propose " + args + " > " + dir + "/out.txt 2> " + dir + "/err.txt").c_str());
+    };
+    auto stderrLines = [&] {
+        std::ifstream f(dir + "/err.txt");
+        std::string line;
+        int n = 0;
+        while (std::getline(f, line)) ++n;
+        return n;
+    };
+    ASSERT_EQ(run(multicage_testing::samplePath("HappyFish.jpg") + " -o " + dir +
+                  "/fish.yml --overlay " + dir + "/fish.png"),
+              0);
+    EXPECT_TRUE(Multicage::load(dir + "/fish.yml").validate());
+    EXPECT_TRUE(fs::exists(dir + "/fish.png"));
+
+    cv::imwrite(dir + "/blank.png", cv::Mat(60, 80, CV_8UC3, cv::Scalar(255, 255, 255)));
+    EXPECT_NE(run(dir + "/blank.png -o " + dir + "/blank.yml"), 0);
+    EXPECT_FALSE(fs::exists(dir + "/blank.yml"));
+    EXPECT_EQ(stderrLines(), 1);
+
+    cv::imwrite(dir + "/black.png", cv::Mat(60, 80, CV_8UC1, cv::Scalar(0)));
+    EXPECT_NE(run(dir + "/black.png -o " + dir + "/black.yml --method mask"), 0);
+    EXPECT_FALSE(fs::exists(dir + "/black.yml"));
+    EXPECT_EQ(stderrLines(), 1);
+
+    std::ofstream(dir + "/junk.png") << "not an image";
+    EXPECT_NE(run(dir + "/junk.png -o " + dir + "/junk.yml"), 0);
+    EXPECT_FALSE(fs::exists(dir + "/junk.yml"));
+    EXPECT_EQ(stderrLines(), 1);
+    fs::remove_all(dir);
+}
+#endif
