@@ -1,0 +1,317 @@
+// multicage-editor: the GL-free document (edits, undo, validity, script parsing), and a
+// scripted session in the real window under Xvfb on llvmpipe.
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+
+#include "document.hpp"
+#include "script.hpp"
+#include "testing.hpp"
+
+using namespace cv;
+using namespace cv::multicage;
+using namespace multicage_editor;
+
+namespace {
+
+// Two octagons side by side over a 493x356 image: polygon 0 on the left, 1 on the right.
+std::vector<Point2f> octagon(Point2f c, float r) {
+    std::vector<Point2f> p;
+    for (int k = 0; k < 8; ++k) {
+        const double a = -CV_PI / 2 + k * CV_PI / 4;
+        p.emplace_back(c.x + r * static_cast<float>(std::cos(a)), c.y + r * static_cast<float>(std::sin(a)));
+    }
+    return p;
+}
+
+Multicage twoOctagons() {
+    Multicage cage(Size(493, 356));
+    cage.addPolygon(octagon(Point2f(130, 178), 100));
+    cage.addPolygon(octagon(Point2f(362, 178), 100));
+    cage.orient();
+    return cage;
+}
+
+// A textured image: every sub-pixel move shows (checkerboard of 12 px squares on a colour ramp).
+Mat texturedImage(Size size) {
+    Mat img(size, CV_8UC3);
+    for (int y = 0; y < size.height; ++y)
+        for (int x = 0; x < size.width; ++x) {
+            const bool dark = ((x / 12) + (y / 12)) % 2;
+            img.at<Vec3b>(y, x) = Vec3b(static_cast<uchar>(dark ? 40 : 200), static_cast<uchar>(x * 255 / size.width),
+                                        static_cast<uchar>(y * 255 / size.height));
+        }
+    return img;
+}
+
+std::string readText(const std::string& path) {
+    std::ifstream f(path);
+    std::stringstream ss;
+    ss << f.rdbuf();
+    return ss.str();
+}
+
+/** Pixels within tol of colour (B, G, R). */
+int countColour(const Mat& bgr, Vec3b colour, int tol) {
+    Mat mask;
+    inRange(bgr, Scalar(colour[0] - tol, colour[1] - tol, colour[2] - tol),
+            Scalar(colour[0] + tol, colour[1] + tol, colour[2] + tol), mask);
+    return countNonZero(mask);
+}
+
+double meanAbsDiff(const Mat& a, const Mat& b, Rect r) {
+    Mat d;
+    absdiff(a(r), b(r), d);
+    const Scalar m = mean(d);
+    return (m[0] + m[1] + m[2]) / 3;
+}
+
+}  // namespace
+
+// ------------------------------------------------------------------ document (GL-free)
+
+TEST(EditorDocument, UndoRedoKeepsAtLeastFiftySteps) {
+    Document doc = makeDocument(twoOctagons());
+    const Document start = doc;
+    History history;
+    for (int i = 0; i < 60; ++i) {
+        history.push(doc);
+        moveVertices(doc, i % 2 ? Mode::Pose : Mode::Rest, {i % 16}, Point2f(0.5f, -0.25f));
+    }
+    const Document end = doc;
+    for (int i = 0; i < 60; ++i) ASSERT_TRUE(history.undo(doc)) << "undo step " << i;
+    EXPECT_FALSE(history.undo(doc));
+    EXPECT_EQ(positions(doc, Mode::Rest), positions(start, Mode::Rest));
+    EXPECT_EQ(doc.pose, start.pose);
+    for (int i = 0; i < 60; ++i) ASSERT_TRUE(history.redo(doc));
+    EXPECT_EQ(positions(doc, Mode::Rest), positions(end, Mode::Rest));
+    EXPECT_EQ(doc.pose, end.pose);
+}
+
+TEST(EditorDocument, RestEditKeepsThePoseDisplacement) {
+    Document doc = makeDocument(twoOctagons());
+    moveVertices(doc, Mode::Pose, {3}, Point2f(10, 5));
+    moveVertices(doc, Mode::Rest, {3}, Point2f(-2, 1));
+    const std::vector<Point2f> rest = positions(doc, Mode::Rest);
+    EXPECT_EQ(doc.pose[3] - rest[3], Point2f(10, 5));
+    EXPECT_EQ(doc.pose[4], rest[4]);
+}
+
+TEST(EditorDocument, InsertAndDeleteVerticesKeepPoseInStep) {
+    Document doc = makeDocument(twoOctagons());
+    moveVertices(doc, Mode::Pose, {9}, Point2f(6, 0));  // polygon 1, vertex 1
+    const int id = insertVertex(doc, 1, 0, 0.5f);
+    EXPECT_EQ(id, 9);
+    ASSERT_EQ(doc.cage.vertexCount(), 17);
+    ASSERT_EQ(doc.pose.size(), 17u);
+    // The new pose vertex is halfway along the posed edge.
+    EXPECT_NEAR(doc.pose[9].x, 0.5f * (doc.pose[8].x + doc.pose[10].x), 1e-4);
+    EXPECT_TRUE(restValid(doc, nullptr));
+    removeVertices(doc, {9, 10});
+    EXPECT_EQ(doc.cage.vertexCount(), 15);
+    EXPECT_EQ(doc.pose.size(), 15u);
+    // Leaving fewer than 3 vertices removes the polygon.
+    removeVertices(doc, {0, 1, 2, 3, 4, 5});
+    EXPECT_EQ(doc.cage.polygonCount(), 1);
+    EXPECT_EQ(doc.pose.size(), 7u);
+}
+
+TEST(EditorDocument, CrossingPolygonsAreInvalidWithAReason) {
+    Document doc = makeDocument(twoOctagons());
+    EXPECT_TRUE(restValid(doc, nullptr));
+    moveVertices(doc, Mode::Rest, {0}, Point2f(240, 100));  // into polygon 1
+    std::string why;
+    EXPECT_FALSE(restValid(doc, &why));
+    EXPECT_FALSE(why.empty());
+    Document posed = makeDocument(twoOctagons());
+    moveVertices(posed, Mode::Pose, {0}, Point2f(240, 100));
+    EXPECT_TRUE(restValid(posed, nullptr));
+    EXPECT_FALSE(poseValid(posed, &why));
+    EXPECT_EQ(why.rfind("pose: ", 0), 0u) << why;
+    // A pose may leave the image frame.
+    Document outside = makeDocument(twoOctagons());
+    moveVertices(outside, Mode::Pose, {0}, Point2f(0, -150));
+    EXPECT_TRUE(poseValid(outside, nullptr));
+}
+
+TEST(EditorDocument, EmptyAndDegenerateDocumentsDoNotThrow) {
+    Document doc = makeDocument(Size(100, 80));
+    std::string why;
+    EXPECT_TRUE(restValid(doc, &why)) << why;
+    EXPECT_TRUE(poseValid(doc, &why)) << why;
+    EXPECT_EQ(hitVertex(positions(doc, Mode::Rest), Point2f(5, 5), 3), -1);
+    int p, e;
+    float t;
+    EXPECT_FALSE(hitEdge(doc.cage, doc.pose, Point2f(5, 5), 3, &p, &e, &t));
+    EXPECT_EQ(hitPolygon(doc.cage, doc.pose, Point2f(5, 5)), -1);
+    EXPECT_EQ(insertVertex(doc, 0, 0, 0.5f), -1);
+    removeVertices(doc, {0, 3});
+    removePolygon(doc, 2);
+    EXPECT_FALSE(orientDocument(doc));
+    // A polygon with two vertices (an editor may hold it): invalid, no crash.
+    addPolygon(doc, {Point2f(10, 10), Point2f(30, 10)});
+    EXPECT_FALSE(restValid(doc, &why));
+    EXPECT_FALSE(orientDocument(doc));
+    EXPECT_EQ(hitPolygon(doc.cage, doc.pose, Point2f(20, 10)), -1);
+}
+
+TEST(EditorDocument, HitTestsFindVertexEdgeAndDeepestPolygon) {
+    Document doc = makeDocument(Size(400, 400));
+    addPolygon(doc, {Point2f(50, 50), Point2f(350, 50), Point2f(350, 350), Point2f(50, 350)});
+    addPolygon(doc, {Point2f(150, 150), Point2f(250, 150), Point2f(250, 250), Point2f(150, 250)});
+    EXPECT_EQ(hitVertex(doc.pose, Point2f(352, 49), 4), 1);
+    int p = -1, e = -1;
+    float t = -1;
+    ASSERT_TRUE(hitEdge(doc.cage, doc.pose, Point2f(200, 152), 4, &p, &e, &t));
+    EXPECT_EQ(p, 1);
+    EXPECT_EQ(e, 0);
+    EXPECT_NEAR(t, 0.5f, 1e-5);
+    EXPECT_EQ(hitPolygon(doc.cage, doc.pose, Point2f(200, 200)), 1);
+    EXPECT_EQ(hitPolygon(doc.cage, doc.pose, Point2f(100, 100)), 0);
+}
+
+TEST(EditorDocument, AddPoseStoresAndReplacesByName) {
+    Document doc = makeDocument(twoOctagons());
+    moveVertices(doc, Mode::Pose, {2}, Point2f(3, 4));
+    EXPECT_EQ(addPose(doc, "a"), 0);
+    moveVertices(doc, Mode::Pose, {2}, Point2f(3, 4));
+    EXPECT_EQ(addPose(doc, "a"), 0);
+    EXPECT_EQ(doc.cage.poseCount(), 1);
+    EXPECT_EQ(doc.cage.pose(0).vertices, doc.pose);
+}
+
+TEST(EditorScript, RejectsUnknownCommandsAndBadArgumentsWithTheLine) {
+    EXPECT_EQ(parseScript("# comment\n\nload a.png\nwait 3\nquit\n", "s").size(), 3u);
+    try {
+        parseScript("load a.png\nfrobnicate\n", "s.txt");
+        FAIL() << "no exception";
+    } catch (const std::runtime_error& e) {
+        EXPECT_NE(std::string(e.what()).find("s.txt:2"), std::string::npos) << e.what();
+    }
+    EXPECT_THROW(parseScript("drag 1 2\n", "s"), std::runtime_error);
+    const std::vector<ScriptCommand> c = parseScript("drag 1 x 2\n", "s");
+    EXPECT_THROW(numberArg(c[0], 1), std::runtime_error);
+}
+
+// ------------------------------------------------------------------ the window, scripted
+
+TEST(EditorWindow, ScriptedSessionUnderXvfb) {
+    const std::string xvfb = MULTICAGE_XVFB_RUN;
+    ASSERT_FALSE(xvfb.empty()) << "xvfb-run was not found at configure time: install xvfb and xauth "
+                                  "(.ci/deps.sh) and reconfigure; the editor test needs a display";
+    const std::string dir = multicage_testing::tempDir("editor_script");
+    const Mat image = texturedImage(Size(493, 356));
+    const Multicage cage = twoOctagons();
+    ASSERT_TRUE(imwrite(dir + "/in.png", image));
+    cage.save(dir + "/cage.yml");
+    const std::vector<Point2f> rest0 = cage.vertices();
+
+    std::ofstream(dir + "/script.txt") << "load " << dir << "/in.png " << dir << "/cage.yml\n"
+                                       << "wait 2\n"
+                                          "drag 5 4 0\n"           // rest edit
+                                          "mode pose\n"
+                                          "drag 0 30 -20\n"        // pose edit
+                                          "wait 3\n"
+                                       << "screenshot " << dir << "/pose.png\n"
+                                       << "show-cage 0\nwait 2\n"
+                                       << "screenshot " << dir << "/nocage.png\n"
+                                       << "show-cage 1\n"
+                                          "add-pose bent\n"
+                                       << "save " << dir << "/out.yml\n"
+                                       << "export " << dir << "/mvc.png\n"
+                                       << "status " << dir << "/status.txt\n"
+                                       << "mode rest\n"
+                                          "drag 0 240 100\n"       // into polygon 1: crossing
+                                          "wait 2\n"
+                                       << "screenshot " << dir << "/invalid.png\n"
+                                       << "status " << dir << "/status_invalid.txt\n"
+                                       << "export " << dir << "/invalid_export.png\n"
+                                       << "undo\n"
+                                          "mode pose\n"
+                                          "coords harmonic\n"
+                                          "export-grid-step 2\n"
+                                          "wait 2\n"
+                                       << "export " << dir << "/harmonic.png\n"
+                                       << "quit\n";
+    const std::string cmd = "MESA_SHADER_CACHE_DIR='" MULTICAGE_SHADER_CACHE "' '" + xvfb +
+                            "' -a -s '-screen 0 1280x800x24' '" MULTICAGE_EDITOR "' --script '" + dir +
+                            "/script.txt' > '" + dir + "/log.txt' 2>&1";
+    const int rc = std::system(cmd.c_str());
+    const std::string log = readText(dir + "/log.txt");
+    ASSERT_EQ(rc, 0) << cmd << "\n" << log;
+
+    // The screenshot shows the image and the cage: not blank, vertex handles (pure yellow,
+    // drawn only with the overlay) present, and far fewer without the overlay.
+    const Mat pose = imread(dir + "/pose.png"), nocage = imread(dir + "/nocage.png");
+    ASSERT_FALSE(pose.empty()) << log;
+    ASSERT_FALSE(nocage.empty()) << log;
+    EXPECT_EQ(pose.size(), Size(1280, 800));
+    Scalar m, sd;
+    meanStdDev(pose, m, sd);
+    EXPECT_GT(sd[0] + sd[1] + sd[2], 30.0) << "the screenshot looks blank";
+    const int handles = countColour(pose, Vec3b(0, 255, 255), 8);
+    const int handlesHidden = countColour(nocage, Vec3b(0, 255, 255), 8);
+    std::printf("handle-coloured pixels: %d with the cage, %d without\n", handles, handlesHidden);
+    EXPECT_GT(handles, 16 * 30);  // 16 vertices, 8x8 px each
+    EXPECT_GT(handles, 4 * handlesHidden + 100);
+    // An invalid edit is drawn in red, with the reason in the status.
+    const Mat invalid = imread(dir + "/invalid.png");
+    ASSERT_FALSE(invalid.empty());
+    const int red = countColour(invalid, Vec3b(40, 40, 255), 30), redBefore = countColour(pose, Vec3b(40, 40, 255), 30);
+    std::printf("red pixels: %d invalid, %d valid\n", red, redBefore);
+    EXPECT_GT(red, 300);
+    EXPECT_GT(red, 3 * redBefore);
+    const std::string statusInvalid = readText(dir + "/status_invalid.txt");
+    EXPECT_NE(statusInvalid.find("rest_valid: 0"), std::string::npos) << statusInvalid;
+    EXPECT_EQ(statusInvalid.find("rest_reason: \n"), std::string::npos) << statusInvalid;
+    EXPECT_NE(readText(dir + "/status.txt").find("rest_valid: 1"), std::string::npos);
+
+    // The saved cage round-trips: rest with the rest edit, the pose "bent" with the pose edit.
+    const Multicage saved = Multicage::load(dir + "/out.yml");
+    ASSERT_EQ(saved.polygonCount(), 2);
+    std::vector<Point2f> expectedRest(rest0.begin(), rest0.begin() + 16);
+    expectedRest[5] += Point2f(4, 0);
+    const std::vector<Point2f> savedRest = saved.vertices();
+    for (int i = 0; i < 16; ++i) EXPECT_NEAR(norm(savedRest[i] - expectedRest[i]), 0, 1e-3) << "vertex " << i;
+    const int bent = saved.findPose("bent");
+    ASSERT_GE(bent, 0);
+    std::vector<Point2f> expectedPose = expectedRest;
+    expectedPose[0] += Point2f(30, -20);
+    for (int i = 0; i < 16; ++i)
+        EXPECT_NEAR(norm(saved.pose(bent).vertices[i] - expectedPose[i]), 0, 1e-3) << "pose vertex " << i;
+    EXPECT_TRUE(saved.validate());
+
+    // The export is the library's deformation of the saved pose: it moved near the dragged
+    // vertex, and agrees with a CPU Deformer reference everywhere.
+    const Mat mvc = imread(dir + "/mvc.png");
+    ASSERT_EQ(mvc.size(), image.size());
+    const Point2f v0 = expectedPose[0];
+    const Rect near(cvRound(v0.x) - 15, cvRound(v0.y) + 5, 30, 30);
+    EXPECT_GT(meanAbsDiff(mvc, image, near), 20.0) << "the image did not move near the dragged vertex";
+    DeformParams cpu;
+    cpu.backend = BACKEND_CPU;
+    Mat reference;
+    Deformer::create(image, saved, cpu)->deform(expectedPose, reference);
+    const double agreement = multicage_testing::psnr(mvc, reference);
+    std::printf("export vs CPU reference: PSNR %.1f dB\n", agreement);
+    EXPECT_GT(agreement, 35.0);
+    // While the rest was invalid, export kept the last valid binding and pose.
+    const Mat invalidExport = imread(dir + "/invalid_export.png");
+    ASSERT_EQ(invalidExport.size(), image.size());
+    EXPECT_EQ(norm(invalidExport, mvc, NORM_INF), 0.0);
+
+    // Harmonic coordinates: the inside of polygon 1 depends only on polygon 1, which did not
+    // move, so it equals the input exactly; near the dragged vertex it moved.
+    const Mat harmonic = imread(dir + "/harmonic.png");
+    ASSERT_EQ(harmonic.size(), image.size());
+    const Rect inside1(362 - 50, 178 - 50, 100, 100);
+    Mat d;
+    absdiff(harmonic(inside1), image(inside1), d);
+    double maxDiff = 0;
+    minMaxLoc(d.reshape(1), nullptr, &maxDiff);
+    EXPECT_LE(maxDiff, 1.0) << "pixels inside the unmoved polygon changed";
+    EXPECT_GT(meanAbsDiff(harmonic, image, near), 20.0);
+}
