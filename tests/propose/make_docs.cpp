@@ -43,5 +43,37 @@ int main(int argc, char** argv) {
         std::cout << name << ": " << cage.polygonCount() << " polygons, " << cage.vertexCount()
                   << " vertices, " << (valid ? "valid" : "INVALID: " + why) << "\n";
     }
+    // Feature protection: the butterfly's outer polygon stretched, without and with the
+    // polygons protectFeatures() adds; the inner polygons stay at rest.
+    const cv::Mat image = cv::imread(dir + "/butterfly.jpg", cv::IMREAD_COLOR);
+    ProposeParams autoParams;
+    const Multicage plain = proposeMulticage(image, autoParams);
+    const Multicage guarded = protectFeatures(image, plain, 0, autoParams);
+    std::vector<cv::Mat> panels;
+    for (const Multicage* cage : {&plain, &guarded}) {
+        const std::vector<cv::Point2f> pose = multicage_fixtures::stretchPolygon(*cage, 0, 1.2f, 0.8f);
+        DeformParams dp;
+        dp.backend = BACKEND_CPU;
+        dp.gridStep = 2;
+        dp.borderValue = cv::Scalar(255, 255, 255);
+        cv::Mat deformed;
+        deformImage(image, *cage, pose, deformed, dp);
+        Multicage posed(cage->imageSize());
+        for (int p = 0; p < cage->polygonCount(); ++p) {
+            const int offset = cage->polygonOffset(p), n = static_cast<int>(cage->polygon(p).size());
+            posed.addPolygon(std::vector<cv::Point2f>(pose.begin() + offset, pose.begin() + offset + n));
+        }
+        cv::Mat rest = image.clone();
+        cage->draw(rest, 2);
+        posed.draw(deformed, 2);
+        cv::Mat row;
+        cv::hconcat(rest, deformed, row);
+        panels.push_back(row);
+    }
+    cv::Mat both;
+    cv::vconcat(panels, both);
+    cv::imwrite(out + "/protect_butterfly.png", both);
+    std::cout << "protect: " << plain.polygonCount() << " -> " << guarded.polygonCount() << " polygons, "
+              << guarded.vertexCount() << " vertices\n";
     return 0;
 }
