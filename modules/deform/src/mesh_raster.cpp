@@ -22,13 +22,18 @@ inline double cross(Point2d a, Point2d b) { return a.x * b.y - a.y * b.x; }
 void drawTriangle(const Point2f q[3], const Point2f p[3], int y0, int y1, Point2f lo, Point2f hi,
                   Mat& mapx, Mat& mapy) {
     const Point2d q0 = q[0], q1 = q[1], q2 = q[2];
+    // Bounds are clamped in double before they become ints: a pose may put nodes 1e30 px
+    // away or at infinity, and converting such a value to int is undefined (fuzz_deform).
+    // The negated tests also drop NaN coordinates.
     const double minY = std::min({q0.y, q1.y, q2.y}), maxY = std::max({q0.y, q1.y, q2.y});
-    const int ya = std::max(y0, static_cast<int>(std::ceil(minY)));
-    const int yb = std::min(y1 - 1, static_cast<int>(std::floor(maxY)));
+    if (!(maxY >= y0 && minY <= y1 - 1)) return;
+    const int ya = static_cast<int>(std::ceil(std::max(minY, double(y0))));
+    const int yb = static_cast<int>(std::floor(std::min(maxY, double(y1 - 1))));
     if (ya > yb) return;
     const double minX = std::min({q0.x, q1.x, q2.x}), maxX = std::max({q0.x, q1.x, q2.x});
-    const int xa = std::max(0, static_cast<int>(std::ceil(minX)));
-    const int xb = std::min(mapx.cols - 1, static_cast<int>(std::floor(maxX)));
+    if (!(maxX >= 0 && minX <= mapx.cols - 1)) return;
+    const int xa = static_cast<int>(std::ceil(std::max(minX, 0.0)));
+    const int xb = static_cast<int>(std::floor(std::min(maxX, double(mapx.cols - 1))));
     if (xa > xb) return;
     const double area = cross(q1 - q0, q2 - q0);
     if (!(std::abs(area) > 1e-12)) return;  // degenerate (or NaN)
@@ -56,6 +61,7 @@ void drawTriangle(const Point2f q[3], const Point2f p[3], int y0, int y1, Point2
             else if (ax[i] < 0) right = std::min(right, (eps - c) / ax[i]);
             else if (c < eps) right = -1;
         }
+        if (!(left <= right)) continue;  // empty span (or NaN) before converting to int
         const int xl = static_cast<int>(std::ceil(left)), xr = static_cast<int>(std::floor(right));
         if (xl > xr) continue;
         float* mx = mapx.ptr<float>(y);
