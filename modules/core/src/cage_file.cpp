@@ -133,6 +133,10 @@ Multicage Multicage::load(const String& path) {
     } catch (const cv::Exception& e) {
         if (e.code == Error::StsError && e.err.rfind("cage file", 0) == 0) throw;
         CV_Error(Error::StsParseError, "cage file " + path + ": not valid YAML/JSON: " + e.err);
+    } catch (const std::exception& e) {
+        // OpenCV's parser can also throw standard exceptions on malformed text (4.6: "{ :name"
+        // gives std::length_error; fuzz_cage_file): still a cv::Exception for our callers.
+        CV_Error(Error::StsParseError, "cage file " + path + ": not valid YAML/JSON: " + e.what());
     }
     Multicage cage;
     try {
