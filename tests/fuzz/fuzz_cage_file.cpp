@@ -1,0 +1,108 @@
+// libFuzzer target: the cage file reader. Bytes are a YAML or JSON document, read twice:
+// through Multicage::load (a file, the library's entry point: a cage or a cv::Exception, never
+// a crash, a hang or another exception), and from memory through cv::FileStorage and
+// Multicage::read, then validate and orient. What read() accepts, write() writes back so that
+// read() gives the same multicage again, in YAML and in JSON.
+#include <opencv2/core/utility.hpp>
+#include <opencv2/core/utils/logger.hpp>
+#include <opencv2/multicage.hpp>
+
+#include <cmath>
+#include <cstdint>
+#include <cstdlib>
+#include <cstring>
+#include <string>
+#include <unistd.h>
+
+using namespace cv;
+using namespace cv::multicage;
+
+namespace {
+
+bool sameFloat(float a, float b) { return a == b || (std::isnan(a) && std::isnan(b)); }
+
+bool samePoints(const std::vector<Point2f>& a, const std::vector<Point2f>& b) {
+    if (a.size() != b.size()) return false;
+    for (size_t i = 0; i < a.size(); ++i)
+        if (!sameFloat(a[i].x, b[i].x) || !sameFloat(a[i].y, b[i].y)) return false;
+    return true;
+}
+
+[[noreturn]] void finding(const char* what) {
+    std::fprintf(stderr, "fuzz_cage_file: %s\n", what);
+    std::abort();
+}
+
+}  // namespace
+
+extern "C" int LLVMFuzzerInitialize(int*, char***) {
+    setNumThreads(1);
+    utils::logging::setLogLevel(utils::logging::LOG_LEVEL_SILENT);
+    return 0;
+}
+
+extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
+    if (size > 4096) return -1;  // cage files are small; longer inputs only slow the search
+    const std::string text(reinterpret_cast<const char*>(data), size);
+    static const std::string path = [] {
+        const char* dir = std::getenv("TMPDIR");
+        return std::string(dir ? dir : "/tmp") + "/fuzz_cage_file." + std::to_string(getpid()) + ".yml";
+    }();
+    if (FILE* f = std::fopen(path.c_str(), "wb")) {
+        std::fwrite(data, 1, size, f);
+        std::fclose(f);
+        try {
+            Multicage::load(path);  // anything but a cv::Exception escapes and is a finding
+        } catch (const cv::Exception&) {
+        }
+    }
+    Multicage cage;
+    try {
+        FileStorage fs(text, FileStorage::READ | FileStorage::MEMORY);
+        cage.read(fs.root());
+    } catch (const cv::Exception&) {
+        return 0;  // malformed: refused with a message
+    } catch (const std::exception&) {
+        return 0;  // OpenCV's own parser failing otherwise; load() above turns it into a cv::Exception
+    }
+    std::string why;
+    const bool geometry = cage.validateGeometry(&why);
+    if (!geometry && why.empty()) finding("validateGeometry failed without a reason");
+    cage.validate(&why);
+    if (cage.imageSize().area() <= 0) finding("read() accepted a non-positive image size");
+    for (int p = 0; p < cage.polygonCount(); ++p)
+        if (cage.polygon(p).size() < 3) finding("read() accepted a polygon with < 3 vertices");
+    for (int i = 0; i < cage.poseCount(); ++i)
+        if (static_cast<int>(cage.pose(i).vertices.size()) != cage.vertexCount())
+            finding("read() accepted a pose with the wrong vertex count");
+
+    // Round trip through both formats.
+    for (const char* ext : {".yml", ".json"}) {
+        FileStorage out(ext, FileStorage::WRITE | FileStorage::MEMORY);
+        cage.write(out);
+        const std::string written = out.releaseAndGetString();
+        Multicage again;
+        try {
+            FileStorage in(written, FileStorage::READ | FileStorage::MEMORY);
+            again.read(in.root());
+        } catch (const cv::Exception& e) {
+            std::fprintf(stderr, "%s\n%s\n", written.c_str(), e.what());
+            finding("write() produced a file read() refuses");
+        }
+        if (again.imageSize() != cage.imageSize() || again.polygonCount() != cage.polygonCount() ||
+            again.poseCount() != cage.poseCount() || again.coordinates() != cage.coordinates())
+            finding("round trip changed the structure");
+        for (int p = 0; p < cage.polygonCount(); ++p)
+            if (!samePoints(again.polygon(p), cage.polygon(p))) finding("round trip changed a polygon");
+        for (int i = 0; i < cage.poseCount(); ++i)
+            if (!samePoints(again.pose(i).vertices, cage.pose(i).vertices) ||
+                again.pose(i).name != cage.pose(i).name)
+                finding("round trip changed a pose");
+    }
+
+    if (geometry) {
+        cage.orient();
+        if (!cage.validate(&why)) finding("a multicage with valid geometry fails validate() after orient()");
+    }
+    return 0;
+}

@@ -1,0 +1,81 @@
+// Regression tests for what the fuzzers and the sanitizer build found (issue 8). Each test
+// names its finding; the fix is in the commit that added the test.
+#include <cmath>
+
+#include "testing.hpp"
+
+using namespace cv;
+using namespace cv::multicage;
+
+namespace {
+bool mapsSane(const Mat& mapx, const Mat& mapy) {
+    const Mat uncovered = (mapx == -1e4f) & (mapy == -1e4f);
+    const Mat inside = (mapx >= -1) & (mapx <= mapx.cols) & (mapy >= -1) & (mapy <= mapx.rows);
+    return countNonZero(uncovered | inside) == mapx.rows * mapx.cols;
+}
+}  // namespace
+
+// fuzz_deform, finding 1: nodes pushed 1e31 px away (or to infinity) by a pose made the CPU
+// rasteriser convert their bounds to int: undefined behaviour (UBSan: "6.93858e+31 is outside
+// the range of representable values of type 'int'", mesh_raster.cpp). Fixed by clamping in
+// double first. Under the sanitizer build this test aborts without the fix; everywhere it
+// checks that such meshes give sane maps.
+TEST(Regression, RasteriserTakesNodesFarBeyondIntRange) {
+    const Size grid(5, 4), out(40, 30);
+    Mat rest(grid, CV_32FC2);
+    for (int y = 0; y < grid.height; ++y)
+        for (int x = 0; x < grid.width; ++x) rest.at<Point2f>(y, x) = Point2f(x * 9.75f, y * 9.667f);
+    const float far[] = {6.9e31f, -6.9e31f, 3e38f, INFINITY, -INFINITY, NAN, 2.2e9f, -2.2e9f};
+    for (float v : far) {
+        for (int which = 0; which < 3; ++which) {
+            Mat moved = rest.clone();
+            Point2f& p = moved.at<Point2f>(1 + which % 2, 2);
+            (which == 0 ? p.x : p.y) = v;
+            if (which == 2) p = Point2f(v, -v);
+            Mat mapx, mapy;
+            rasterizeMaps(moved, rest, out, mapx, mapy);
+            EXPECT_TRUE(mapsSane(mapx, mapy)) << "node at " << p;
+            EXPECT_GE(countFoldedTriangles(moved, rest), 0);
+        }
+    }
+}
+
+// The same through a Deformer: a pose vertex at the largest float moves nodes by ~1e38 px.
+TEST(Regression, PoseAtTheLargestFloatGivesAPicture) {
+    const Mat image(32, 32, CV_8UC1, Scalar(100));
+    Multicage cage(image.size());
+    cage.addPolygon(std::vector<Point2f>{{8, 8}, {24, 8}, {24, 24}, {8, 24}});
+    DeformParams cpu;
+    cpu.backend = BACKEND_CPU;
+    Ptr<Deformer> d = Deformer::create(image, cage, cpu);
+    std::vector<Point2f> pose = cage.vertices();
+    pose.resize(4);
+    pose[2] = Point2f(3.4e38f, 3.4e38f);
+    Mat dst, mapx, mapy;
+    d->deform(pose, dst);
+    EXPECT_EQ(dst.size(), image.size());
+    d->computeMaps(pose, mapx, mapy);
+    EXPECT_TRUE(mapsSane(mapx, mapy));
+}
+
+// fuzz_cage_file, finding 2: OpenCV 4.6's YAML parser throws std::length_error (not a
+// cv::Exception) on a flow mapping whose key is empty ("{ :name"), and Multicage::load let it
+// through, so callers catching cv::Exception terminated. load() now reports it as invalid YAML.
+TEST(Regression, CageFileParserStandardExceptionBecomesCvException) {
+    const std::string path = multicage_testing::tempDir("regression_yaml") + "/cage.yml";
+    {
+        FILE* f = std::fopen(path.c_str(), "wb");
+        ASSERT_TRUE(f);
+        std::fputs("%YAML:1.0\n---\nimage_size: [ 64, 48 ]\npolygons:\n   - [ 10, 10, 50, 10, 50, 40 ]\n"
+                   "poses:\n   - { :name", f);
+        std::fclose(f);
+    }
+    try {
+        Multicage::load(path);
+        FAIL() << "no error";
+    } catch (const cv::Exception& e) {
+        EXPECT_NE(e.err.find("cage file " + path + ": not valid YAML/JSON"), std::string::npos) << e.err;
+    } catch (const std::exception& e) {
+        FAIL() << "a " << typeid(e).name() << " escaped Multicage::load: " << e.what();
+    }
+}
