@@ -57,7 +57,7 @@ const ImU32 kOutline = IM_COL32(20, 20, 20, 255);
 
 struct Settings {
     int coordinates = mc::MEAN_VALUE;
-    int gridStep = 4;        // live view; rebinding at 1024x768 takes ~10 ms at 4
+    int gridStep = 4;        // live view: defaultGridStep() of each image opened
     int exportGridStep = 1;  // export: the paper's one node per pixel, as `multicage deform`
     bool showCage = true;
     bool showHelp = false;
@@ -100,7 +100,8 @@ struct View {
     std::vector<Point2f> renderedPose;
     bool rendered = false;
     int folded = 0;
-    double frameMs = 0, renderMs = 0;
+    double frameMs = 0, renderMs = 0, foldMs = 0, uiMs = 0, drawMs = 0;
+    bool finishForTiming = false;  // bench: glFinish after render, so its time is its own
     std::string error;
 };
 
@@ -110,7 +111,7 @@ struct Script {
     int waitFrames = 0;
     int benchFrames = 0, benchVertex = 0, benchFrame = 0;
     std::vector<Point2f> benchStart;
-    std::vector<double> benchTimes, benchRender;
+    std::vector<double> benchTimes, benchRender, benchFold, benchDraw;
     std::string screenshotPath, lastMessage;
     bool failed = false;
     bool active() const { return !commands.empty(); }
@@ -204,13 +205,22 @@ void screenshot(GLFWwindow* window, const std::string& path) {
 // ---------------------------------------------------------------------------------------
 // Actions shared by the UI, the keyboard and the script. Each returns a message.
 
-void openImage(Editor& e, View& v, const std::string& path) {
+/** The live view's grid step: the smallest with at most ~16k mesh nodes, so that a pose
+update stays interactive on a software renderer (llvmpipe); export uses its own step. */
+int defaultGridStep(cv::Size size) {
+    int step = 2;
+    while (mc::gridSizeFor(size, step).area() > 16384) ++step;
+    return step;
+}
+
+void openImage(Editor& e, View& v, Settings& s, const std::string& path) {
     cv::Mat img = cv::imread(path, cv::IMREAD_UNCHANGED);
     if (img.empty()) throw std::runtime_error(path + ": cannot read the image");
     if (img.depth() != CV_8U && img.depth() != CV_16U && img.depth() != CV_32F)
         throw std::runtime_error(path + ": unsupported pixel type (8U, 16U or 32F only)");
     e.image = img;
     e.imagePath = path;
+    s.gridStep = defaultGridStep(img.size());
     uploadImageTexture(v, displayImage(img));
     v.deformer.reset();
     v.boundCoords = -1;
@@ -372,12 +382,15 @@ void updateDeformation(Editor& e, View& v, const Settings& s) {
     const auto t0 = Clock::now();
     v.deformer->setPose(e.shown.pose);
     v.deformer->render(cv::Scalar(40, 40, 40, 255));
+    if (v.finishForTiming) v.deformer->finish();
     v.renderMs = msSince(t0);
+    const auto t1 = Clock::now();
     v.renderedPose = e.shown.pose;
     v.rendered = true;
     cv::Mat positions;
     v.binding.apply(e.shown.pose, positions);
     v.folded = mc::countFoldedTriangles(positions, v.restNodes);
+    v.foldMs = msSince(t1);
 }
 
 // ---------------------------------------------------------------------------------------
@@ -647,7 +660,7 @@ bool runScript(Script& sc, Editor& e, View& v, Settings& s, GLFWwindow* window) 
             std::fflush(stdout);
             if (c.verb == "quit") return false;
             if (c.verb == "load") {
-                openImage(e, v, c.args[0]);
+                openImage(e, v, s, c.args[0]);
                 if (c.args.size() > 1) openCage(e, c.args[1], s);
             } else if (c.verb == "load-cage") {
                 openCage(e, c.args[0], s);
@@ -730,6 +743,9 @@ bool runScript(Script& sc, Editor& e, View& v, Settings& s, GLFWwindow* window) 
                 sc.benchFrame = 0;
                 sc.benchTimes.clear();
                 sc.benchRender.clear();
+                sc.benchFold.clear();
+                sc.benchDraw.clear();
+                v.finishForTiming = true;
                 return true;
             }
             if (e.message != sc.lastMessage) std::printf("  %s\n", e.message.c_str());
@@ -782,9 +798,9 @@ void panel(Editor& e, View& v, Settings& s, GLFWwindow* window) {
     ImGui::Separator();
 
     ImGui::PushItemWidth(-70);
-    if (inputPath("##image", e.imagePath)) attempt([&] { openImage(e, v, e.imagePath); });
+    if (inputPath("##image", e.imagePath)) attempt([&] { openImage(e, v, s, e.imagePath); });
     ImGui::SameLine();
-    if (ImGui::Button("Open", ImVec2(-1, 0))) attempt([&] { openImage(e, v, e.imagePath); });
+    if (ImGui::Button("Open", ImVec2(-1, 0))) attempt([&] { openImage(e, v, s, e.imagePath); });
     inputPath("##cage", e.cagePath);
     ImGui::PopItemWidth();
     if (ImGui::Button("Load cage")) attempt([&] { openCage(e, e.cagePath, s); });
@@ -943,7 +959,7 @@ int main(int argc, char** argv) {
     Settings s;
     int rc = 0;
     try {
-        if (!positional.empty()) openImage(e, v, positional[0]);
+        if (!positional.empty()) openImage(e, v, s, positional[0]);
         if (positional.size() > 1) openCage(e, positional[1], s);
     } catch (const std::exception& ex) {
         std::fprintf(stderr, "multicage-editor: %s\n", ex.what());
@@ -1039,6 +1055,7 @@ int main(int argc, char** argv) {
         }
 
         // Render: GLDeformer left its own bindings; the ImGui backend sets everything it uses.
+        const auto drawStart = Clock::now();
         ImGui::Render();
         glBindFramebuffer(GL_FRAMEBUFFER, 0);
         glViewport(0, 0, fbw, fbh);
@@ -1061,11 +1078,15 @@ int main(int argc, char** argv) {
             glFinish();
             script.benchTimes.push_back(msSince(frameStart));
             script.benchRender.push_back(v.renderMs);
+            script.benchFold.push_back(v.foldMs);
+            script.benchDraw.push_back(msSince(drawStart));
             if (--script.benchFrames == 0) {
                 std::printf("bench-drag: %zu frames, %dx%d image, %d vertices, grid step %d: median frame %.1f ms "
-                            "(setPose + render %.1f ms)\n",
+                            "(GLDeformer setPose + render %.1f ms, fold count %.1f ms, ImGui draw + swap %.1f ms)\n",
                             script.benchTimes.size(), e.image.cols, e.image.rows, e.doc.cage.vertexCount(),
-                            s.gridStep, median(script.benchTimes), median(script.benchRender));
+                            s.gridStep, median(script.benchTimes), median(script.benchRender),
+                            median(script.benchFold), median(script.benchDraw));
+                v.finishForTiming = false;
                 std::fflush(stdout);
             }
         }

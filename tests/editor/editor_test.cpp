@@ -42,7 +42,7 @@ Mat texturedImage(Size size) {
         for (int x = 0; x < size.width; ++x) {
             const bool dark = ((x / 12) + (y / 12)) % 2;
             img.at<Vec3b>(y, x) = Vec3b(static_cast<uchar>(dark ? 40 : 200), static_cast<uchar>(x * 255 / size.width),
-                                        static_cast<uchar>(y * 255 / size.height));
+                                        static_cast<uchar>(y * 180 / size.height));  // no saturated red: that is the invalid colour
         }
     return img;
 }
