@@ -127,6 +127,10 @@ std::unique_ptr<EglContext> EglContext::create(std::string* why) {
         const char* version = reinterpret_cast<const char*>(glGetString(GL_VERSION));
         c->description_ = std::string(vendor ? vendor : "?") + ", " + (renderer ? renderer : "?") +
                           ", OpenGL " + (version ? version : "?") + ", " + d.platform;
+        // Mesa's CPU rasterisers: they run the shaders on the CPU, slower than the CPU backend.
+        const std::string r = renderer ? renderer : "";
+        c->software_ = r.find("llvmpipe") != std::string::npos || r.find("softpipe") != std::string::npos ||
+                       r.find("lavapipe") != std::string::npos;
     }
     return c;
 }

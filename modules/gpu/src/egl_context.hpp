@@ -22,6 +22,8 @@ class EglContext {
 
     /** "vendor, renderer, GL version, EGL platform", for logs and the bench. */
     const std::string& description() const { return description_; }
+    /** True for a software renderer (Mesa llvmpipe/softpipe): OpenGL on the CPU. */
+    bool software() const { return software_; }
 
     /** Makes the context current on this thread for its lifetime, then restores whatever
     was current before (usually nothing). A context is current on one thread at a time:
@@ -45,6 +47,7 @@ class EglContext {
     void* display_ = nullptr;
     void* context_ = nullptr;
     std::string description_;
+    bool software_ = false;
 };
 
 }  // namespace gpu

@@ -75,6 +75,11 @@ Ptr<Deformer> create(const Mat& image, const Source& source, const DeformParams&
                      std::string* why) {
     std::unique_ptr<EglContext> context = EglContext::create(why);
     if (!context) return Ptr<Deformer>();
+    if (context->software() && params.backend == BACKEND_AUTO) {
+        if (why) *why = "the only OpenGL here is a software renderer (" + context->description() +
+                        "), slower than the CPU backend";
+        return Ptr<Deformer>();
+    }
     Ptr<GpuDeformer> d(new GpuDeformer(std::move(context), params));
     d->init(image, source, params);
     return d;

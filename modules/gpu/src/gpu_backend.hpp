@@ -10,7 +10,10 @@ namespace multicage {
 namespace gpu {
 
 /** The GL deformer for image and binding, or nullptr with the reason in *why when no EGL
-context can be made (no driver, no device, too old a GL). Other failures throw. */
+context can be made (no driver, no device, too old a GL), or when the only OpenGL is a software
+renderer and params.backend is BACKEND_AUTO: llvmpipe runs the vertex shader on the CPU, 5 to 10
+times slower than the CPU backend, so AUTO means "a real GPU, else the CPU backend".
+BACKEND_GPU takes whatever OpenGL there is. Other failures throw. */
 Ptr<Deformer> createDeformer(const Mat& image, const Binding& binding, const DeformParams& params,
                              std::string* why);
 
