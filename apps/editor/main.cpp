@@ -20,6 +20,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <deque>
 #include <fstream>
 #include <iostream>
 #include <memory>
@@ -113,6 +114,15 @@ struct Script {
     std::vector<Point2f> benchStart;
     std::vector<double> benchTimes, benchRender, benchFold, benchDraw;
     std::string screenshotPath, lastMessage;
+    /** Synthetic input, one entry per frame (click, mouse-drag, key): fed to ImGui exactly
+    where the GLFW backend's input goes, so the canvas code paths run as for a user. */
+    struct Input {
+        Point2f at;  // image coordinates
+        bool down = false, shift = false, ctrl = false;
+        int key = -1;  // a GLFW key held this frame
+    };
+    std::deque<Input> input;
+    int heldKey = -1;
     bool failed = false;
     bool active() const { return !commands.empty(); }
 };
@@ -532,8 +542,11 @@ void canvasMouse(Editor& e, ImVec2 origin, bool hovered) {
             const Point2f d = e.dragLast - e.dragStart;
             if (std::abs(d.x) * e.zoom < 3 && std::abs(d.y) * e.zoom < 3) {
                 // A click on empty canvas: clear the selection, or start a polygon (rest mode).
-                if (!e.selection.empty() || io.KeyShift) {
-                    e.selection.clear();
+                int poly, edgeIndex;
+                float t;
+                if (!e.selection.empty() || io.KeyShift ||
+                    hitEdge(e.doc.cage, pts, e.dragStart, radius, &poly, &edgeIndex, &t)) {
+                    e.selection.clear();  // (a click on an edge may be the first of a double-click)
                 } else if (e.mode == Mode::Rest) {
                     e.creating = true;
                     e.creation = {e.dragStart};
@@ -621,10 +634,82 @@ void writeStatus(const Editor& e, const View& v, const Settings& s, const std::s
       << "folded: " << v.folded << "\nmin_conditioning: " << v.binding.minConditioning << "\n"
       << "bind_ms: " << v.bindMs << "\ngrid_step: " << s.gridStep << "\ncoordinates: "
       << (s.coordinates == mc::HARMONIC ? "harmonic" : "mean_value") << "\n"
-      << "shown_pose:";
+      << "selection:";
+    for (int i : e.selection) o << " " << i;
+    o << "\nrest:";
+    for (const Point2f& p : positions(e.doc, Mode::Rest)) o << " " << p.x << " " << p.y;
+    o << "\nshown_pose:";
     for (const Point2f& p : e.shown.pose) o << " " << p.x << " " << p.y;
     o << "\nmessage: " << e.message << "\n";
     mc::writeFileAtomic(path, o.str());
+}
+
+int keyByName(const std::string& name) {
+    static const std::pair<const char*, int> keys[] = {
+        {"delete", GLFW_KEY_DELETE}, {"backspace", GLFW_KEY_BACKSPACE}, {"enter", GLFW_KEY_ENTER},
+        {"escape", GLFW_KEY_ESCAPE}, {"tab", GLFW_KEY_TAB}, {"f1", GLFW_KEY_F1}};
+    for (const auto& k : keys)
+        if (name == k.first) return k.second;
+    if (name.size() == 1 && std::isalpha(static_cast<unsigned char>(name[0])))
+        return GLFW_KEY_A + (std::tolower(static_cast<unsigned char>(name[0])) - 'a');
+    throw std::runtime_error("unknown key '" + name + "'");
+}
+
+/** click X Y [shift|ctrl], double-click X Y, mouse-drag X0 Y0 X1 Y1 [shift|ctrl], key NAME
+[shift|ctrl]: frames of synthetic input, positions in image coordinates. */
+void queueInput(Script& sc, const ScriptCommand& c) {
+    Script::Input in;
+    size_t numbers = c.verb == "mouse-drag" ? 4 : c.verb == "key" ? 0 : 2;
+    if (c.args.size() < numbers) throw std::runtime_error(c.verb + ": missing coordinates");
+    for (size_t i = numbers; i < c.args.size(); ++i) {
+        if (c.args[i] == "shift") in.shift = true;
+        else if (c.args[i] == "ctrl") in.ctrl = true;
+        else if (c.verb == "key" && i == 0) in.key = keyByName(c.args[i]);
+        else throw std::runtime_error(c.verb + ": unknown modifier '" + c.args[i] + "'");
+    }
+    auto frame = [&](Point2f at, bool down, int key = -1) {
+        Script::Input f = in;
+        f.at = at;
+        f.down = down;
+        f.key = key;
+        sc.input.push_back(f);
+    };
+    if (c.verb == "key") {
+        frame(Point2f(-1e4f, -1e4f), false, in.key);
+        frame(Point2f(-1e4f, -1e4f), false);
+        return;
+    }
+    const Point2f a(float(numberArg(c, 0)), float(numberArg(c, 1)));
+    frame(a, false);
+    frame(a, true);
+    if (c.verb == "double-click") {
+        frame(a, false);
+        frame(a, true);
+    } else if (c.verb == "mouse-drag") {
+        const Point2f b(float(numberArg(c, 2)), float(numberArg(c, 3)));
+        for (int k = 1; k <= 8; ++k) frame(a + (b - a) * (k / 8.f), true);
+        frame(b, false);
+        frame(b, false);
+        return;
+    }
+    frame(a, false);
+    frame(a, false);  // one quiet frame, so the release is handled before the next command
+}
+
+/** Before ImGui::NewFrame: replaces the backend's mouse and key state with the next input. */
+void injectInput(Script& sc, const Editor& e) {
+    ImGuiIO& io = ImGui::GetIO();
+    if (sc.heldKey >= 0) io.KeysDown[sc.heldKey] = false;
+    sc.heldKey = -1;
+    if (sc.input.empty()) return;
+    const Script::Input in = sc.input.front();
+    sc.input.pop_front();
+    const ImVec2 origin(kPanelWidth, 0);
+    io.MousePos = in.at.x < -1e3f ? ImVec2(-FLT_MAX, -FLT_MAX) : toScreen(e, origin, in.at);
+    io.MouseDown[0] = in.down;
+    io.KeyShift = in.shift;
+    io.KeyCtrl = in.ctrl;
+    if (in.key >= 0) io.KeysDown[sc.heldKey = in.key] = true;
 }
 
 /** Runs due commands; returns false when the script says quit or fails. */
@@ -639,6 +724,7 @@ bool runScript(Script& sc, Editor& e, View& v, Settings& s, GLFWwindow* window) 
         ++sc.benchFrame;
         return true;
     }
+    if (!sc.input.empty()) return true;
     if (sc.waitFrames > 0) {
         --sc.waitFrames;
         return true;
@@ -734,6 +820,9 @@ bool runScript(Script& sc, Editor& e, View& v, Settings& s, GLFWwindow* window) 
             } else if (c.verb == "wait") {
                 sc.waitFrames = std::max(0, static_cast<int>(num(0)) - 1);
                 return true;
+            } else if (c.verb == "click" || c.verb == "double-click" || c.verb == "mouse-drag" || c.verb == "key") {
+                queueInput(sc, c);
+                return true;
             } else if (c.verb == "bench-drag") {
                 if (e.mode != Mode::Pose) setMode(e, Mode::Pose);
                 sc.benchFrames = std::max(1, static_cast<int>(num(0)));
@@ -808,6 +897,7 @@ void panel(Editor& e, View& v, Settings& s, GLFWwindow* window) {
     if (ImGui::Button("Save cage (Ctrl+S)")) attempt([&] { saveCage(e, e.cagePath, s); });
     ImGui::Spacing();
 
+    ImGui::AlignTextToFramePadding();
     ImGui::Text("Mode (Tab)");
     ImGui::SameLine();
     if (ImGui::RadioButton("Rest", e.mode == Mode::Rest)) setMode(e, Mode::Rest);
@@ -973,6 +1063,7 @@ int main(int argc, char** argv) {
         glfwPollEvents();
         ImGui_ImplOpenGL3_NewFrame();
         ImGui_ImplGlfw_NewFrame();
+        if (script.active()) injectInput(script, e);
         ImGui::NewFrame();
 
         if (script.active() && !runScript(script, e, v, s, window)) running = false;

@@ -31,6 +31,10 @@ const std::vector<ScriptVerb>& scriptVerbs() {
         {"screenshot", 1, 1, "screenshot OUT         the window as drawn this frame"},
         {"status", 1, 1, "status FILE            write the status (valid, reason, folds, ...) to FILE"},
         {"wait", 1, 1, "wait N                 let N frames pass"},
+        {"click", 2, 3, "click X Y [shift|ctrl]  a mouse click on the canvas at image point (X, Y)"},
+        {"double-click", 2, 2, "double-click X Y       (on an edge in rest mode: insert a vertex)"},
+        {"mouse-drag", 4, 5, "mouse-drag X0 Y0 X1 Y1 [shift|ctrl]  press, move, release"},
+        {"key", 1, 2, "key NAME [shift|ctrl]  delete, backspace, enter, escape, tab, f1 or a letter"},
         {"bench-drag", 1, 2, "bench-drag N [I]       drag vertex I (default 0) for N frames, print the median frame time"},
         {"quit", 0, 0, "quit"},
     };

@@ -315,3 +315,104 @@ TEST(EditorWindow, ScriptedSessionUnderXvfb) {
     EXPECT_LE(maxDiff, 1.0) << "pixels inside the unmoved polygon changed";
     EXPECT_GT(meanAbsDiff(harmonic, image, near), 20.0);
 }
+
+namespace {
+/** The value after "key: " in a status file written by the script's `status` command. */
+std::string field(const std::string& statusText, const std::string& key) {
+    const std::string status = "\n" + statusText;
+    const size_t at = status.find("\n" + key + ":");
+    const size_t begin = at == std::string::npos ? std::string::npos : at + key.size() + 2;
+    if (begin == std::string::npos) return "<missing " + key + ">";
+    const size_t end = status.find('\n', begin);
+    std::string v = status.substr(begin, end - begin);
+    return v.empty() || v[0] != ' ' ? v : v.substr(1);
+}
+
+/** The numbers of a status field, as points. */
+std::vector<Point2f> points(const std::string& value) {
+    std::istringstream in(value);
+    std::vector<Point2f> p;
+    for (float x, y; in >> x >> y;) p.emplace_back(x, y);
+    return p;
+}
+
+/** Whether some point of the list lies within tol of p (mouse positions are whole screen
+pixels: at the fitted zoom of about 1.8, image positions come within 0.6 px). */
+bool hasPoint(const std::vector<Point2f>& list, Point2f p, float tol = 1.f) {
+    for (const Point2f& q : list)
+        if (norm(q - p) <= tol) return true;
+    return false;
+}
+
+std::string runEditorScript(const std::string& dir, const std::string& script) {
+    std::ofstream(dir + "/script.txt") << script;
+    const std::string cmd = "MESA_SHADER_CACHE_DIR='" MULTICAGE_SHADER_CACHE "' '" MULTICAGE_XVFB_RUN
+                            "' -a -s '-screen 0 1280x800x24' '" MULTICAGE_EDITOR "' --script '" + dir +
+                            "/script.txt' > '" + dir + "/log.txt' 2>&1";
+    const int rc = std::system(cmd.c_str());
+    const std::string log = readText(dir + "/log.txt");
+    EXPECT_EQ(rc, 0) << log;
+    return log;
+}
+}  // namespace
+
+// Mouse and keyboard through the canvas code (synthetic input in place of GLFW's): create a
+// polygon by clicking, close it on its first vertex or with Enter, cancel with Esc, insert a
+// vertex by double-clicking an edge, box-select, Delete, Ctrl+Z, Ctrl-drag a polygon, drag a
+// vertex, Tab to pose mode and drag there.
+TEST(EditorWindow, MouseAndKeyboardEditing) {
+    ASSERT_FALSE(std::string(MULTICAGE_XVFB_RUN).empty()) << "xvfb-run not found: install xvfb (.ci/deps.sh)";
+    const std::string dir = multicage_testing::tempDir("editor_mouse");
+    ASSERT_TRUE(imwrite(dir + "/in.png", texturedImage(Size(493, 356))));
+    std::ostringstream s;
+    const auto status = [&](const std::string& n) { s << "status " << dir << "/" << n << ".txt\n"; };
+    s << "load " << dir << "/in.png\n"
+      << "click 100 100\nclick 200 100\nclick 200 200\nclick 100 200\nclick 100 100\n";
+    status("created");
+    s << "double-click 150 100\n";
+    status("inserted");
+    s << "mouse-drag 90 90 160 110\n";
+    status("boxed");
+    s << "key delete\n";
+    status("deleted");
+    s << "key z ctrl\n";
+    status("undone");
+    s << "mouse-drag 150 150 170 160 ctrl\nkey escape\n";
+    status("moved");
+    s << "mouse-drag 120 110 125 110\n";
+    status("dragged");
+    s << "click 300 250\nclick 350 250\nkey escape\n";
+    status("cancelled");
+    s << "click 300 250\nclick 400 250\nclick 400 300\nkey enter\n";
+    status("entered");
+    s << "key tab\nmouse-drag 220 210 230 220\n";
+    status("posed");
+    s << "quit\n";
+    const std::string log = runEditorScript(dir, s.str());
+    const auto st = [&](const std::string& n) { return readText(dir + "/" + n + ".txt"); };
+
+    EXPECT_EQ(field(st("created"), "polygons"), "1") << log;
+    EXPECT_EQ(field(st("created"), "vertices"), "4");
+    EXPECT_EQ(field(st("created"), "rest_valid"), "1");
+    EXPECT_EQ(field(st("inserted"), "vertices"), "5");
+    EXPECT_TRUE(hasPoint(points(field(st("inserted"), "rest")), Point2f(150, 100))) << field(st("inserted"), "rest");
+    EXPECT_EQ(field(st("boxed"), "selection").size(), 3u) << "two vertices in the box: " << field(st("boxed"), "selection");
+    EXPECT_EQ(field(st("deleted"), "vertices"), "3");
+    EXPECT_EQ(field(st("undone"), "vertices"), "5");
+    // Ctrl-drag moved every vertex by (20, 10).
+    const std::vector<Point2f> undone = points(field(st("undone"), "rest")), moved = points(field(st("moved"), "rest"));
+    ASSERT_EQ(moved.size(), 5u);
+    ASSERT_EQ(undone.size(), 5u);
+    for (size_t i = 0; i < 5; ++i) EXPECT_LE(norm(moved[i] - undone[i] - Point2f(20, 10)), 1.0) << "vertex " << i;
+    const std::vector<Point2f> dragged = points(field(st("dragged"), "rest"));
+    ASSERT_EQ(dragged.size(), 5u);
+    EXPECT_LE(norm(dragged[0] - moved[0] - Point2f(5, 0)), 1.0);
+    EXPECT_EQ(dragged[1], moved[1]);
+    EXPECT_EQ(field(st("cancelled"), "polygons"), "1");
+    EXPECT_EQ(field(st("entered"), "polygons"), "2");
+    EXPECT_EQ(field(st("entered"), "vertices"), "8");
+    EXPECT_EQ(field(st("posed"), "mode"), "pose");
+    EXPECT_EQ(field(st("posed"), "rest"), field(st("entered"), "rest")) << "a pose drag moved the rest";
+    EXPECT_TRUE(hasPoint(points(field(st("posed"), "shown_pose")), Point2f(230, 220), 1.5f))
+        << field(st("posed"), "shown_pose");
+}
