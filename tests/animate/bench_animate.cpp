@@ -32,6 +32,7 @@ cv::Mat testCard(cv::Size size) {
 }  // namespace
 
 int main(int argc, char** argv) {
+    std::setvbuf(stdout, nullptr, _IOLBF, 0);  // one line at a time, also into a file
     const std::string which = argc > 1 ? argv[1] : "both";
     const int gridStep = argc > 2 ? std::atoi(argv[2]) : 1;
     const int frames = argc > 3 ? std::atoi(argv[3]) : 50;

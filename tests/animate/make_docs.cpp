@@ -1,5 +1,5 @@
 // Writes docs/animate: butterfly_flap.gif (the looped flap of samples/butterfly_flap.yml) and
-// butterfly_flap_strip.png (six frames of it, the posed multicage drawn on each).
+// butterfly_flap_strip.jpg (six frames of it, the posed multicage drawn on each).
 // Usage: animate_docs OUTDIR   (built with the tests, not run by ctest)
 #include <iostream>
 #include <opencv2/imgcodecs.hpp>
@@ -26,6 +26,10 @@ int main(int argc, char** argv) {
     params.fps = 20;
     const AnimationStats s = renderAnimation(*deformer, cage, out + "/butterfly_flap.gif", params);
     std::cout << "butterfly_flap.gif: " << s.frames << " frames, " << s.fps() << " frames/s rendered\n";
+    for (double t : animationFrameTimes(cage, params)) {
+        const int folded = deformer->foldedTriangles(samplePose(cage, t, params.interpolation, true));
+        if (folded > 0) std::cout << "warning: t = " << t << " folds " << folded << " triangles\n";
+    }
 
     // The strip: six frames over one cycle, each with the posed polygons drawn on it.
     const int count = 6;
@@ -53,7 +57,7 @@ int main(int argc, char** argv) {
     cv::hconcat(std::vector<cv::Mat>(tiles.begin(), tiles.begin() + 3), top);
     cv::hconcat(std::vector<cv::Mat>(tiles.begin() + 3, tiles.end()), bottom);
     cv::vconcat(top, bottom, strip);
-    imwriteAtomic(out + "/butterfly_flap_strip.png", strip, {cv::IMWRITE_PNG_COMPRESSION, 9});
-    std::cout << "butterfly_flap_strip.png: " << strip.cols << "x" << strip.rows << "\n";
+    imwriteAtomic(out + "/butterfly_flap_strip.jpg", strip, {cv::IMWRITE_JPEG_QUALITY, 88});
+    std::cout << "butterfly_flap_strip.jpg: " << strip.cols << "x" << strip.rows << "\n";
     return 0;
 }
