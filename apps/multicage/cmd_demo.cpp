@@ -7,6 +7,7 @@
 #include <string_view>
 
 #include "cli_util.hpp"
+#include "fixtures.hpp"
 
 namespace cv {
 namespace multicage {
@@ -30,33 +31,40 @@ cv::Mat decodeEmbeddedImage(std::string_view name) {
     return cv::imdecode(buffer, cv::IMREAD_COLOR);
 }
 
-cv::multicage::Multicage embeddedCage(std::string_view name) {
-    const std::string_view text = cv::multicage::embedded::demo(name);
-    cv::FileStorage fs(std::string(text), cv::FileStorage::READ | cv::FileStorage::MEMORY);
-    cv::multicage::Multicage cage;
-    cage.read(fs.root());
-    return cage;
-}
-
 void runDemo(const DemoOptions& o) {
     using namespace cv::multicage;
     namespace fs = std::filesystem;
     fs::create_directories(o.outDir);
     const cv::Mat image = decodeEmbeddedImage("butterfly.jpg");
     std::cout << "multicage demo: butterfly.jpg (" << image.cols << "x" << image.rows << ")\n";
-    Multicage cage = embeddedCage("butterfly.yml");
-    cage.orient();
-    std::cout << "  multicage: " << cage.polygonCount() << " polygons, " << cage.vertexCount()
-              << " vertices (the body polygon protects the body while the wings move)\n";
+    // The multicage is proposed from the image: an outer polygon around the butterfly, then
+    // inner polygons protecting the salient features inside it.
+    auto t = std::chrono::steady_clock::now();
+    Multicage cage = proposeMulticage(image);
+    if (cage.polygonCount() == 0) throw Failure("the proposal found no object in the demo image");
+    cage = protectFeatures(image, cage, 0);
+    std::cout << "  proposed a multicage in " << cvRound(msSince(t)) << " ms: " << cage.polygonCount()
+              << " polygons, " << cage.vertexCount()
+              << " vertices (inner polygons protect the wing patterns while the outline moves)\n";
+    // The pose: the outline stretched outwards (kept 4 px inside the image), so the band
+    // between it and the protected patterns takes the stretch; the inner polygons stay at rest.
+    std::vector<cv::Point2f> stretch = multicage_fixtures::stretchPolygon(cage, 0, 1.04f, 1.15f);
+    for (cv::Point2f& p : stretch) {
+        p.x = std::min(std::max(p.x, 4.f), image.cols - 5.f);
+        p.y = std::min(std::max(p.y, 4.f), image.rows - 5.f);
+    }
+    cage.addPose("stretch", stretch, 1.0);
     DeformParams params;
     params.backend = parseBackend(o.backend);
     params.gridStep = o.gridStep;
-    auto t = std::chrono::steady_clock::now();
+    t = std::chrono::steady_clock::now();
     cv::Ptr<Deformer> deformer = Deformer::create(image, cage, params);
     std::cout << "  bound " << deformer->binding().nodeCount() << " nodes to "
               << deformer->binding().coefficientCount() << " vertices in " << cvRound(msSince(t))
               << " ms (min conditioning " << deformer->binding().minConditioning << ")\n";
     const Pose& pose = cage.pose(0);
+    if (const int folded = deformer->foldedTriangles(pose.vertices))
+        std::cout << "  note: the pose folds " << folded << " mesh triangles over\n";
     t = std::chrono::steady_clock::now();
     cv::Mat deformed;
     deformer->deform(pose.vertices, deformed);
@@ -65,13 +73,7 @@ void runDemo(const DemoOptions& o) {
 
     cv::Mat overlay = image.clone(), posed = deformed.clone();
     cage.draw(overlay, 2);
-    Multicage posedCage(cage.imageSize());
-    for (int p = 0; p < cage.polygonCount(); ++p) {
-        const int offset = cage.polygonOffset(p), n = static_cast<int>(cage.polygon(p).size());
-        posedCage.addPolygon(std::vector<cv::Point2f>(pose.vertices.begin() + offset,
-                                                      pose.vertices.begin() + offset + n));
-    }
-    posedCage.draw(posed, 2);
+    cage.posed(pose.vertices).draw(posed, 2);
     cv::Mat sideBySide;
     cv::hconcat(overlay, posed, sideBySide);
     const std::vector<std::pair<std::string, cv::Mat>> outputs = {
@@ -89,8 +91,9 @@ void addDemoCommand(CLI::App& app) {
     auto o = std::make_shared<DemoOptions>();
     CLI::App* cmd = app.add_subcommand(
         "demo",
-        "Run the built-in example: a butterfly photo, a multicage (wings outside, body inside), "
-        "a pose that moves the wings, and the output images in a folder.");
+        "Run the built-in example: a butterfly photo, a multicage proposed from it (an outline "
+        "around the butterfly, inner polygons protecting its wing patterns), a pose that "
+        "stretches the outline, and the output images in a folder.");
     cmd->add_option("-o,--output-dir", o->outDir, "Folder for the outputs")->capture_default_str();
     cmd->add_option("--backend", o->backend, "auto, cpu or gpu")->capture_default_str()
         ->check(CLI::IsMember({"auto", "cpu", "gpu"}));

@@ -170,3 +170,16 @@ TEST(Multicage, ScaledMapsFrameOntoFrame) {
     EXPECT_NEAR(big.polygon(0)[1].x, 199.5f, 1e-4);  // the image centre stays the centre
     EXPECT_NEAR(big.polygon(0)[1].y, 41.5f, 1e-4);
 }
+
+TEST(Multicage, PosedMovesPolygonsToThePose) {
+    Multicage cage(Size(100, 100));
+    cage.addPolygon(reversed(square({30, 30}, 10)));
+    cage.addPolygon(reversed(square({70, 70}, 10)));
+    std::vector<Point2f> pose = cage.vertices();  // with the frame corners
+    for (Point2f& p : pose) p += Point2f(1, 2);
+    const Multicage posed = cage.posed(pose);
+    ASSERT_EQ(posed.polygonCount(), 2);
+    EXPECT_EQ(posed.polygon(1)[2], cage.polygon(1)[2] + Point2f(1, 2));
+    EXPECT_EQ(posed.poseCount(), 0);
+    EXPECT_THROW(cage.posed(std::vector<Point2f>(5)), cv::Exception);
+}

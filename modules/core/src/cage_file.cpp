@@ -3,6 +3,8 @@
 
 #include <algorithm>
 #include <cctype>
+#include <fstream>
+#include <iterator>
 
 namespace cv {
 namespace multicage {
@@ -125,13 +127,27 @@ void Multicage::read(const FileNode& root) {
 }
 
 Multicage Multicage::load(const String& path) {
-    checkedFormat(path);
+    const std::string ext = checkedFormat(path);
+    // Read here and parsed from memory, not by FileStorage::open(path): OpenCV 4.6's file
+    // reader loops forever on some malformed YAML ("%YAML:1.0\n -]\ns: -\n", found by
+    // fuzz_cage_file) where its memory reader answers. The extension picks the format, as
+    // the file reader does.
+    std::ifstream in(path, std::ios::binary);
+    if (!in) CV_Error(Error::StsError, "cage file " + path + ": cannot be opened");
+    const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    if (in.bad()) CV_Error(Error::StsError, "cage file " + path + ": cannot be read");
+    const size_t nul = text.find('\0');
+    if (nul != std::string::npos)
+        CV_Error(Error::StsParseError, format("cage file %s: not valid YAML/JSON: a NUL byte at offset "
+                                              "%d (not a text file)", path.c_str(), static_cast<int>(nul)));
     FileStorage fs;
     try {
-        if (!fs.open(path, FileStorage::READ))
-            CV_Error(Error::StsError, "cage file " + path + ": cannot be opened");
+        const int flags = FileStorage::READ | FileStorage::MEMORY |
+                          (ext == ".json" ? FileStorage::FORMAT_JSON : FileStorage::FORMAT_YAML);
+        if (text.empty()) CV_Error(Error::StsParseError, "cage file " + path + ": the file is empty");
+        if (!fs.open(text, flags)) CV_Error(Error::StsParseError, "cage file " + path + ": not valid YAML/JSON");
     } catch (const cv::Exception& e) {
-        if (e.code == Error::StsError && e.err.rfind("cage file", 0) == 0) throw;
+        if (e.err.rfind("cage file", 0) == 0) throw;
         CV_Error(Error::StsParseError, "cage file " + path + ": not valid YAML/JSON: " + e.err);
     } catch (const std::exception& e) {
         // OpenCV's parser can also throw standard exceptions on malformed text (4.6: "{ :name"

@@ -234,6 +234,19 @@ void Multicage::setCoordinates(int coordinates) {
     coordinates_ = coordinates;
 }
 
+Multicage Multicage::posed(InputArray poseIn) const {
+    std::vector<Point2f> pose = toPoints(poseIn, "pose");
+    const int n = vertexCount();
+    if (static_cast<int>(pose.size()) != n && static_cast<int>(pose.size()) != n + 4)
+        CV_Error_(Error::StsBadSize, ("multicage: the pose has %d vertices, the multicage has %d",
+                                      static_cast<int>(pose.size()), n));
+    Multicage out(imageSize_);
+    out.coordinates_ = coordinates_;
+    for (int p = 0, offset = 0; p < polygonCount(); offset += static_cast<int>(polygons_[p].size()), ++p)
+        out.polygons_.emplace_back(pose.begin() + offset, pose.begin() + offset + polygons_[p].size());
+    return out;
+}
+
 Multicage Multicage::scaled(Size newSize) const {
     CV_Assert(imageSize_.area() > 0 && newSize.area() > 0);
     const float sx = static_cast<float>(newSize.width) / imageSize_.width;

@@ -99,6 +99,10 @@ public:
     int coordinates() const;
     void setCoordinates(int coordinates);
 
+    /** The multicage with its polygons moved to a pose (vertexCount() points, or +4 with the
+    frame corners, which are ignored), for drawing a pose; poses are not copied. */
+    Multicage posed(InputArray pose) const;
+
     /** The same multicage for an image of another size: every coordinate c becomes
     (c + 0.5) * newSize / imageSize - 0.5, so the frame maps onto the new frame. */
     Multicage scaled(Size newSize) const;
