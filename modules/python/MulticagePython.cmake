@@ -1,6 +1,6 @@
 # Finds what the Python module needs and defines MULTICAGE_BUILD_PYTHON (default ON when found).
-# Included from the top-level CMakeLists.txt and from tests/python; runs once.
-include_guard(GLOBAL)
+# Included from the top-level CMakeLists.txt and from tests/python (imported targets are
+# directory-scoped, so each includer finds them again; the results are cached).
 
 # Debian's python3 carries numpy, cv2 and pybind11; another python3 earlier on PATH may not.
 if(NOT DEFINED Python3_EXECUTABLE AND EXISTS /usr/bin/python3)

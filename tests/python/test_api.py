@@ -134,7 +134,8 @@ def test_views_crops_and_fortran_arrays_are_read_correctly(butterfly, butterfly_
 def test_backend_choice(butterfly, butterfly_cage, gpu):
     assert mc.Deformer(butterfly, butterfly_cage, backend=mc.Backend.CPU, grid_step=4).backend == "cpu"
     auto = mc.Deformer(butterfly, butterfly_cage, grid_step=4)
-    assert auto.backend == ("gpu" if gpu else "cpu")
+    # auto takes the GPU only where it pays (a software OpenGL may lose to the CPU backend)
+    assert auto.backend in (("cpu", "gpu") if gpu else ("cpu",))
     if gpu:
         d = mc.Deformer(butterfly, butterfly_cage, backend="gpu", grid_step=4, gpu_binding=True)
         assert d.backend == "gpu"
