@@ -7,6 +7,9 @@
 //   BLOCKS             ceil(c / 4) coefficient blocks (paper Eq. 6)
 //   BLOCK_COLS         blocks per texture row (Eq. 6); BLOCKS_PER_LAYER blocks per layer
 //   LAYERED            1: coefficients in a 2D texture array (layouts beyond GL_MAX_TEXTURE_SIZE)
+//   COEFFICIENTS       c, user vertices + 4 frame corners (the last four)
+// The mesh is the node grid plus a ring of vertices on the image frame around it:
+// (GRID_W + 2) x (GRID_H + 2) vertices, vertex (ex, ey) being node (ex - 1, ey - 1).
 
 #if LAYERED
 layout(binding = 0) uniform sampler2DArray coefficients;
@@ -20,11 +23,11 @@ layout(location = 0) uniform vec4 toClip;
 
 noperspective out vec2 restPosition;
 
-// Border nodes are pushed out by this many pixels so that pixel centres lying exactly on the
-// mesh border are drawn: GL's top-left rule would drop the last row and column, and border
-// nodes moved inwards by rounding-sized amounts would drop whole rows. The CPU backend's
-// rasterizeMaps (modules/deform/src/mesh_raster.cpp) uses the same value.
-const float kBorderNudge = 1.0 / 64.0;
+// v'_j - v_j of coefficient j.
+vec2 delta(int j) {
+    const vec4 t = texelFetch(poseDelta, j / 2, 0);
+    return j % 2 == 0 ? t.xy : t.zw;
+}
 
 vec4 block(int b, ivec2 g) {
 #if LAYERED
@@ -39,22 +42,32 @@ vec4 block(int b, ivec2 g) {
 }
 
 void main() {
-    const ivec2 g = ivec2(gl_VertexID % GRID_W, gl_VertexID / GRID_W);
+    const ivec2 e = ivec2(gl_VertexID % (GRID_W + 2), gl_VertexID / (GRID_W + 2));
+    const ivec2 g = clamp(e - 1, ivec2(0), ivec2(GRID_W - 1, GRID_H - 1));
     const vec2 x = vec2(min(g * GRID_STEP, ivec2(IMAGE_W - 1, IMAGE_H - 1)));
-    // Displacement form p' = x + sum_j CC_j (v'_j - v_j): exact for the rest pose, and
-    // accurate with half-float coefficients.
-    vec2 p = x;
-    for (int b = 0; b < BLOCKS; ++b) {
-        const vec4 cc = block(b, g);
-        const vec4 d01 = texelFetch(poseDelta, 2 * b, 0);
-        const vec4 d23 = texelFetch(poseDelta, 2 * b + 1, 0);
-        p += cc.x * d01.xy + cc.y * d01.zw + cc.z * d23.xy + cc.w * d23.zw;
+    // Ring vertices sample the border pixel next to them (the fragment shaders also clamp).
+    restPosition = x;
+    vec2 p;
+    if (any(notEqual(e, g + 1))) {
+        // A ring vertex on the frame follows it as mean value coordinates do on a polygon
+        // edge: the frame corners interpolated linearly. It keeps the half-pixel band between
+        // the frame and the border nodes covered however those nodes move (mesh_raster.cpp).
+        const vec2 r = vec2(e.x == 0 ? -0.5 : (e.x == GRID_W + 1 ? float(IMAGE_W) - 0.5 : x.x),
+                            e.y == 0 ? -0.5 : (e.y == GRID_H + 1 ? float(IMAGE_H) - 0.5 : x.y));
+        const vec2 uv = (r + 0.5) / vec2(IMAGE_W, IMAGE_H);
+        p = r + (1.0 - uv.x) * (1.0 - uv.y) * delta(COEFFICIENTS - 4) +
+            uv.x * (1.0 - uv.y) * delta(COEFFICIENTS - 3) + uv.x * uv.y * delta(COEFFICIENTS - 2) +
+            (1.0 - uv.x) * uv.y * delta(COEFFICIENTS - 1);
+    } else {
+        // Displacement form p' = x + sum_j CC_j (v'_j - v_j): exact for the rest pose, and
+        // accurate with half-float coefficients.
+        p = x;
+        for (int b = 0; b < BLOCKS; ++b) {
+            const vec4 cc = block(b, g);
+            const vec4 d01 = texelFetch(poseDelta, 2 * b, 0);
+            const vec4 d23 = texelFetch(poseDelta, 2 * b + 1, 0);
+            p += cc.x * d01.xy + cc.y * d01.zw + cc.z * d23.xy + cc.w * d23.zw;
+        }
     }
-    // Rest and deformed move together, so the rest pose stays the identity (the fragment
-    // shaders clamp the source position back into the image).
-    const vec2 nudge = vec2(g.x == 0 ? -kBorderNudge : (g.x == GRID_W - 1 ? kBorderNudge : 0.0),
-                            g.y == 0 ? -kBorderNudge : (g.y == GRID_H - 1 ? kBorderNudge : 0.0));
-    p += nudge;
-    restPosition = x + nudge;
     gl_Position = vec4(p * toClip.xy + toClip.zw, 0.0, 1.0);
 }

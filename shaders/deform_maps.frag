@@ -5,6 +5,6 @@ noperspective in vec2 restPosition;
 layout(location = 0) out vec2 map;
 
 void main() {
-    // The border nudge of deform.vert can reach 1/64 px outside the image: clamp, as the CPU does.
+    // Interpolation can round a hair outside the image: clamp, as the CPU does.
     map = clamp(restPosition, vec2(0.0), vec2(IMAGE_W - 1, IMAGE_H - 1));
 }

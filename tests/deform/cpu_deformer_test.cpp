@@ -144,3 +144,21 @@ TEST(CpuDeformer, PoseAsMatrixEqualsPoseAsVector) {
     EXPECT_EQ(norm(a, b, NORM_INF), 0.0);
     EXPECT_GT(norm(a, image, NORM_L1), 0.0);
 }
+
+TEST(CpuDeformer, FixedFrameKeepsEveryBorderPixelCovered) {
+    // Border nodes sit half a pixel inside the frame and move with the pose; the frame ring of
+    // the mesh must keep the border covered (no line of border colour at the image edge).
+    const Size size(320, 240);
+    const Multicage cage = multicage_fixtures::lotusMulticage(size, 40);
+    for (int step : {1, 3}) {
+        Ptr<Deformer> d = Deformer::create(Mat(size, CV_8UC3, Scalar::all(200)), cage, cpuParams(step));
+        for (float amplitude : {10.f, 30.f}) {
+            Mat mapx, mapy;
+            d->computeMaps(multicage_fixtures::wavePose(cage, amplitude, 0.3f), mapx, mapy);
+            EXPECT_EQ(countNonZero(mapx < -1), 0) << "step " << step << " amplitude " << amplitude;
+            Mat out;
+            d->deform(multicage_fixtures::wavePose(cage, amplitude, 0.3f), out);
+            EXPECT_EQ(countNonZero(out.reshape(1) != 200), 0);
+        }
+    }
+}

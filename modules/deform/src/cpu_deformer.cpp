@@ -20,8 +20,10 @@ public:
     }
 
     void computeMaps(InputArray pose, OutputArray mapx, OutputArray mapy) override {
-        binding_.apply(pose, positions_);
-        rasterizeMaps(positions_, restNodes_, image_.size(), mapx, mapy);
+        const std::vector<Point2f> vertices = binding_.completePose(pose);
+        binding_.apply(vertices, positions_);
+        rasterizeMaps(positions_, restNodes_, image_.size(), mapx, mapy,
+                      Mat(std::vector<Point2f>(vertices.end() - 4, vertices.end()), true));
     }
 
     int backend() const override { return BACKEND_CPU; }

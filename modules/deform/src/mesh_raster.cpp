@@ -10,7 +10,6 @@ namespace multicage {
 namespace {
 
 constexpr float kUncovered = -1e4f;  // far outside any image: cv::remap gives the border value
-constexpr float kBorderNudge = 1.f / 64;  // px; must equal kBorderNudge in shaders/deform.vert
 
 inline double cross(Point2d a, Point2d b) { return a.x * b.y - a.y * b.x; }
 
@@ -77,22 +76,45 @@ void drawTriangle(const Point2f q[3], const Point2f p[3], int y0, int y1, Point2
 }  // namespace
 
 void rasterizeMaps(InputArray positionsIn, InputArray restIn, Size outputSize, OutputArray mapxOut,
-                   OutputArray mapyOut) {
+                   OutputArray mapyOut, InputArray frameIn) {
     Mat P = positionsIn.getMat(), R = restIn.getMat();
     CV_Assert(P.type() == CV_32FC2 && R.type() == CV_32FC2 && P.size() == R.size());
     CV_Assert(P.rows >= 2 && P.cols >= 2 && outputSize.area() > 0);
-    // The outer ring of nodes, deformed and at rest alike, is pushed out by kBorderNudge px, as
-    // in the GPU's deform.vert: border nodes sit half a pixel inside the fixed frame and move by
-    // rounding-sized amounts in most poses, which must not drop a whole row or column of border
-    // pixels. Moving rest and deformed together keeps the rest pose the identity; the source
-    // positions are clamped back to the rest grid, so nothing samples outside the image.
+    // The mesh gets a ring of nodes on the image frame, around the node grid (whose outer nodes
+    // sit on the border pixel centres, half a pixel inside the frame). A ring node follows the
+    // frame as mean value coordinates do on a polygon edge (the frame corners interpolated
+    // linearly) and samples the border pixel next to it. So the half-pixel band between the
+    // frame and the border nodes is always covered: when border nodes move inwards the border
+    // pixels stretch instead of leaving a line of border colour. deform.vert builds the same ring.
     const Point2f lo = R.at<Point2f>(0, 0), hi = R.at<Point2f>(R.rows - 1, R.cols - 1);
-    P = P.clone(), R = R.clone();
-    for (Mat* m : {&P, &R}) {
-        for (int gx = 0; gx < m->cols; ++gx)
-            m->at<Point2f>(0, gx).y -= kBorderNudge, m->at<Point2f>(m->rows - 1, gx).y += kBorderNudge;
-        for (int gy = 0; gy < m->rows; ++gy)
-            m->at<Point2f>(gy, 0).x -= kBorderNudge, m->at<Point2f>(gy, m->cols - 1).x += kBorderNudge;
+    std::vector<Point2f> corners;
+    if (!frameIn.empty()) {
+        Mat f = frameIn.getMat();
+        CV_Assert(f.total() == 4 && f.type() == CV_32FC2);
+        corners.assign(f.ptr<Point2f>(), f.ptr<Point2f>() + 4);
+    } else {
+        const float W = outputSize.width - 0.5f, H = outputSize.height - 0.5f;
+        corners = {{-0.5f, -0.5f}, {W, -0.5f}, {W, H}, {-0.5f, H}};
+    }
+    {
+        const int m = P.cols, n = P.rows;
+        Mat Pe(n + 2, m + 2, CV_32FC2), Re(n + 2, m + 2, CV_32FC2);
+        P.copyTo(Pe(Rect(1, 1, m, n)));
+        R.copyTo(Re(Rect(1, 1, m, n)));
+        const float W = static_cast<float>(outputSize.width), H = static_cast<float>(outputSize.height);
+        for (int ey = 0; ey < n + 2; ++ey)
+            for (int ex = 0; ex < m + 2; ++ex) {
+                if (ex > 0 && ex < m + 1 && ey > 0 && ey < n + 1) continue;
+                const Point2f source = R.at<Point2f>(std::min(std::max(ey - 1, 0), n - 1),
+                                                     std::min(std::max(ex - 1, 0), m - 1));
+                const float rx = ex == 0 ? -0.5f : ex == m + 1 ? W - 0.5f : source.x;
+                const float ry = ey == 0 ? -0.5f : ey == n + 1 ? H - 0.5f : source.y;
+                const float u = (rx + 0.5f) / W, v = (ry + 0.5f) / H;
+                Pe.at<Point2f>(ey, ex) = (1 - u) * (1 - v) * corners[0] + u * (1 - v) * corners[1] +
+                                         u * v * corners[2] + (1 - u) * v * corners[3];
+                Re.at<Point2f>(ey, ex) = source;
+            }
+        P = Pe, R = Re;
     }
     mapxOut.create(outputSize, CV_32F);
     mapyOut.create(outputSize, CV_32F);

@@ -117,14 +117,16 @@ struct GLDeformer::Impl {
         glTexStorage2D(GL_TEXTURE_2D, 1, fmt.internal, img.cols, img.rows);
         upload(img);
 
-        // One mesh vertex per node; per cell (a,b,c) then (b,d,c), row-major, as the CPU
-        // backend draws them, so that fold-overs resolve the same way (later triangle wins).
+        // One mesh vertex per node plus a ring of vertices on the image frame around them
+        // (deform.vert); per cell (a,b,c) then (b,d,c), row-major, as the CPU backend draws
+        // them, so that fold-overs resolve the same way (later triangle wins).
         const int m = binding.gridSize.width, n = binding.gridSize.height;
+        const int em = m + 2, en = n + 2;
         std::vector<GLuint> idx;
-        idx.reserve(size_t(m - 1) * (n - 1) * 6);
-        for (int gy = 0; gy + 1 < n; ++gy)
-            for (int gx = 0; gx + 1 < m; ++gx) {
-                const GLuint a = gy * m + gx, b = a + 1, c = a + m, d = c + 1;
+        idx.reserve(size_t(em - 1) * (en - 1) * 6);
+        for (int gy = 0; gy + 1 < en; ++gy)
+            for (int gx = 0; gx + 1 < em; ++gx) {
+                const GLuint a = gy * em + gx, b = a + 1, c = a + em, d = c + 1;
                 idx.insert(idx.end(), {a, b, c, b, d, c});
             }
         indexCount = static_cast<GLsizei>(idx.size());
@@ -142,9 +144,10 @@ struct GLDeformer::Impl {
         const std::string defines = cv::format(
             "#define GRID_W %d\n#define GRID_H %d\n#define GRID_STEP %d\n#define IMAGE_W %d\n"
             "#define IMAGE_H %d\n#define BLOCKS %d\n#define BLOCK_COLS %d\n"
-            "#define BLOCKS_PER_LAYER %d\n#define LAYERED %d\n",
+            "#define BLOCKS_PER_LAYER %d\n#define LAYERED %d\n#define COEFFICIENTS %d\n",
             m, n, binding.gridStep, binding.imageSize.width, binding.imageSize.height,
-            layout.blocks, layout.cols, layout.blocksPerLayer(), layout.layers > 1 ? 1 : 0);
+            layout.blocks, layout.cols, layout.blocksPerLayer(), layout.layers > 1 ? 1 : 0,
+            binding.coefficientCount());
         imageProgram = buildProgram(defines, "deform.vert", "deform_image.frag");
         mapsProgram = buildProgram(defines, "deform.vert", "deform_maps.frag");
         timings.shaderBuild = msSince(t);

@@ -68,10 +68,14 @@ CV_EXPORTS void deformImage(InputArray src, const Multicage& rest, InputArray po
 
 /** Rasterises a deformed node grid into inverse maps (the CPU backend's core, exposed for
 tests and tools). positions: deformed nodes, gridSize CV_32FC2; rest: their rest positions,
-the same shape. Triangles per cell (a=(x,y), b=(x+1,y), c=(x,y+1), d=(x+1,y+1)): (a,b,c) and
-(b,d,c), drawn in row-major cell order, the later one winning where they overlap. */
+the same shape. A ring of nodes on the image frame surrounds the grid: they follow the frame
+corners `frame` (4 CV_32FC2 points TL, TR, BR, BL; empty: the rest frame of outputSize)
+linearly along each edge and sample the nearest border pixel, so the border is never left
+uncovered by a few tenths of a pixel. Triangles per cell of the ringed grid (a=(x,y),
+b=(x+1,y), c=(x,y+1), d=(x+1,y+1)): (a,b,c) and (b,d,c), drawn in row-major cell order, the
+later one winning where they overlap. Source positions are clamped to the rest grid. */
 CV_EXPORTS void rasterizeMaps(InputArray positions, InputArray rest, Size outputSize,
-                              OutputArray mapx, OutputArray mapy);
+                              OutputArray mapx, OutputArray mapy, InputArray frame = noArray());
 
 /** Counts triangles of the deformed grid whose orientation differs from the rest grid's. */
 CV_EXPORTS int countFoldedTriangles(InputArray positions, InputArray rest);
