@@ -51,6 +51,38 @@ std::string checkedFormat(const String& path) {
     return ext;
 }
 
+// OpenCV 4.6's YAML parser loops forever when a second document starts with '-' (its
+// document loop neither advances nor fails there), and it reaches a second document whenever
+// the first one ends before the end of the text: at a "..." line, or when the top level is
+// indented, a flow collection or a sequence. A cage file is one document whose top level is a
+// block map at column 0; anything else is refused here, before the parser sees it (found by
+// fuzz_cage_file: "%YAML:1.0\n -]\ns: -\n" hung Multicage::load).
+void checkYamlLayout(const std::string& text, const std::string& where) {
+    bool first = true;
+    int lineNo = 0;
+    for (size_t begin = 0; begin < text.size(); ++lineNo) {
+        size_t end = text.find('\n', begin);
+        if (end == std::string::npos) end = text.size();
+        const std::string line = text.substr(begin, end - begin);
+        begin = end + 1;
+        const size_t content = line.find_first_not_of(" \t\r");
+        if (content == std::string::npos || line[content] == '#') continue;  // blank or comment
+        if (line.compare(0, 3, "...") == 0)
+            CV_Error(Error::StsParseError, format("%s: not valid YAML/JSON: line %d: a document end "
+                                                  "marker '...' (a cage file is one document)",
+                                                  where.c_str(), lineNo + 1));
+        if (!first) continue;
+        if (line[0] == '%' || (line.compare(0, 3, "---") == 0 && line.find_first_not_of(" \t\r", 3) == std::string::npos))
+            continue;  // the %YAML directive and the document start
+        const unsigned char c = static_cast<unsigned char>(line[0]);
+        if (!(std::isalnum(c) || c == '_' || c == '"' || c == '\''))
+            CV_Error(Error::StsParseError, format("%s: not valid YAML/JSON: line %d: the top level "
+                                                  "must be a map of keys at column 0 (image_size, "
+                                                  "polygons, poses)", where.c_str(), lineNo + 1));
+        first = false;
+    }
+}
+
 }  // namespace
 
 void Multicage::write(FileStorage& fs) const {
@@ -140,6 +172,7 @@ Multicage Multicage::load(const String& path) {
     if (nul != std::string::npos)
         CV_Error(Error::StsParseError, format("cage file %s: not valid YAML/JSON: a NUL byte at offset "
                                               "%d (not a text file)", path.c_str(), static_cast<int>(nul)));
+    if (ext != ".json") checkYamlLayout(text, "cage file " + path);
     FileStorage fs;
     try {
         const int flags = FileStorage::READ | FileStorage::MEMORY |
