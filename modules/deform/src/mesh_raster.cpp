@@ -35,7 +35,8 @@ void drawTriangle(const Point2f q[3], const Point2f p[3], int y0, int y1, Point2
     const int xb = static_cast<int>(std::floor(std::min(maxX, double(mapx.cols - 1))));
     if (xa > xb) return;
     const double area = cross(q1 - q0, q2 - q0);
-    if (!(std::abs(area) > 1e-12)) return;  // degenerate (or NaN)
+    // Degenerate, NaN, or infinite (a node at infinity: the affine map would be NaN).
+    if (!(std::abs(area) > 1e-12) || !std::isfinite(area)) return;
     const double inv = 1.0 / area;
     // Barycentric l_i(x, y) = (cross(a, b) + x (a.y - b.y) + y (b.x - a.x)) / area for the
     // edge (a, b) opposite vertex i.
