@@ -79,3 +79,52 @@ TEST(Regression, CageFileParserStandardExceptionBecomesCvException) {
         FAIL() << "a " << typeid(e).name() << " escaped Multicage::load: " << e.what();
     }
 }
+
+// fuzz_cage_file, finding 3: OpenCV 4.6's YAML parser loops forever when a second document
+// starts with '-', which it reaches when the first document ends early (an indented or
+// non-map top level, a '...' line), so Multicage::load hung. load() now refuses such layouts
+// before parsing; without the fix this test never returns and CTest's timeout fails it.
+TEST(Regression, MalformedYamlThatHungOpenCvsParserIsRefused) {
+    const std::string dir = multicage_testing::tempDir("regression_hang");
+    const std::string texts[] = {
+        "%YAML:1.\n -]\ns: -\n",                                    // the fuzzer's input, minimised
+        "%YAML:1.\n -]\ns: -\n_",                                   // the same from memory
+        "%YAML:1.0\n---\n image_size: [ 10, 10 ]\npo: -\n_",        // indented top level
+        "%YAML:1.0\n---\nimage_size: [ 10, 10 ]\n...\n-\n_",         // a document end marker
+        "%YAML:1.0\n---\n[ 1, 2 ]\nabc-\n_",                        // a flow sequence on top
+        "%YAML:1.0\n---\n{ a: 2 }\nabc-\n_",                        // a flow map on top
+    };
+    int i = 0;
+    for (const std::string& text : texts) {
+        const std::string path = dir + "/hang" + std::to_string(i++) + ".yml";
+        FILE* f = std::fopen(path.c_str(), "wb");
+        ASSERT_TRUE(f);
+        std::fwrite(text.data(), 1, text.size(), f);
+        std::fclose(f);
+        try {
+            Multicage::load(path);
+            ADD_FAILURE() << "accepted " << text;
+        } catch (const cv::Exception& e) {
+            std::printf("[ answer ] %s", e.err.c_str());
+            EXPECT_NE(e.err.find("cage file " + path), std::string::npos) << e.err;
+        }
+    }
+}
+
+// With the file read by the library, a NUL byte (a binary file given as a cage) is refused
+// by name instead of being cut off silently where OpenCV's memory reader stops.
+TEST(Regression, CageFileWithNulByteIsRefused) {
+    const std::string path = multicage_testing::tempDir("regression_nul") + "/cage.yml";
+    const std::string text("%YAML:1.0\n---\nimage_size: [ 10, 10 ]\npolygons:\n  - [ 1, 1, 5, 1, 5, 5 ]\n\0junk", 77);
+    FILE* f = std::fopen(path.c_str(), "wb");
+    ASSERT_TRUE(f);
+    std::fwrite(text.data(), 1, text.size(), f);
+    std::fclose(f);
+    try {
+        Multicage::load(path);
+        FAIL() << "accepted a file with a NUL byte";
+    } catch (const cv::Exception& e) {
+        EXPECT_NE(e.err.find("not valid YAML/JSON: a NUL byte at offset 72 (not a text file)"), std::string::npos)
+            << e.err;
+    }
+}
