@@ -262,18 +262,23 @@ double bindNodeExact(const std::vector<BoundPolygon>& polygons, Point2d x, doubl
 
 }  // namespace
 
-Binding bind(const Multicage& multicage, int coordinates, int gridStep) {
-    std::string why;
-    if (!multicage.validateGeometry(&why)) CV_Error(Error::StsBadArg, "multicage: cannot bind: " + why);
-    if (coordinates == HARMONIC) return bindHarmonic(multicage, gridStep);
-    if (coordinates != MEAN_VALUE)
-        CV_Error_(Error::StsOutOfRange, ("multicage: unknown coordinate type %d", coordinates));
+Binding emptyBinding(const Multicage& multicage, int coordinates, int gridStep) {
     Binding b;
     b.imageSize = multicage.imageSize();
     b.gridStep = gridStep;
     b.gridSize = gridSizeFor(b.imageSize, gridStep);
     b.coordinates = coordinates;
     b.restVertices = multicage.vertices();
+    return b;
+}
+
+Binding bind(const Multicage& multicage, int coordinates, int gridStep) {
+    std::string why;
+    if (!multicage.validateGeometry(&why)) CV_Error(Error::StsBadArg, "multicage: cannot bind: " + why);
+    if (coordinates == HARMONIC) return bindHarmonic(multicage, gridStep);
+    if (coordinates != MEAN_VALUE)
+        CV_Error_(Error::StsOutOfRange, ("multicage: unknown coordinate type %d", coordinates));
+    Binding b = emptyBinding(multicage, coordinates, gridStep);
     const int c = b.coefficientCount(), m = b.gridSize.width, N = b.nodeCount();
 
     // The frame is a polygon like the others (depth 0, A > 0), its corners the last 4 slots.

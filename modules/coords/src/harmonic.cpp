@@ -220,12 +220,7 @@ struct Region {
 }  // namespace
 
 Binding bindHarmonic(const Multicage& multicage, int gridStep, HarmonicStats* stats) {
-    Binding out;
-    out.imageSize = multicage.imageSize();
-    out.gridStep = gridStep;
-    out.gridSize = gridSizeFor(out.imageSize, gridStep);
-    out.coordinates = HARMONIC;
-    out.restVertices = multicage.vertices();
+    Binding out = emptyBinding(multicage, HARMONIC, gridStep);
     out.minConditioning = 1.0;  // no cancellation: all weights are non-negative
     out.worstNode = Point2f(0, 0);
     const int c = out.coefficientCount(), N = out.nodeCount();

@@ -14,6 +14,11 @@ by at most this much, far below what a deformation can show, and keeps the Lapla
 from the near-zero link lengths that would make it ill-conditioned. */
 constexpr double kHarmonicOnEdgeTolerance = 1e-4;
 
+/** A Binding with everything but the coefficients filled in: image size, grid step and size,
+coordinate type, rest vertices (user vertices, then the frame corners). Shared by both kinds of
+coordinates. */
+Binding emptyBinding(const Multicage& multicage, int coordinates, int gridStep);
+
 /** What the harmonic solve did, for benchmarks and documentation. */
 struct HarmonicStats {
     int unknowns = 0;           //!< nodes off the boundary (rows of the Laplace system)
