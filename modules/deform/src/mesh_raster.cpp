@@ -53,12 +53,14 @@ void drawTriangle(const Point2f q[3], const Point2f p[3], int y0, int y1, Point2
     const double myx = ax[0] * d0.y + ax[1] * d1.y, myy = ay[0] * d0.y + ay[1] * d1.y;
     const double my0 = p[2].y + a0[0] * d0.y + a0[1] * d1.y;
     constexpr double eps = -1e-7;
+    double invAx[3];  // once per triangle, not per row
+    for (int i = 0; i < 3; ++i) invAx[i] = ax[i] != 0 ? 1.0 / ax[i] : 0.0;
     for (int y = ya; y <= yb; ++y) {
         double left = xa, right = xb;
         for (int i = 0; i < 3; ++i) {  // l_i(x) = ax x + c >= eps
             const double c = a0[i] + ay[i] * y;
-            if (ax[i] > 0) left = std::max(left, (eps - c) / ax[i]);
-            else if (ax[i] < 0) right = std::min(right, (eps - c) / ax[i]);
+            if (ax[i] > 0) left = std::max(left, (eps - c) * invAx[i]);
+            else if (ax[i] < 0) right = std::min(right, (eps - c) * invAx[i]);
             else if (c < eps) right = -1;
         }
         if (!(left <= right)) continue;  // empty span (or NaN) before converting to int
