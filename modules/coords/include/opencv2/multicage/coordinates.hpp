@@ -71,11 +71,21 @@ struct CV_EXPORTS Binding {
 /** Node grid size for an image and a grid step: ceil((W-1)/s)+1 by ceil((H-1)/s)+1. */
 CV_EXPORTS Size gridSizeFor(Size imageSize, int gridStep);
 
-/** Binds every grid node to every vertex of the multicage (Algorithm 1): the raw weights of
-each polygon (frame included, each signed as if oriented by the orientation rule) are
-concatenated and divided by their total. A node on a polygon's vertex or edge gets that
-polygon's exact values and zero elsewhere. Runs on all cores (cv::parallel_for_).
-Throws a cv::Exception when the multicage does not pass validateGeometry(). */
+/** Binds every grid node to every vertex of the multicage.
+
+MEAN_VALUE (Algorithm 1): the raw weights of each polygon (frame included, each signed as if
+oriented by the orientation rule) are concatenated and divided by their total. A node on a
+polygon's vertex or edge gets that polygon's exact values and zero elsewhere. The float
+kernel's rounding is removed by projecting each node's coefficients onto partition of unity
+and linear precision. minConditioning and worstNode report the worst cancellation.
+
+HARMONIC (DeRose & Meyer 2006): a discrete Laplace solve per region on the node grid with
+every polygon edge and the frame as Dirichlet boundaries (Eigen sparse LDL^T); coefficients are
+in [0, 1] and a region's nodes see only the polygons bounding it. minConditioning is 1 and
+worstNode (0, 0): there is no cancellation.
+
+Runs on all cores (cv::parallel_for_). Throws a cv::Exception when the multicage does not pass
+validateGeometry(). */
 CV_EXPORTS Binding bind(const Multicage& multicage, int coordinates = MEAN_VALUE,
                         int gridStep = 1);
 
