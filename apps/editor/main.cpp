@@ -84,6 +84,11 @@ struct Editor {
     std::string restWhy, poseWhy;
     std::string message;
     char poseName[64] = "pose1";
+    // Animation (issue 9): the cage's timed poses are keyframes; playback shows samplePose().
+    bool playing = false, loop = true;
+    Clock::time_point playStart;
+    float keyTime = 0.f;  // seconds: where "Add keyframe" puts the current pose
+    double playhead = 0;  // seconds, while playing
     // view transform: screen = origin + zoom * (p + 0.5) + pan
     float zoom = 1.f;
     Point2f pan;
@@ -363,6 +368,41 @@ void selectPolygonOf(Editor& e, int polygon) {
 }
 
 // ---------------------------------------------------------------------------------------
+// Animation: keyframes are the cage's timed poses; playback moves only the shown pose.
+
+void addKeyframeHere(Editor& e) {
+    edit(e);
+    mc::addKeyframe(e.doc.cage, e.doc.pose, e.keyTime);
+    afterEdit(e);
+    e.message = cv::format("keyframe at %.2f s (%d keyframes)", e.keyTime, e.doc.cage.poseCount());
+    e.keyTime += 1.f;
+}
+
+void setPlaying(Editor& e, bool play) {
+    std::string why;
+    if (play && !mc::validateKeyframes(e.doc.cage, &why)) throw std::runtime_error("cannot play: " + why);
+    e.playing = play;
+    e.playStart = Clock::now();
+    if (play) setMode(e, Mode::Pose);
+    else updateValidity(e);  // back to the edited pose
+}
+
+/** While playing, the shown pose is the animation's pose at the playhead. */
+void advancePlayback(Editor& e) {
+    if (!e.playing) return;
+    std::string why;
+    if (!e.restOk || e.mode != Mode::Pose || !mc::validateKeyframes(e.shown.cage, &why)) {
+        e.playing = false;
+        return;
+    }
+    const double period = mc::animationDuration(e.shown.cage, e.loop);
+    double t = std::chrono::duration<double>(Clock::now() - e.playStart).count();
+    t = e.loop ? std::fmod(t, period) : std::min(t, period);
+    e.playhead = mc::animationStart(e.shown.cage) + t;
+    e.shown.pose = mc::samplePose(e.shown.cage, e.playhead, mc::INTERPOLATE_CATMULL_ROM, e.loop);
+}
+
+// ---------------------------------------------------------------------------------------
 // The deformation: rebind when the rest multicage changes, setPose + render when the pose does.
 
 void updateDeformation(Editor& e, View& v, const Settings& s) {
@@ -589,6 +629,20 @@ void keyboard(Editor& e, Settings& s, GLFWwindow* window) {
     if (pressed(GLFW_KEY_H) || pressed(GLFW_KEY_F1)) s.showHelp = !s.showHelp;
     if (pressed(GLFW_KEY_C)) s.showCage = !s.showCage;
     if (pressed(GLFW_KEY_F)) e.fitPending = true;
+    if (pressed(GLFW_KEY_K)) {
+        try {
+            addKeyframeHere(e);
+        } catch (const std::exception& ex) {
+            e.message = ex.what();
+        }
+    }
+    if (pressed(GLFW_KEY_P)) {
+        try {
+            setPlaying(e, !e.playing);
+        } catch (const std::exception& ex) {
+            e.message = ex.what();
+        }
+    }
     if (pressed(GLFW_KEY_DELETE) || pressed(GLFW_KEY_BACKSPACE)) {
         if (e.creating && !e.creation.empty()) e.creation.pop_back();
         else deleteSelection(e, io.KeyShift);
@@ -615,6 +669,7 @@ const char* kHelp =
     "  Delete                   delete selected vertices (< 3 left: the polygon)\n"
     "  Shift+Delete             delete the polygons of the selection\n"
     "Pose mode: drag vertices (Ctrl/Alt: whole polygon); the image follows\n"
+    "Animation: K stores the pose as a keyframe at the time shown, P plays / stops\n"
     "View: wheel zooms, right/middle drag pans, F fits, C shows/hides the cage\n"
     "Ctrl+Z / Ctrl+Y (Ctrl+Shift+Z) undo / redo, Ctrl+S save, Ctrl+A select all\n"
     "H or F1 this help, Ctrl+Q quit\n"
@@ -631,6 +686,7 @@ void writeStatus(const Editor& e, const View& v, const Settings& s, const std::s
       << "pose_valid: " << e.poseOk << "\npose_reason: " << e.poseWhy << "\n"
       << "polygons: " << e.doc.cage.polygonCount() << "\nvertices: " << e.doc.cage.vertexCount() << "\n"
       << "poses: " << e.doc.cage.poseCount() << "\nundo: " << e.history.undoCount() << "\n"
+      << "playing: " << e.playing << "\nplayhead: " << e.playhead << "\n"
       << "folded: " << v.folded << "\nmin_conditioning: " << v.binding.minConditioning << "\n"
       << "bind_ms: " << v.bindMs << "\ngrid_step: " << s.gridStep << "\ncoordinates: "
       << (s.coordinates == mc::HARMONIC ? "harmonic" : "mean_value") << "\n"
@@ -802,6 +858,11 @@ bool runScript(Script& sc, Editor& e, View& v, Settings& s, GLFWwindow* window) 
                 edit(e);
                 addPose(e.doc, c.args[0]);
                 afterEdit(e);
+            } else if (c.verb == "add-keyframe") {
+                e.keyTime = static_cast<float>(num(0));
+                addKeyframeHere(e);
+            } else if (c.verb == "play") {
+                setPlaying(e, num(0) != 0);
             } else if (c.verb == "set-pose") {
                 const int i = e.doc.cage.findPose(c.args[0]);
                 if (i < 0) throw std::runtime_error("no pose named " + c.args[0]);
@@ -946,6 +1007,25 @@ void panel(Editor& e, View& v, Settings& s, GLFWwindow* window) {
         afterEdit(e);
         e.message = std::string("pose '") + e.poseName + "' stored";
     }
+
+    section("Animation");
+    ImGui::PushItemWidth(-150);
+    ImGui::InputFloat("##keytime", &e.keyTime, 0.25f, 1.f, "%.2f s");
+    ImGui::PopItemWidth();
+    ImGui::SameLine();
+    if (ImGui::Button("Add keyframe (K)", ImVec2(-1, 0))) attempt([&] { addKeyframeHere(e); });
+    std::string keyWhy;
+    const bool canPlay = mc::validateKeyframes(e.doc.cage, &keyWhy);
+    if (!canPlay && !e.playing) ImGui::BeginDisabled();
+    if (ImGui::Button(e.playing ? "Stop (P)" : "Play (P)", ImVec2(120, 0)))
+        attempt([&] { setPlaying(e, !e.playing); });
+    if (!canPlay && !e.playing) {
+        ImGui::EndDisabled();
+        if (ImGui::IsItemHovered(ImGuiHoveredFlags_AllowWhenDisabled)) ImGui::SetTooltip("%s", keyWhy.c_str());
+    }
+    ImGui::SameLine();
+    ImGui::Checkbox("Loop", &e.loop);
+    if (e.playing) ImGui::Text("t = %.2f s of %.2f s", e.playhead, mc::animationDuration(e.shown.cage, e.loop));
 
     section("Export");
     ImGui::PushItemWidth(-70);
@@ -1100,6 +1180,7 @@ int main(int argc, char** argv) {
             e.fitPending = false;
         }
         if (!e.image.empty()) canvasMouse(e, origin, hovered);
+        advancePlayback(e);
         updateDeformation(e, v, s);
         ImDrawList* dl = ImGui::GetWindowDrawList();
         dl->PushClipRect(origin, ImVec2(origin.x + area.x, origin.y + area.y), true);

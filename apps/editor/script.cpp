@@ -26,6 +26,8 @@ const std::vector<ScriptVerb>& scriptVerbs() {
         {"redo", 0, 0, "redo"},
         {"add-pose", 1, 1, "add-pose NAME          store the current pose"},
         {"set-pose", 1, 1, "set-pose NAME          make a saved pose the current one"},
+        {"add-keyframe", 1, 1, "add-keyframe T         store the current pose as the keyframe at T seconds"},
+        {"play", 1, 1, "play 0|1               play the keyframes (Catmull-Rom, looped) or stop"},
         {"save", 1, 1, "save CAGE              write rest polygons and poses"},
         {"export", 1, 1, "export OUT             full-resolution deformed image (as multicage deform)"},
         {"screenshot", 1, 1, "screenshot OUT         the window as drawn this frame"},

@@ -416,3 +416,47 @@ TEST(EditorWindow, MouseAndKeyboardEditing) {
     EXPECT_TRUE(hasPoint(points(field(st("posed"), "shown_pose")), Point2f(230, 220), 1.5f))
         << field(st("posed"), "shown_pose");
 }
+
+// Issue 9 item 3: the editor adds keyframes from the current pose and plays them.
+TEST(EditorWindow, KeyframesFromThePoseAndPlayback) {
+    const std::string xvfb = MULTICAGE_XVFB_RUN;
+    ASSERT_FALSE(xvfb.empty()) << "xvfb-run was not found at configure time (.ci/deps.sh)";
+    const std::string dir = multicage_testing::tempDir("editor_keyframes");
+    ASSERT_TRUE(imwrite(dir + "/in.png", texturedImage(Size(493, 356))));
+    const Multicage cage = twoOctagons();
+    cage.save(dir + "/cage.yml");
+    std::ofstream(dir + "/script.txt") << "load " << dir << "/in.png " << dir << "/cage.yml\n"
+                                       << "mode pose\n"
+                                          "add-keyframe 0\n"      // the rest pose at t = 0
+                                          "drag 0 30 -20\n"
+                                          "add-keyframe 1.5\n"    // the dragged pose at t = 1.5
+                                          "play 1\n"
+                                          "wait 20\n"
+                                       << "status " << dir << "/playing.txt\n"
+                                       << "play 0\n"
+                                       << "status " << dir << "/stopped.txt\n"
+                                       << "save " << dir << "/keys.yml\n"
+                                       << "quit\n";
+    const std::string cmd = "MESA_SHADER_CACHE_DIR='" MULTICAGE_SHADER_CACHE "' '" + xvfb +
+                            "' -a -s '-screen 0 1280x800x24' '" MULTICAGE_EDITOR "' --script '" + dir +
+                            "/script.txt' > '" + dir + "/log.txt' 2>&1";
+    ASSERT_EQ(std::system(cmd.c_str()), 0) << readText(dir + "/log.txt");
+    const std::string playing = readText(dir + "/playing.txt");
+    EXPECT_EQ(field(playing, "playing"), "1") << playing;
+    const double playhead = std::stod(field(playing, "playhead"));
+    EXPECT_GT(playhead, 0.0);  // 20 frames of playback moved the playhead
+    EXPECT_LT(playhead, 3.0);  // within the looped period (1.5 s x 2 keyframes / 1)
+    EXPECT_EQ(field(readText(dir + "/stopped.txt"), "playing"), "0");
+
+    const Multicage keys = Multicage::load(dir + "/keys.yml");
+    ASSERT_EQ(keys.poseCount(), 2);
+    std::vector<double> times = {keys.pose(0).time, keys.pose(1).time};
+    std::sort(times.begin(), times.end());
+    EXPECT_EQ(times[0], 0.0);
+    EXPECT_EQ(times[1], 1.5);
+    const int late = keys.pose(0).time == 1.5 ? 0 : 1;
+    std::vector<Point2f> rest = cage.vertices();
+    EXPECT_NEAR(keys.pose(late).vertices[0].x, rest[0].x + 30, 1e-3);
+    EXPECT_NEAR(keys.pose(late).vertices[0].y, rest[0].y - 20, 1e-3);
+    EXPECT_EQ(keys.pose(1 - late).vertices[0], rest[0]);
+}
