@@ -9,7 +9,7 @@ $SUDO apt-get update -qq
 $SUDO apt-get install -y -qq --no-install-recommends \
     ca-certificates cmake ninja-build g++ pkg-config \
     libopencv-dev libopencv-contrib-dev \
-    libglm-dev libepoxy-dev libegl-dev libgl-dev libegl-mesa0 libgl1-mesa-dri \
+    libglm-dev libepoxy-dev libegl-dev libgl-dev libopengl-dev libegl-mesa0 libgl1-mesa-dri \
     libeigen3-dev libcli11-dev \
     libgif-dev \
     libgtest-dev libgmock-dev libbenchmark-dev \
