@@ -56,7 +56,7 @@ void runDeform(const DeformOptions& o) {
     const double deformMs = msSince(td);
     cv::multicage::imwriteAtomic(o.output, out);
     std::cout << "wrote " << o.output << " (" << out.cols << "x" << out.rows << ", pose '" << pose.name
-              << "', " << backendName(deformer->backend()) << ", grid step " << o.gridStep
+              << "', " << backendName(deformer->backend()) << ", grid step " << binding.gridStep
               << ", bind " << cvRound(bindMs) << " ms, deform " << cvRound(deformMs) << " ms, total "
               << cvRound(msSince(t0)) << " ms)" << std::endl;
 }

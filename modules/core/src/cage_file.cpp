@@ -181,7 +181,13 @@ Multicage Multicage::load(const String& path) {
         if (!fs.open(text, flags)) CV_Error(Error::StsParseError, "cage file " + path + ": not valid YAML/JSON");
     } catch (const cv::Exception& e) {
         if (e.err.rfind("cage file", 0) == 0) throw;
-        CV_Error(Error::StsParseError, "cage file " + path + ": not valid YAML/JSON: " + e.err);
+        // OpenCV 4.6's parser puts its function name in err and the reason, with the line,
+        // in func ("(4): Incorrect indentation" style): say the reason when there is one.
+        std::string reason = e.func.find(':') != std::string::npos ? e.func : e.err;
+        const size_t close = reason.find("): ");
+        if (reason[0] == '(' && close != std::string::npos)  // "(4): why" -> "line 4: why"
+            reason = "line " + reason.substr(1, close - 1) + ": " + reason.substr(close + 3);
+        CV_Error(Error::StsParseError, "cage file " + path + ": not valid YAML/JSON: " + reason);
     } catch (const std::exception& e) {
         // OpenCV's parser can also throw standard exceptions on malformed text (4.6: "{ :name"
         // gives std::length_error; fuzz_cage_file): still a cv::Exception for our callers.
