@@ -7,6 +7,8 @@
 #include <opencv2/core/utils/logger.hpp>
 #include <opencv2/multicage.hpp>
 
+#include "fuzz_common.hpp"
+
 #include <cmath>
 #include <cstdint>
 #include <cstdlib>
@@ -28,16 +30,12 @@ bool samePoints(const std::vector<Point2f>& a, const std::vector<Point2f>& b) {
     return true;
 }
 
-[[noreturn]] void finding(const char* what) {
-    std::fprintf(stderr, "fuzz_cage_file: %s\n", what);
-    std::abort();
-}
+[[noreturn]] void finding(const char* what) { multicage_fuzz::finding("fuzz_cage_file", what); }
 
 }  // namespace
 
 extern "C" int LLVMFuzzerInitialize(int*, char***) {
-    setNumThreads(1);
-    utils::logging::setLogLevel(utils::logging::LOG_LEVEL_SILENT);
+    multicage_fuzz::quietLibrary();
     return 0;
 }
 

@@ -11,6 +11,8 @@
 #include <opencv2/core/utils/logger.hpp>
 #include <opencv2/multicage.hpp>
 
+#include "fuzz_common.hpp"
+
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -19,31 +21,11 @@
 
 using namespace cv;
 using namespace cv::multicage;
+using multicage_fuzz::Bytes;
 
 namespace {
 
-struct Bytes {
-    const uint8_t* p;
-    size_t n;
-    uint8_t next() {
-        if (!n) return 0;
-        --n;
-        return *p++;
-    }
-    float unit() { return next() / 255.f; }
-    float raw() {
-        uint32_t u = 0;
-        for (int i = 0; i < 4; ++i) u = (u << 8) | next();
-        float f;
-        std::memcpy(&f, &u, 4);
-        return f;
-    }
-};
-
-[[noreturn]] void finding(const char* what) {
-    std::fprintf(stderr, "fuzz_deform: %s\n", what);
-    std::abort();
-}
+[[noreturn]] void finding(const char* what) { multicage_fuzz::finding("fuzz_deform", what); }
 
 std::vector<Point2f> star(Bytes& in, Point2f centre, float rMin, float rMax) {
     const int n = 3 + in.next() % 6;
@@ -147,8 +129,7 @@ bool mapsAreSane(const Mat& mapx, const Mat& mapy, Size size) {
 }  // namespace
 
 extern "C" int LLVMFuzzerInitialize(int*, char***) {
-    setNumThreads(1);
-    utils::logging::setLogLevel(utils::logging::LOG_LEVEL_SILENT);
+    multicage_fuzz::quietLibrary();
     return 0;
 }
 

@@ -7,6 +7,8 @@
 #include <opencv2/core/utility.hpp>
 #include <opencv2/multicage.hpp>
 
+#include "fuzz_common.hpp"
+
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -14,23 +16,11 @@
 
 using namespace cv;
 using namespace cv::multicage;
+using multicage_fuzz::Bytes;
 
 namespace {
 
-struct Bytes {
-    const uint8_t* p;
-    size_t n;
-    uint8_t next() {
-        if (!n) return 0;
-        --n;
-        return *p++;
-    }
-};
-
-[[noreturn]] void finding(const char* what) {
-    std::fprintf(stderr, "fuzz_validate: %s\n", what);
-    std::abort();
-}
+[[noreturn]] void finding(const char* what) { multicage_fuzz::finding("fuzz_validate", what); }
 
 }  // namespace
 
