@@ -35,13 +35,15 @@ Ptr<Deformer> Deformer::create(InputArray image, const Multicage& rest, const De
         CV_LOG_WARNING(NULL, "multicage: " << what << "; using grid step " << fits);
         chosen.gridStep = fits;
     }
-    if (chosen.gpuBinding && chosen.coordinates == MEAN_VALUE && params.backend != BACKEND_CPU) {
+    if (chosen.gpuBinding != 0 && chosen.coordinates == MEAN_VALUE && params.backend != BACKEND_CPU) {
         std::string why;
         Ptr<Deformer> gpu = gpu::createDeformer(image.getMat(), rest, chosen, &why);
         if (gpu) return gpu;
-        if (params.backend == BACKEND_GPU)
-            CV_Error(Error::StsNotImplemented, "multicage: BACKEND_GPU requested but " + why);
-        CV_LOG_WARNING(NULL, "multicage: no GPU for gpuBinding (" << why << "); binding on the CPU");
+        if (chosen.gpuBinding > 0) {  // asked for explicitly: say why it did not happen
+            if (params.backend == BACKEND_GPU)
+                CV_Error(Error::StsNotImplemented, "multicage: BACKEND_GPU requested but " + why);
+            CV_LOG_WARNING(NULL, "multicage: no GPU for gpuBinding (" << why << "); binding on the CPU");
+        }
     }
     return create(image, bind(rest, chosen.coordinates, chosen.gridStep), chosen);
 }

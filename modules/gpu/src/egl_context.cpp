@@ -1,5 +1,7 @@
 #include "egl_context.hpp"
 
+#include "gl_util.hpp"
+
 #include <epoxy/egl.h>
 #include <epoxy/gl.h>
 
@@ -135,8 +137,21 @@ std::unique_ptr<EglContext> EglContext::create(std::string* why) {
     return c;
 }
 
+EglContext::EglContext() : programs_(new ProgramCache()) {}
+
 EglContext::~EglContext() {
+    // Destroying the context frees its programs: the cache only forgets them.
+    programs_->forget();
     if (context_) eglDestroyContext(display_, context_);
+}
+
+EglContext* EglContext::shared(std::string* why) {
+    static EglContext* context = nullptr;  // never destroyed: see headlessDisplay()
+    static std::string reason;
+    static std::once_flag once;
+    std::call_once(once, [] { context = create(&reason).release(); });
+    if (!context && why) *why = reason;
+    return context;
 }
 
 // The bound API is per thread (default OpenGL ES), and the "current context" queries answer
@@ -147,18 +162,23 @@ static void* bindGlApi() {
 }
 
 EglContext::Scope::Scope(const EglContext& c)
-    : prevDisplay_(bindGlApi()),
+    : lock_(c.mutex_),
+      prevCache_(ProgramCache::makeCurrent(c.programs_.get())),
+      prevDisplay_(bindGlApi()),
       prevContext_(eglGetCurrentContext()),
       prevDraw_(eglGetCurrentSurface(EGL_DRAW)),
       prevRead_(eglGetCurrentSurface(EGL_READ)) {
-    if (!eglMakeCurrent(c.display_, EGL_NO_SURFACE, EGL_NO_SURFACE, c.context_))
+    if (!eglMakeCurrent(c.display_, EGL_NO_SURFACE, EGL_NO_SURFACE, c.context_)) {
+        ProgramCache::makeCurrent(prevCache_);
         CV_Error_(Error::GpuApiCallError,
                   ("multicage: eglMakeCurrent failed (EGL error 0x%x); is this Deformer in use "
                    "on another thread?",
                    eglGetError()));
+    }
 }
 
 EglContext::Scope::~Scope() {
+    ProgramCache::makeCurrent(prevCache_);
     if (prevContext_ != EGL_NO_CONTEXT)
         eglMakeCurrent(prevDisplay_, prevDraw_, prevRead_, prevContext_);
     else

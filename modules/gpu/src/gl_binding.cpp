@@ -101,7 +101,7 @@ void bindMeanValue(const Multicage& multicage, const PackLayout& layout, GLuint 
     b->worstNode = b->node(at.x, at.y);
     glDeleteTextures(1, &conditioning);
     glDeleteBuffers(2, buffers);
-    glDeleteProgram(program);
+    deleteProgram(program);
 }
 
 }  // namespace gpu

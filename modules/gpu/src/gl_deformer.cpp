@@ -1,5 +1,7 @@
-// GLDeformer: the paper's GPU deformation (§4) inside the caller's current GL context.
+// GLDeformer: the GPU deformation inside the caller's current GL context, by the compute
+// pipeline (positions.comp, raster.comp, gather.comp) or the paper's vertex-shader program (§4).
 #include <chrono>
+#include <opencv2/core/utility.hpp>
 #include <opencv2/multicage/gpu.hpp>
 
 #include "gl_binding.hpp"
@@ -8,6 +10,7 @@
 namespace cv {
 namespace multicage {
 
+using gpu::buildComputeProgram;
 using gpu::buildProgram;
 using gpu::checkGl;
 using gpu::glVersion;
@@ -71,19 +74,61 @@ double msSince(std::chrono::steady_clock::time_point t) {
 
 }  // namespace
 
+// GPU timestamps around the stages of a pose (GL_TIMESTAMP queries), read when asked for.
+class StageClock {
+  public:
+    enum Mark { kStart, kPositions, kRaster, kGather, kReadStart, kReadEnd, kMarks };
+    void enable(bool on) {
+        if (on && !queries_[0]) glGenQueries(kMarks, queries_);
+        on_ = on;
+    }
+    void reset() { std::fill(std::begin(marked_), std::end(marked_), false); }
+    void mark(Mark m) {
+        if (!on_) return;
+        glQueryCounter(queries_[m], GL_TIMESTAMP);
+        marked_[m] = true;
+    }
+    // Milliseconds between two marks of the last pose, or -1 if either was not taken.
+    double between(Mark a, Mark b) const {
+        if (!marked_[a] || !marked_[b]) return -1;
+        GLuint64 ta = 0, tb = 0;
+        glGetQueryObjectui64v(queries_[a], GL_QUERY_RESULT, &ta);
+        glGetQueryObjectui64v(queries_[b], GL_QUERY_RESULT, &tb);
+        return double(tb - ta) * 1e-6;
+    }
+    void release() {
+        if (queries_[0]) glDeleteQueries(kMarks, queries_);
+        queries_[0] = 0;
+    }
+
+  private:
+    bool on_ = false;
+    GLuint queries_[kMarks] = {};
+    bool marked_[kMarks] = {};
+};
+
 struct GLDeformer::Impl {
     Binding binding;
     bool coefficientsOnCpu = true;
     bool half = false;
+    int pipeline = GPU_PIPELINE_COMPUTE;
     PackLayout layout;
     int imageType = 0;
     PixelFormat fmt{};
+    std::string defines;  // the per-multicage constants of every program
+    // The paper's program (built on first use in the compute pipeline: only draw() needs it).
     GLuint imageProgram = 0, mapsProgram = 0, vao = 0, indices = 0;
-    GLuint coefficients = 0, pose = 0, image = 0, output = 0, maps = 0, outputFbo = 0, mapsFbo = 0;
     GLsizei indexCount = 0;
+    // The compute pipeline: deformed mesh vertices, and per pixel the triangle that covers it.
+    GLuint positionsProgram = 0, rasterProgram = 0, gatherImageProgram = 0, gatherMapsProgram = 0;
+    GLuint positions = 0, owners = 0;
+    int rasterSlices = 1;
+    GLuint coefficients = 0, pose = 0, image = 0, output = 0, maps = 0, outputFbo = 0, mapsFbo = 0;
     Timings timings;
+    StageClock clock;
 
     Size size() const { return binding.imageSize; }
+    Size meshSize() const { return binding.gridSize + Size(2, 2); }  // the nodes and the ring
     GLenum coefficientTarget() const {
         return layout.layers > 1 ? GL_TEXTURE_2D_ARRAY : GL_TEXTURE_2D;
     }
@@ -91,7 +136,10 @@ struct GLDeformer::Impl {
     void init(const Mat& img, const GLDeformerParams& params) {
         if (glVersion() < 43)
             CV_Error(Error::GpuNotSupported, "multicage: GLDeformer needs an OpenGL 4.3 context");
+        if (params.pipeline != GPU_PIPELINE_COMPUTE && params.pipeline != GPU_PIPELINE_VERTEX_SHADER)
+            CV_Error_(Error::StsOutOfRange, ("multicage: unknown GPU pipeline %d", params.pipeline));
         half = params.halfFloat;
+        pipeline = params.pipeline;
         GLint maxTexture = 0, maxLayers = 0;
         glGetIntegerv(GL_MAX_TEXTURE_SIZE, &maxTexture);
         glGetIntegerv(GL_MAX_ARRAY_TEXTURE_LAYERS, &maxLayers);
@@ -108,8 +156,8 @@ struct GLDeformer::Impl {
                            layout.textureSize.height);
         checkGl("allocating the coefficient texture");
 
-        pose = makeTexture(GL_TEXTURE_1D);
-        glTexStorage1D(GL_TEXTURE_1D, 1, GL_RGBA32F, 2 * layout.blocks);
+        pose = makeTexture(GL_TEXTURE_1D);  // deltas, then the frame corners (mesh_positions.glsl)
+        glTexStorage1D(GL_TEXTURE_1D, 1, GL_RGBA32F, 2 * layout.blocks + 2);
 
         imageType = img.type();
         fmt = pixelFormat(imageType);
@@ -117,11 +165,67 @@ struct GLDeformer::Impl {
         glTexStorage2D(GL_TEXTURE_2D, 1, fmt.internal, img.cols, img.rows);
         upload(img);
 
-        // One mesh vertex per node plus a ring of vertices on the image frame around them
-        // (deform.vert); per cell (a,b,c) then (b,d,c), row-major, as the CPU backend draws
-        // them, so that fold-overs resolve the same way (later triangle wins).
+        // The per-multicage program (paper §4): the constants of this binding and layout.
         const int m = binding.gridSize.width, n = binding.gridSize.height;
-        const int em = m + 2, en = n + 2;
+        rasterSlices = std::min(std::max(binding.gridStep, 1), 16);
+        defines = cv::format(
+            "#define GRID_W %d\n#define GRID_H %d\n#define GRID_STEP %d\n#define IMAGE_W %d\n"
+            "#define IMAGE_H %d\n#define BLOCKS %d\n#define BLOCK_COLS %d\n"
+            "#define BLOCKS_PER_LAYER %d\n#define LAYERED %d\n#define COEFFICIENTS %d\n"
+            "#define RASTER_SLICES %d\n#define UNCOVERED %.1f\n",
+            m, n, binding.gridStep, binding.imageSize.width, binding.imageSize.height,
+            layout.blocks, layout.cols, layout.blocksPerLayer(), layout.layers > 1 ? 1 : 0,
+            binding.coefficientCount(), rasterSlices, double(kUncovered));
+        const auto t = std::chrono::steady_clock::now();
+        if (pipeline == GPU_PIPELINE_COMPUTE)
+            initCompute();
+        else
+            initVertexShader();
+        timings.shaderBuild = msSince(t);
+        setPose(std::vector<Point2f>(binding.restVertices));
+    }
+
+    void initCompute() {
+        const Size mesh = meshSize();
+        glGenBuffers(1, &positions);
+        glBindBuffer(GL_SHADER_STORAGE_BUFFER, positions);
+        glBufferData(GL_SHADER_STORAGE_BUFFER, size_t(mesh.area()) * 2 * sizeof(float), nullptr,
+                     GL_DYNAMIC_COPY);
+        // Zeroed once: the gather pass resets every owner it reads, so no pose needs a clear.
+        glGenBuffers(1, &owners);
+        glBindBuffer(GL_SHADER_STORAGE_BUFFER, owners);
+        glBufferData(GL_SHADER_STORAGE_BUFFER, size_t(size().area()) * sizeof(GLuint), nullptr,
+                     GL_DYNAMIC_COPY);
+        const GLuint zero = 0;
+        glClearBufferData(GL_SHADER_STORAGE_BUFFER, GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT,
+                          &zero);
+        checkGl("allocating the compute pipeline's buffers");
+        positionsProgram = buildComputeProgram(defines, "positions.comp");
+        rasterProgram = buildComputeProgram(defines, "raster.comp");
+        const char* format = imageFormatQualifier();
+        gatherImageProgram = buildComputeProgram(
+            defines + "#define GATHER_MAPS 0\n#define OUTPUT_FORMAT " + format + "\n", "gather.comp");
+        gatherMapsProgram = buildComputeProgram(defines + "#define GATHER_MAPS 1\n", "gather.comp");
+    }
+
+    // The layout qualifier of the output image for imageStore (GL 4.3 image formats).
+    const char* imageFormatQualifier() const {
+        switch (fmt.internal) {
+            case GL_R8: return "r8";
+            case GL_RGBA8: return "rgba8";
+            case GL_R16: return "r16";
+            case GL_RGBA16: return "rgba16";
+            case GL_R32F: return "r32f";
+            default: return "rgba32f";
+        }
+    }
+
+    void initVertexShader() {
+        if (imageProgram) return;
+        // One mesh vertex per node plus the ring (mesh_grid.glsl); per cell (a,b,c) then
+        // (b,d,c), row-major, as the CPU backend draws them, so that fold-overs resolve the
+        // same way (later triangle wins).
+        const int em = meshSize().width, en = meshSize().height;
         std::vector<GLuint> idx;
         idx.reserve(size_t(em - 1) * (en - 1) * 6);
         for (int gy = 0; gy + 1 < en; ++gy)
@@ -138,36 +242,47 @@ struct GLDeformer::Impl {
                      GL_STATIC_DRAW);
         glBindVertexArray(0);
         checkGl("uploading the mesh");
-
-        // The per-multicage shader (paper §4): the constants of this binding and layout.
-        const auto t = std::chrono::steady_clock::now();
-        const std::string defines = cv::format(
-            "#define GRID_W %d\n#define GRID_H %d\n#define GRID_STEP %d\n#define IMAGE_W %d\n"
-            "#define IMAGE_H %d\n#define BLOCKS %d\n#define BLOCK_COLS %d\n"
-            "#define BLOCKS_PER_LAYER %d\n#define LAYERED %d\n#define COEFFICIENTS %d\n",
-            m, n, binding.gridStep, binding.imageSize.width, binding.imageSize.height,
-            layout.blocks, layout.cols, layout.blocksPerLayer(), layout.layers > 1 ? 1 : 0,
-            binding.coefficientCount());
         imageProgram = buildProgram(defines, "deform.vert", "deform_image.frag");
         mapsProgram = buildProgram(defines, "deform.vert", "deform_maps.frag");
-        timings.shaderBuild = msSince(t);
-        setPose(std::vector<Point2f>(binding.restVertices));
     }
 
+    // Packs the CPU binding straight into a mapped pixel buffer, in parallel, and uploads it
+    // from there: one pass over the coefficients instead of pack, convert and copy.
     void uploadCoefficients() {
         const auto t = std::chrono::steady_clock::now();
-        Mat packed;
-        packCoefficients(binding, layout, packed, half ? CV_16F : CV_32F);
+        const int depth = half ? CV_16F : CV_32F;
+        const Size full(layout.textureSize.width, layout.textureSize.height * layout.layers);
+        const size_t bytes = size_t(full.area()) * 4 * CV_ELEM_SIZE1(depth);
+        GLuint pbo;
+        glGenBuffers(1, &pbo);
+        glBindBuffer(GL_PIXEL_UNPACK_BUFFER, pbo);
+        glBufferData(GL_PIXEL_UNPACK_BUFFER, bytes, nullptr, GL_STREAM_DRAW);
+        void* mapped = glMapBufferRange(GL_PIXEL_UNPACK_BUFFER, 0, bytes,
+                                        GL_MAP_WRITE_BIT | GL_MAP_INVALIDATE_BUFFER_BIT);
+        try {
+            if (!mapped) CV_Error(Error::GpuApiCallError, "multicage: cannot map the upload buffer");
+            Mat packed(full, CV_MAKETYPE(depth, 4), mapped);
+            packCoefficients(binding, layout, packed, depth);
+            CV_Assert(packed.data == mapped);  // written in place
+        } catch (...) {
+            if (mapped) glUnmapBuffer(GL_PIXEL_UNPACK_BUFFER);
+            glBindBuffer(GL_PIXEL_UNPACK_BUFFER, 0);
+            glDeleteBuffers(1, &pbo);
+            throw;
+        }
+        glUnmapBuffer(GL_PIXEL_UNPACK_BUFFER);
         glBindTexture(coefficientTarget(), coefficients);
         glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
         glPixelStorei(GL_UNPACK_ROW_LENGTH, 0);
         const GLenum type = half ? GL_HALF_FLOAT : GL_FLOAT;
         if (layout.layers > 1)
             glTexSubImage3D(GL_TEXTURE_2D_ARRAY, 0, 0, 0, 0, layout.textureSize.width,
-                            layout.textureSize.height, layout.layers, GL_RGBA, type, packed.data);
+                            layout.textureSize.height, layout.layers, GL_RGBA, type, nullptr);
         else
             glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, layout.textureSize.width,
-                            layout.textureSize.height, GL_RGBA, type, packed.data);
+                            layout.textureSize.height, GL_RGBA, type, nullptr);
+        glBindBuffer(GL_PIXEL_UNPACK_BUFFER, 0);
+        glDeleteBuffers(1, &pbo);
         checkGl("uploading the coefficients");
         glFinish();
         timings.packUpload = msSince(t);
@@ -189,15 +304,29 @@ struct GLDeformer::Impl {
 
     void setPose(InputArray poseIn) {
         const std::vector<Point2f> p = binding.completePose(poseIn);
-        std::vector<Vec4f> delta(2 * layout.blocks, Vec4f::all(0.f));  // v'_j - v_j, 2 per texel
+        // v'_j - v_j, 2 per texel, then the 4 posed frame corners, 2 per texel.
+        std::vector<Vec4f> texels(2 * layout.blocks + 2, Vec4f::all(0.f));
         for (size_t j = 0; j < p.size(); ++j) {
             const Point2f d = p[j] - binding.restVertices[j];
-            delta[j / 2][2 * (j % 2)] = d.x;
-            delta[j / 2][2 * (j % 2) + 1] = d.y;
+            texels[j / 2][2 * (j % 2)] = d.x;
+            texels[j / 2][2 * (j % 2) + 1] = d.y;
         }
+        const Point2f* corners = &p[p.size() - 4];
+        texels[2 * layout.blocks] = Vec4f(corners[0].x, corners[0].y, corners[1].x, corners[1].y);
+        texels[2 * layout.blocks + 1] = Vec4f(corners[2].x, corners[2].y, corners[3].x, corners[3].y);
         glBindTexture(GL_TEXTURE_1D, pose);
-        glTexSubImage1D(GL_TEXTURE_1D, 0, 0, 2 * layout.blocks, GL_RGBA, GL_FLOAT, delta.data());
+        glTexSubImage1D(GL_TEXTURE_1D, 0, 0, int(texels.size()), GL_RGBA, GL_FLOAT, texels.data());
         checkGl("uploading the pose");
+    }
+
+    void bindCoefficientsAndPose() {
+        glActiveTexture(GL_TEXTURE0);
+        glBindTexture(coefficientTarget(), coefficients);
+        glActiveTexture(GL_TEXTURE1);
+        glBindTexture(GL_TEXTURE_1D, pose);
+        glActiveTexture(GL_TEXTURE2);
+        glBindTexture(GL_TEXTURE_2D, image);
+        glActiveTexture(GL_TEXTURE0);
     }
 
     void draw(GLuint program, bool flipY) {
@@ -206,13 +335,7 @@ struct GLDeformer::Impl {
         // pixel centre x -> (x + 0.5) / W in [0, 1] -> clip [-1, 1]
         glUniform4f(0, 2.f / W, flipY ? -2.f / H : 2.f / H, 1.f / W - 1.f,
                     flipY ? 1.f - 1.f / H : 1.f / H - 1.f);
-        glActiveTexture(GL_TEXTURE0);
-        glBindTexture(coefficientTarget(), coefficients);
-        glActiveTexture(GL_TEXTURE1);
-        glBindTexture(GL_TEXTURE_1D, pose);
-        glActiveTexture(GL_TEXTURE2);
-        glBindTexture(GL_TEXTURE_2D, image);
-        glActiveTexture(GL_TEXTURE0);
+        bindCoefficientsAndPose();
         glDisable(GL_BLEND);
         glDisable(GL_DEPTH_TEST);
         glDisable(GL_CULL_FACE);  // folded triangles are drawn like the CPU backend draws them
@@ -221,6 +344,37 @@ struct GLDeformer::Impl {
         glDrawElements(GL_TRIANGLES, indexCount, GL_UNSIGNED_INT, nullptr);
         glBindVertexArray(0);
         checkGl("drawing the deformed mesh");
+    }
+
+    // Compute pipeline passes 1 and 2: mesh positions, then each pixel's owning triangle.
+    void rasterize() {
+        const Size mesh = meshSize();
+        bindCoefficientsAndPose();
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, positions);
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, owners);
+        clock.mark(StageClock::kStart);
+        glUseProgram(positionsProgram);
+        glDispatchCompute((mesh.width + 15) / 16, (mesh.height + 15) / 16, 1);
+        glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+        clock.mark(StageClock::kPositions);
+        glUseProgram(rasterProgram);
+        glDispatchCompute((2 * (mesh.width - 1) + 63) / 64, (mesh.height - 1) * rasterSlices, 1);
+        glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+        clock.mark(StageClock::kRaster);
+        checkGl("rasterising the deformed mesh");
+    }
+
+    // Compute pipeline pass 3 into `target` (image unit 0, of `format`).
+    void gather(GLuint program, GLuint target, GLenum format) {
+        glUseProgram(program);
+        glBindImageTexture(0, target, 0, GL_FALSE, 0, GL_WRITE_ONLY, format);
+        glDispatchCompute((size().width + 15) / 16, (size().height + 15) / 16, 1);
+        // Owners reset for the next pose; the target read back or sampled next.
+        glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT |
+                        GL_TEXTURE_UPDATE_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT |
+                        GL_PIXEL_BUFFER_BARRIER_BIT);
+        clock.mark(StageClock::kGather);
+        checkGl("gathering the deformed image");
     }
 
     void ensureOutput() {
@@ -238,15 +392,17 @@ struct GLDeformer::Impl {
     }
 
     void release() {
-        const GLuint programs[] = {imageProgram, mapsProgram};
-        for (GLuint p : programs)
-            if (p) glDeleteProgram(p);
+        for (GLuint p : {imageProgram, mapsProgram, positionsProgram, rasterProgram,
+                         gatherImageProgram, gatherMapsProgram})
+            gpu::deleteProgram(p);
         const GLuint textures[] = {coefficients, pose, image, output, maps};
         glDeleteTextures(5, textures);
         const GLuint fbos[] = {outputFbo, mapsFbo};
         glDeleteFramebuffers(2, fbos);
-        glDeleteBuffers(1, &indices);
+        const GLuint buffers[] = {indices, positions, owners};
+        glDeleteBuffers(3, buffers);
         glDeleteVertexArrays(1, &vao);
+        clock.release();
     }
 };
 
@@ -307,29 +463,48 @@ void GLDeformer::setImage(InputArray image) {
     impl_->upload(image.getMat());
 }
 void GLDeformer::draw(bool flipY) {
+    impl_->initVertexShader();
     impl_->draw(impl_->imageProgram, flipY);
 }
 
 unsigned GLDeformer::render(const Scalar& border) {
-    impl_->ensureOutput();
-    glBindFramebuffer(GL_FRAMEBUFFER, impl_->outputFbo);
-    glViewport(0, 0, impl_->size().width, impl_->size().height);
-    const float clear[4] = {
-        float(border[0] * impl_->fmt.scale), float(border[1] * impl_->fmt.scale),
-        float(border[2] * impl_->fmt.scale), float(border[3] * impl_->fmt.scale)};
-    glClearBufferfv(GL_COLOR, 0, clear);
-    impl_->draw(impl_->imageProgram, false);
-    return impl_->output;
+    Impl& d = *impl_;
+    d.ensureOutput();
+    d.clock.reset();
+    const float b[4] = {float(border[0] * d.fmt.scale), float(border[1] * d.fmt.scale),
+                        float(border[2] * d.fmt.scale), float(border[3] * d.fmt.scale)};
+    if (d.pipeline == GPU_PIPELINE_COMPUTE) {
+        d.rasterize();
+        glProgramUniform4fv(d.gatherImageProgram, 0, 1, b);  // programs are shared: set each time
+        d.gather(d.gatherImageProgram, d.output, d.fmt.internal);
+        return d.output;
+    }
+    glBindFramebuffer(GL_FRAMEBUFFER, d.outputFbo);
+    glViewport(0, 0, d.size().width, d.size().height);
+    glClearBufferfv(GL_COLOR, 0, b);
+    d.clock.mark(StageClock::kPositions);  // the vertex shader sums and draws in one pass
+    d.draw(d.imageProgram, false);
+    d.clock.mark(StageClock::kRaster);
+    return d.output;
 }
 
 unsigned GLDeformer::renderMaps() {
-    impl_->ensureMaps();
-    glBindFramebuffer(GL_FRAMEBUFFER, impl_->mapsFbo);
-    glViewport(0, 0, impl_->size().width, impl_->size().height);
+    Impl& d = *impl_;
+    d.ensureMaps();
+    d.clock.reset();
+    if (d.pipeline == GPU_PIPELINE_COMPUTE) {
+        d.rasterize();
+        d.gather(d.gatherMapsProgram, d.maps, GL_RG32F);
+        return d.maps;
+    }
+    glBindFramebuffer(GL_FRAMEBUFFER, d.mapsFbo);
+    glViewport(0, 0, d.size().width, d.size().height);
     const float clear[4] = {kUncovered, kUncovered, 0.f, 0.f};
     glClearBufferfv(GL_COLOR, 0, clear);
-    impl_->draw(impl_->mapsProgram, false);
-    return impl_->maps;
+    d.clock.mark(StageClock::kPositions);
+    d.draw(d.mapsProgram, false);
+    d.clock.mark(StageClock::kRaster);
+    return d.maps;
 }
 
 void GLDeformer::readOutput(OutputArray dst) {
@@ -337,26 +512,48 @@ void GLDeformer::readOutput(OutputArray dst) {
     dst.create(impl_->size(), impl_->imageType);
     Mat out = dst.getMat();
     CV_Assert(out.isContinuous());
+    impl_->clock.mark(StageClock::kReadStart);
     glBindFramebuffer(GL_READ_FRAMEBUFFER, impl_->outputFbo);
     glPixelStorei(GL_PACK_ALIGNMENT, 1);
     glPixelStorei(GL_PACK_ROW_LENGTH, 0);
     // Row 0 of the Mat is the framebuffer's bottom row, where render() put image row 0.
     glReadPixels(0, 0, out.cols, out.rows, impl_->fmt.format, impl_->fmt.type, out.data);
+    impl_->clock.mark(StageClock::kReadEnd);
     gpu::checkGl("reading the deformed image back");
 }
 
 void GLDeformer::readMaps(OutputArray mapx, OutputArray mapy) {
     impl_->ensureMaps();
     Mat xy(impl_->size(), CV_32FC2);
+    impl_->clock.mark(StageClock::kReadStart);
     glBindFramebuffer(GL_READ_FRAMEBUFFER, impl_->mapsFbo);
     glPixelStorei(GL_PACK_ALIGNMENT, 4);
     glPixelStorei(GL_PACK_ROW_LENGTH, 0);
     glReadPixels(0, 0, xy.cols, xy.rows, GL_RG, GL_FLOAT, xy.data);
+    impl_->clock.mark(StageClock::kReadEnd);
     gpu::checkGl("reading the maps back");
     mapx.create(xy.size(), CV_32F);
     mapy.create(xy.size(), CV_32F);
     Mat planes[] = {mapx.getMat(), mapy.getMat()};
     split(xy, planes);
+}
+
+void GLDeformer::setProfiling(bool on) {
+    impl_->clock.enable(on);
+}
+
+GLDeformer::StageTimes GLDeformer::stageTimes() const {
+    const StageClock& c = impl_->clock;
+    StageTimes t;
+    t.positions = c.between(StageClock::kStart, StageClock::kPositions);
+    t.raster = c.between(StageClock::kPositions, StageClock::kRaster);
+    t.gather = c.between(StageClock::kRaster, StageClock::kGather);
+    t.readback = c.between(StageClock::kReadStart, StageClock::kReadEnd);
+    return t;
+}
+
+int GLDeformer::pipeline() const {
+    return impl_->pipeline;
 }
 
 unsigned GLDeformer::outputTexture() const {

@@ -33,12 +33,43 @@ void checkGl(const char* where) {
                  std::string("multicage: OpenGL error in ") + where + ": " + errors);
 }
 
-std::string shaderSource(std::string_view name) {
+static std::string_view embeddedShader(std::string_view name) {
     const std::string_view text = embedded::shaders(name);
     if (text.empty())
         CV_Error(Error::StsObjectNotFound,
                  "multicage: shader " + std::string(name) + " is not embedded in this build");
-    return std::string(text);
+    return text;
+}
+
+// Replaces each `#include "file"` line by that file (GLSL has no includes of its own). The
+// #line directives give each included file its own source-string number, so the compiler's
+// messages name the right line: string 0 is the shader itself, 1, 2, ... its includes in order.
+static std::string expandIncludes(std::string_view source, int* nextString) {
+    std::string out;
+    int line = 1;
+    for (size_t at = 0; at < source.size(); ++line) {
+        size_t eol = source.find('\n', at);
+        if (eol == std::string_view::npos) eol = source.size();
+        const std::string_view text = source.substr(at, eol - at);
+        at = eol + 1;
+        if (text.rfind("#include \"", 0) == 0) {
+            const size_t close = text.find('"', 10);
+            if (close == std::string_view::npos)
+                CV_Error(Error::StsParseError, "multicage: malformed shader include: " + std::string(text));
+            const int number = (*nextString)++;
+            out += "#line 1 " + std::to_string(number) + "\n";
+            out += expandIncludes(embeddedShader(text.substr(10, close - 10)), nextString);
+            out += "#line " + std::to_string(line + 1) + " 0\n";
+        } else {
+            out.append(text.data(), text.size()).push_back('\n');
+        }
+    }
+    return out;
+}
+
+std::string shaderSource(std::string_view name) {
+    int nextString = 1;
+    return expandIncludes(embeddedShader(name), &nextString);
 }
 
 static std::string withDefines(const std::string& defines, std::string_view source) {
@@ -87,25 +118,69 @@ static GLuint link(std::initializer_list<GLuint> shaders, const char* what) {
     return p;
 }
 
+static thread_local ProgramCache* currentCache = nullptr;
+
+ProgramCache::~ProgramCache() = default;
+
+ProgramCache* ProgramCache::current() {
+    return currentCache;
+}
+
+ProgramCache* ProgramCache::makeCurrent(ProgramCache* cache) {
+    ProgramCache* previous = currentCache;
+    currentCache = cache;
+    return previous;
+}
+
+bool ProgramCache::release(GLuint program) {
+    auto it = entries_.begin();
+    while (it != entries_.end() && it->second.program != program) ++it;
+    if (it == entries_.end()) return false;
+    --it->second.users;
+    size_t unused = 0;
+    for (const auto& e : entries_) unused += e.second.users == 0;
+    if (unused > kKeepUnused && it->second.users == 0) {  // the one given back goes first
+        glDeleteProgram(it->second.program);
+        entries_.erase(it);
+    }
+    return true;
+}
+
+void deleteProgram(GLuint program) {
+    if (!program) return;
+    ProgramCache* cache = ProgramCache::current();
+    if (!cache || !cache->release(program)) glDeleteProgram(program);
+}
+
+// Through the current cache, keyed by the complete sources.
+template <typename Build>
+static GLuint cachedProgram(const std::string& key, Build&& build) {
+    ProgramCache* cache = ProgramCache::current();
+    return cache ? cache->acquire(key, build) : build();
+}
+
 GLuint buildProgram(const std::string& defines, std::string_view vertex,
                     std::string_view fragment) {
     const std::string what = std::string(vertex) + " + " + std::string(fragment);
-    GLuint vs = compile(GL_VERTEX_SHADER, withDefines(defines, shaderSource(vertex)),
-                        std::string(vertex).c_str());
-    GLuint fs;
-    try {
-        fs = compile(GL_FRAGMENT_SHADER, withDefines(defines, shaderSource(fragment)),
-                     std::string(fragment).c_str());
-    } catch (...) {
-        glDeleteShader(vs);
-        throw;
-    }
-    return link({vs, fs}, what.c_str());
+    const std::string vsText = withDefines(defines, shaderSource(vertex));
+    const std::string fsText = withDefines(defines, shaderSource(fragment));
+    return cachedProgram(vsText + '\0' + fsText, [&] {
+        GLuint vs = compile(GL_VERTEX_SHADER, vsText, std::string(vertex).c_str());
+        GLuint fs;
+        try {
+            fs = compile(GL_FRAGMENT_SHADER, fsText, std::string(fragment).c_str());
+        } catch (...) {
+            glDeleteShader(vs);
+            throw;
+        }
+        return link({vs, fs}, what.c_str());
+    });
 }
 
 GLuint buildComputeProgramFromText(const std::string& defines, const std::string& source,
                                    const char* name) {
-    return link({compile(GL_COMPUTE_SHADER, withDefines(defines, source), name)}, name);
+    const std::string text = withDefines(defines, source);
+    return cachedProgram(text, [&] { return link({compile(GL_COMPUTE_SHADER, text, name)}, name); });
 }
 
 GLuint buildComputeProgram(const std::string& defines, std::string_view compute) {

@@ -1,4 +1,4 @@
-// The headless GPU Deformer: a private EGL context, a GLDeformer in it, FBO readback.
+// The headless GPU Deformer: a GLDeformer in the process's shared EGL context, readback.
 #include "gpu_backend.hpp"
 
 #include <opencv2/multicage/gpu.hpp>
@@ -12,12 +12,14 @@ namespace gpu {
 
 namespace {
 
-/** Each instance owns one EGL context; every call makes it current on the calling thread
-and releases it afterwards, so Deformers on different threads never share GL state. */
+/** Every instance lives in the process's shared EGL context (EglContext::shared): one
+context creation per process, and programs compiled once per layout. Every call makes the
+context current on the calling thread under its mutex and releases it afterwards, so
+Deformers on different threads take turns and never see each other's GL state. */
 class GpuDeformer final : public Deformer {
   public:
-    GpuDeformer(std::unique_ptr<EglContext> context, const DeformParams& params)
-        : context_(std::move(context)), border_(params.borderValue) {}
+    GpuDeformer(EglContext* context, const DeformParams& params)
+        : context_(context), border_(params.borderValue) {}
 
     ~GpuDeformer() override {
         if (!gl_) return;
@@ -33,6 +35,7 @@ class GpuDeformer final : public Deformer {
         EglContext::Scope scope(*context_);
         GLDeformerParams p;
         p.halfFloat = params.halfFloat;
+        p.pipeline = params.pipeline;
         make(image, source, params, p);
         binding_ = &gl_->binding();
     }
@@ -64,23 +67,30 @@ class GpuDeformer final : public Deformer {
         gl_.reset(new GLDeformer(image, rest, params.gridStep, p));
     }
 
-    std::unique_ptr<EglContext> context_;
+    EglContext* context_;
     std::unique_ptr<GLDeformer> gl_;
     const Binding* binding_ = nullptr;
     Scalar border_;
 };
 
+// The shared context if AUTO would use it (a hardware device), else nullptr with *why.
+EglContext* acceleratedContext(std::string* why) {
+    EglContext* context = EglContext::shared(why);
+    if (context && context->software()) {
+        if (why) *why = "the only OpenGL here is a software renderer (" + context->description() +
+                        "), slower than the CPU backend";
+        return nullptr;
+    }
+    return context;
+}
+
 template <typename Source>
 Ptr<Deformer> create(const Mat& image, const Source& source, const DeformParams& params,
                      std::string* why) {
-    std::unique_ptr<EglContext> context = EglContext::create(why);
+    EglContext* context =
+        params.backend == BACKEND_AUTO ? acceleratedContext(why) : EglContext::shared(why);
     if (!context) return Ptr<Deformer>();
-    if (context->software() && params.backend == BACKEND_AUTO) {
-        if (why) *why = "the only OpenGL here is a software renderer (" + context->description() +
-                        "), slower than the CPU backend";
-        return Ptr<Deformer>();
-    }
-    Ptr<GpuDeformer> d(new GpuDeformer(std::move(context), params));
+    Ptr<GpuDeformer> d(new GpuDeformer(context, params));
     d->init(image, source, params);
     return d;
 }
@@ -95,6 +105,9 @@ Ptr<Deformer> createDeformer(const Mat& image, const Binding& binding, const Def
 Ptr<Deformer> createDeformer(const Mat& image, const Multicage& rest, const DeformParams& params,
                              std::string* why) {
     CV_Assert(params.coordinates == MEAN_VALUE);
+    // By default the GPU binds only where it is a real one: llvmpipe binds 15x slower than
+    // the CPU backend (README), so there the CPU binds and the GPU (if asked for) deforms.
+    if (params.gpuBinding < 0 && !acceleratedContext(why)) return Ptr<Deformer>();
     return create(image, rest, params, why);
 }
 
@@ -102,10 +115,10 @@ Ptr<Deformer> createDeformer(const Mat& image, const Multicage& rest, const Defo
 
 Binding bindOnGpu(const Multicage& multicage, int gridStep) {
     std::string why;
-    std::unique_ptr<gpu::EglContext> context = gpu::EglContext::create(&why);
+    gpu::EglContext* context = gpu::EglContext::shared(&why);
     if (!context) CV_Error(Error::GpuNotSupported, "multicage: bindOnGpu: " + why);
     gpu::EglContext::Scope scope(*context);
-    // A 1x1-per-node dummy image: the GLDeformer needs one, the binding does not.
+    // A blank single-channel image: the GLDeformer needs one, the binding does not.
     const Mat image(multicage.imageSize(), CV_8UC1, Scalar(0));
     GLDeformer d(image, multicage, gridStep);
     return d.binding();
@@ -135,7 +148,14 @@ HeadlessGLContext::Scope::~Scope() = default;
 
 bool gpuAvailable(std::string* description) {
     std::string why;
-    std::unique_ptr<gpu::EglContext> context = gpu::EglContext::create(&why);
+    const gpu::EglContext* context = gpu::EglContext::shared(&why);
+    if (description) *description = context ? context->description() : why;
+    return context != nullptr;
+}
+
+bool gpuAccelerated(std::string* description) {
+    std::string why;
+    const gpu::EglContext* context = gpu::acceleratedContext(&why);
     if (description) *description = context ? context->description() : why;
     return context != nullptr;
 }

@@ -70,26 +70,49 @@ void packCoefficients(const Binding& binding, const PackLayout& layout, OutputAr
               n = binding.gridSize.height;
     checkLayout(layout, binding.gridSize, c);
     const Size full(layout.textureSize.width, layout.textureSize.height * layout.layers);
-    Mat packed = Mat::zeros(full, CV_32FC4);
-    // Block by block, row by row: each coefficient plane is read once, in order.
-    parallel_for_(Range(0, layout.blocks), [&](const Range& r) {
-        for (int b = r.start; b < r.end; ++b) {
-            const int channels = std::min(4, c - 4 * b);
-            for (int y = 0; y < n; ++y) {
-                int layer;
-                const Point t0 = layout.texel(b, 0, y, &layer);
-                Vec4f* dst = packed.ptr<Vec4f>(t0.y + layer * layout.textureSize.height) + t0.x;
-                for (int ch = 0; ch < channels; ++ch) {
-                    const float* src = binding.coefficients.ptr<float>(4 * b + ch) + size_t(y) * m;
-                    for (int x = 0; x < m; ++x) dst[x][ch] = src[x];
+    // A caller's buffer of the right size and type (a mapped pixel buffer) is written in place.
+    packedOut.create(full, CV_MAKETYPE(depth, 4));
+    Mat packed = packedOut.getMat();
+    // Every texel row is written once, in parallel, so nothing is cleared first: empty blocks
+    // and the channels past coefficient c get zeros on the way. Half floats are converted a
+    // row at a time from a float row (OpenCV's vectorised conversion).
+    const int blockRows = layout.rows * layout.layers;
+    parallel_for_(Range(0, blockRows * n), [&](const Range& r) {
+        std::vector<Vec4f> row(depth == CV_16F ? m : 0);
+        for (int i = r.start; i < r.end; ++i) {
+            const int blockRow = i / n, y = i % n;
+            const int layer = blockRow / layout.rows, texY = (blockRow % layout.rows) * n + y;
+            uchar* line = packed.ptr(texY + layer * layout.textureSize.height);
+            for (int col = 0; col < layout.cols; ++col) {
+                const int b = layer * layout.blocksPerLayer() + (blockRow % layout.rows) * layout.cols + col;
+                Vec4f* dst = depth == CV_32F ? reinterpret_cast<Vec4f*>(line) + col * m : row.data();
+                const int channels = b < layout.blocks ? std::min(4, c - 4 * b) : 0;
+                const float* src[4] = {};
+                for (int ch = 0; ch < channels; ++ch)
+                    src[ch] = binding.coefficients.ptr<float>(4 * b + ch) + size_t(y) * m;
+                switch (channels) {  // one loop per channel count keeps each one vectorisable
+                    case 4:
+                        for (int x = 0; x < m; ++x) dst[x] = Vec4f(src[0][x], src[1][x], src[2][x], src[3][x]);
+                        break;
+                    case 3:
+                        for (int x = 0; x < m; ++x) dst[x] = Vec4f(src[0][x], src[1][x], src[2][x], 0.f);
+                        break;
+                    case 2:
+                        for (int x = 0; x < m; ++x) dst[x] = Vec4f(src[0][x], src[1][x], 0.f, 0.f);
+                        break;
+                    case 1:
+                        for (int x = 0; x < m; ++x) dst[x] = Vec4f(src[0][x], 0.f, 0.f, 0.f);
+                        break;
+                    default:
+                        std::fill(dst, dst + m, Vec4f::all(0.f));
+                }
+                if (depth == CV_16F) {
+                    Mat halfRow(1, 4 * m, CV_16F, line + size_t(col) * m * 4 * sizeof(float16_t));
+                    Mat(1, 4 * m, CV_32F, row.data()).convertTo(halfRow, CV_16F);
                 }
             }
         }
     });
-    if (depth == CV_32F)
-        packed.copyTo(packedOut);
-    else
-        packed.convertTo(packedOut, CV_16F);
 }
 
 void unpackCoefficients(InputArray packedIn, const PackLayout& layout, int c, OutputArray out) {

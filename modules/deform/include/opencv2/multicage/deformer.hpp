@@ -3,6 +3,7 @@
 #define OPENCV2_MULTICAGE_DEFORMER_HPP
 
 #include <opencv2/multicage/coordinates.hpp>
+#include <opencv2/multicage/gpu.hpp>
 
 namespace cv {
 namespace multicage {
@@ -21,8 +22,14 @@ struct CV_EXPORTS DeformParams {
     /** GPU backend: store the packed coefficients as RGBA16F instead of RGBA32F (half the
     memory; positions use the displacement form, so the rest pose stays exact). */
     bool halfFloat = false;
-    /** GPU backend: compute the mean value binding in a compute shader instead of on the CPU. */
-    bool gpuBinding = false;
+    /** GPU backend: where the mean value binding is computed. -1 (default): in a compute
+    shader when the GPU is a hardware one (gpuAccelerated()), else on the CPU; 1: in a compute
+    shader whenever the GPU backend is used; 0: always on the CPU (bind()). Harmonic
+    coordinates always bind on the CPU. */
+    int gpuBinding = -1;
+    /** GPU backend: the GpuPipeline. GPU_PIPELINE_COMPUTE (default) does the whole pose update
+    in compute shaders; GPU_PIPELINE_VERTEX_SHADER is the paper's vertex-shader program. */
+    int pipeline = GPU_PIPELINE_COMPUTE;
     /** Most bytes the coefficients may take (nodes x coefficients x 4); 0 means no limit.
     The default, 1 GiB, holds a 4096x4096 image with 60 vertices at grid step 1. */
     size_t memoryBudget = size_t(1) << 30;

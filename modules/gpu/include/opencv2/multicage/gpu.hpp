@@ -16,7 +16,7 @@ class EglContext;
 /** A headless OpenGL 4.5 (or 4.3) core context through EGL, with no window and no X: a
 hardware EGL device (EGL_EXT_platform_device, NVIDIA for instance) first, else Mesa's
 surfaceless platform (llvmpipe where there is no GPU). For running GLDeformer without a
-window; the GPU Deformer makes one per instance. The constructor throws a cv::Exception
+window. (The GPU Deformers of a process share one private context of this kind.) The constructor throws a cv::Exception
 saying why when no such context can be made. */
 class CV_EXPORTS HeadlessGLContext {
   public:
@@ -45,6 +45,23 @@ class CV_EXPORTS HeadlessGLContext {
     std::unique_ptr<gpu::EglContext> context_;
 };
 
+/** How the GPU turns a pose into pixels. Both give the same pictures: they cover the same
+pixels as the CPU backend and resolve overlaps (fold-overs) the same way. */
+enum GpuPipeline {
+    /** Everything in compute shaders, three passes that each touch a node, triangle or pixel
+    once: the node positions (the coefficient sum, reading the Eq. 6-7 packed texture), the
+    deformed mesh rasterised into a per-pixel triangle owner (atomicMax of the triangle number:
+    the later triangle in drawing order wins, as on the CPU), and a gather that interpolates
+    the inverse map and samples the image bilinearly. The default: datacenter GPUs (the H100)
+    run vertex, raster and fragment work on a few graphics-capable units only, while compute
+    shaders use every multiprocessor. */
+    GPU_PIPELINE_COMPUTE = 0,
+    /** The paper's program (§4): the coefficient sum in a vertex shader generated per
+    multicage, the GPU's rasteriser, and a fragment shader that samples the image. Desktop
+    GPUs draw it well; GLDeformer::draw() always uses it. */
+    GPU_PIPELINE_VERTEX_SHADER = 1
+};
+
 struct CV_EXPORTS GLDeformerParams {
     /** Store the packed coefficients as RGBA16F instead of RGBA32F: half the memory and
     bandwidth. The vertex shader uses the displacement form p' = x + sum_j CC_j (v'_j - v_j),
@@ -58,6 +75,8 @@ struct CV_EXPORTS GLDeformerParams {
     /** Largest texture side to use; 0 means GL_MAX_TEXTURE_SIZE. Smaller values force the
     texture-array fallback (choosePackLayout) and exist for tests. */
     int maxTextureSize = 0;
+    /** GpuPipeline of render(), renderMaps() and the Deformer's deform() and computeMaps(). */
+    int pipeline = GPU_PIPELINE_COMPUTE;
 };
 
 /** The GPU multicage deformation inside the caller's own OpenGL context, without readback.
@@ -68,9 +87,9 @@ the bindings of the program, vertex array, textures 0-2, framebuffer (render* on
 viewport (render* only); it restores none of them.
 
 Construction uploads the image and the packed coefficients once (paper Eq. 6-7, or the
-texture-array fallback when the layout exceeds the texture limit) and builds the vertex
-shader generated for this multicage. A pose update is then one small texture upload plus
-one draw call.
+texture-array fallback when the layout exceeds the texture limit) and builds the programs
+generated for this multicage. A pose update is then one small texture upload plus three
+compute dispatches (GPU_PIPELINE_COMPUTE) or one draw call (GPU_PIPELINE_VERTEX_SHADER).
 
     GLDeformer d(image, bind(cage));        // context current
     d.setPose(pose);
@@ -93,11 +112,13 @@ class CV_EXPORTS GLDeformer {
     void setPose(InputArray pose);
     /** Replaces the image (same size and type as before). */
     void setImage(InputArray image);
-    /** Draws the deformed image into the bound framebuffer: the image rectangle fills the
-    current viewport; flipY puts image row 0 at the top (a window), false at the bottom
-    (what glReadPixels returns first). Uncovered pixels are left untouched. */
+    /** Draws the deformed image into the bound framebuffer with the paper's vertex-shader
+    program (whatever params.pipeline says: it draws into the caller's framebuffer): the image
+    rectangle fills the current viewport; flipY puts image row 0 at the top (a window), false
+    at the bottom (what glReadPixels returns first). Uncovered pixels are left untouched. */
     void draw(bool flipY = true);
-    /** Renders into outputTexture() (image size, cleared to border first) and returns it. */
+    /** Renders into outputTexture() (image size; border where no triangle covers a pixel)
+    and returns it. */
     unsigned render(const Scalar& border = Scalar());
     /** Renders the inverse maps (RG32F: source x, y per pixel; -1e4 where uncovered) into
     mapsTexture() and returns it. */
@@ -124,19 +145,41 @@ class CV_EXPORTS GLDeformer {
     /** glFinish(): waits until every command so far has run (for timing). */
     void finish();
 
+    /** GPU time of each stage of the last render()/renderMaps() and read*(), in ms, from
+    GL_TIMESTAMP queries; -1 for a stage that did not run (or profiling off). The
+    vertex-shader pipeline reports its one draw call as `raster`. */
+    struct StageTimes {
+        double positions = -1;  //!< compute: node positions (the coefficient sum)
+        double raster = -1;     //!< compute: triangles to pixel owners; vertex shader: the draw
+        double gather = -1;     //!< compute: inverse maps and image sampling
+        double readback = -1;   //!< readOutput() / readMaps()
+    };
+    /** Turns the timestamp queries on (they cost a little; off by default). */
+    void setProfiling(bool on);
+    /** Waits for the last pose's queries and returns their times. */
+    StageTimes stageTimes() const;
+    /** The GpuPipeline in use. */
+    int pipeline() const;
+
   private:
     struct Impl;
     std::unique_ptr<Impl> impl_;
 };
 
 /** Mean value binding (Algorithm 1, as bind()) computed in a compute shader on a private
-headless EGL context, read back to the CPU. Throws a cv::Exception when no EGL context with
+headless EGL context (the process's shared one), read back to the CPU. Throws a cv::Exception when no EGL context with
 OpenGL 4.3 can be made. */
 CV_EXPORTS Binding bindOnGpu(const Multicage& multicage, int gridStep = 1);
 
-/** Whether a headless EGL context can be made here; *description gets the device (vendor,
-renderer, GL version, platform) or the reason there is none. */
+/** Whether a headless EGL context can be made here (any OpenGL 4.3, Mesa's llvmpipe
+included); *description gets the device (vendor, renderer, GL version, platform) or the
+reason there is none. Probes once per process: later calls answer from the first. */
 CV_EXPORTS bool gpuAvailable(std::string* description = nullptr);
+
+/** Whether BACKEND_AUTO deforms on the GPU here: a hardware OpenGL device, not a software
+renderer such as llvmpipe (slower than the CPU backend). *description as gpuAvailable's, or
+why AUTO takes the CPU. Also the rule for binding on the GPU by default (DeformParams). */
+CV_EXPORTS bool gpuAccelerated(std::string* description = nullptr);
 
 }  // namespace multicage
 }  // namespace cv
