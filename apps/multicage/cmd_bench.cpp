@@ -30,8 +30,9 @@ const BenchCase kPaperCases[] = {{{1024, 768}, 68, 9.034}, {{800, 600}, 44, -1},
 
 struct BenchOptions {
     int repeats = 7;
-    bool paperOnly = false, noPeer = false, noGpu = false;
-    std::string image;
+    bool paperOnly = false, noPeer = false, noGpu = false, gpuOnly = false, half = false;
+    std::string image, json, size;
+    int vertices = 68;
 };
 
 template <typename F>
@@ -59,64 +60,223 @@ cv::Mat benchImage(const std::string& path, cv::Size size) {
     return img;
 }
 
-struct GpuFigures {
-    double bind = -1, packUpload = -1, shaders = -1, pose = -1, poseRead = -1, coefMB = -1;
+// One GPU pipeline's figures: GPU time of each stage (timer queries, medians), and the
+// wall-clock time of Deformer::deform to a cv::Mat and of computeMaps.
+struct PipelineFigures {
+    double positions = -1, raster = -1, gather = -1, readback = -1, gpuTotal = -1;
+    double deform = -1, maps = -1;
 };
 
-// The GPU columns: binding in the compute shader, packing + upload of a CPU binding, building
-// the generated shaders, and a pose update drawn into the FBO (finished, no readback) and
-// read back into a cv::Mat.
+struct GpuFigures {
+    double bind = -1, packUpload = -1, shaders = -1, coefMB = -1;
+    double createFirst = -1, createAgain = -1;  // Deformer::create, GPU binding, cold and warm
+    double pose = -1, poseRead = -1;            // the default (compute) pipeline, for Table 1
+    PipelineFigures pipelines[2];               // indexed by GpuPipeline
+};
+
+const char* pipelineName(int pipeline) {
+    return pipeline == cv::multicage::GPU_PIPELINE_COMPUTE ? "compute" : "vertex shader";
+}
+
+// Stage times of `pipeline` in the bench's own context, and Deformer wall times (the
+// process's shared context).
+PipelineFigures pipelineFigures(const BenchOptions& o, const cv::Mat& image,
+                                const cv::multicage::Binding& binding,
+                                const std::vector<cv::Point2f>& pose, int pipeline) {
+    using namespace cv::multicage;
+    PipelineFigures f;
+    {
+        GLDeformerParams params;
+        params.pipeline = pipeline;
+        params.halfFloat = o.half;
+        GLDeformer d(image, binding, params);
+        d.setProfiling(true);
+        std::vector<double> positions, raster, gather, readback, total;
+        cv::Mat out;
+        for (int i = 0; i <= o.repeats; ++i) {
+            d.setPose(pose);
+            d.render();
+            d.readOutput(out);
+            const GLDeformer::StageTimes t = d.stageTimes();
+            if (i == 0) continue;  // warm-up
+            positions.push_back(t.positions), raster.push_back(t.raster);
+            gather.push_back(t.gather), readback.push_back(t.readback);
+            total.push_back(std::max(0.0, t.positions) + t.raster + std::max(0.0, t.gather));
+        }
+        f.positions = median(positions), f.raster = median(raster), f.gather = median(gather);
+        f.readback = median(readback), f.gpuTotal = median(total);
+    }
+    DeformParams params;
+    params.backend = BACKEND_GPU;
+    params.pipeline = pipeline;
+    params.halfFloat = o.half;
+    cv::Ptr<Deformer> d = Deformer::create(image, binding, params);
+    cv::Mat out, mapx, mapy;
+    f.deform = medianMs(o.repeats, [&] { d->deform(pose, out); });
+    f.maps = medianMs(o.repeats, [&] { d->computeMaps(pose, mapx, mapy); });
+    return f;
+}
+
+// The GPU figures of one case: binding in the compute shader, packing + upload of a CPU
+// binding, building the programs, Deformer creation, and both pipelines.
 GpuFigures gpuFigures(const BenchOptions& o, const cv::Mat& image, const cv::multicage::Multicage& cage,
                       const cv::multicage::Binding& binding, const std::vector<cv::Point2f>& pose) {
     using namespace cv::multicage;
     GpuFigures f;
-    std::vector<double> bindMs, uploadMs, shaderMs;
+    std::vector<double> bindMs, uploadMs;
+    GLDeformerParams glParams;
+    glParams.halfFloat = o.half;
     for (int i = 0; i < o.repeats; ++i) {
-        GLDeformer bound(image, cage, 1);
+        GLDeformer bound(image, cage, 1, glParams);
         bindMs.push_back(bound.timings().binding);
     }
     std::unique_ptr<GLDeformer> d;
-    for (int i = 0; i < o.repeats; ++i) {
+    for (int i = 0; i < o.repeats && !binding.empty(); ++i) {
         d.reset();
-        d.reset(new GLDeformer(image, binding));
+        d.reset(new GLDeformer(image, binding, glParams));
         uploadMs.push_back(d->timings().packUpload);
-        shaderMs.push_back(d->timings().shaderBuild);
+        if (i == 0) f.coefMB = d->coefficientBytes() / (1024.0 * 1024.0);
     }
-    f.bind = median(bindMs), f.packUpload = median(uploadMs), f.shaders = median(shaderMs);
-    f.coefMB = d->coefficientBytes() / (1024.0 * 1024.0);
-    f.pose = medianMs(o.repeats, [&] {
-        d->setPose(pose);
-        d->render();
-        d->finish();
-    });
-    cv::Mat out;
-    f.poseRead = medianMs(o.repeats, [&] {
-        d->setPose(pose);
-        d->render();
-        d->readOutput(out);
-    });
+    f.bind = median(bindMs), f.packUpload = uploadMs.empty() ? -1 : median(uploadMs);
+    d.reset();
+
+    // What a user pays: Deformer::create binding on the GPU. The first of a layout compiles
+    // its programs (and the first of the process makes the EGL context); later ones reuse them.
+    DeformParams params;
+    params.backend = BACKEND_GPU;
+    params.gpuBinding = 1;
+    params.halfFloat = o.half;
+    auto create = [&] {
+        const auto t = std::chrono::steady_clock::now();
+        cv::Ptr<Deformer> created = Deformer::create(image, cage, params);
+        return msSince(t);
+    };
+    f.createFirst = create();
+    std::vector<double> again;
+    for (int i = 0; i < o.repeats; ++i) again.push_back(create());
+    f.createAgain = median(again);
+
+    for (int pipeline : {GPU_PIPELINE_COMPUTE, GPU_PIPELINE_VERTEX_SHADER}) {
+        if (binding.empty()) {  // --gpu-only: bind on the GPU, read the binding back once
+            cv::Ptr<Deformer> gpu = Deformer::create(image, cage, params);
+            f.pipelines[pipeline] = pipelineFigures(o, image, gpu->binding(), pose, pipeline);
+        } else {
+            f.pipelines[pipeline] = pipelineFigures(o, image, binding, pose, pipeline);
+        }
+    }
+    f.pose = f.pipelines[GPU_PIPELINE_COMPUTE].gpuTotal;
+    f.poseRead = f.pipelines[GPU_PIPELINE_COMPUTE].deform;
     return f;
+}
+
+// One case's figures for --json.
+struct CaseRecord {
+    cv::Size size;
+    int vertices = 0;
+    double cpuBind = -1, cpuPose = -1, cpuPose4 = -1, cpuMaps = -1, tps = -1;
+    GpuFigures gpu;
+};
+
+void writeJson(const std::string& path, const std::string& device, const BenchOptions& o,
+               const std::vector<CaseRecord>& cases) {
+    cv::FileStorage fs(".json", cv::FileStorage::WRITE | cv::FileStorage::MEMORY);
+    fs << "device" << device << "threads" << cv::getNumThreads() << "repeats" << o.repeats
+       << "half_float" << o.half << "opencv" << CV_VERSION;
+    fs << "cases" << "[";
+    for (const CaseRecord& c : cases) {
+        fs << "{" << "width" << c.size.width << "height" << c.size.height << "vertices" << c.vertices;
+        fs << "cpu" << "{" << "bind_ms" << c.cpuBind << "pose_ms" << c.cpuPose << "pose_step4_ms"
+           << c.cpuPose4 << "maps_ms" << c.cpuMaps << "tps_ms" << c.tps << "}";
+        const GpuFigures& g = c.gpu;
+        fs << "gpu" << "{" << "bind_ms" << g.bind << "pack_upload_ms" << g.packUpload
+           << "create_first_ms" << g.createFirst << "create_again_ms" << g.createAgain
+           << "coefficients_mib" << g.coefMB;
+        for (int p : {cv::multicage::GPU_PIPELINE_COMPUTE, cv::multicage::GPU_PIPELINE_VERTEX_SHADER}) {
+            const PipelineFigures& f = g.pipelines[p];
+            fs << (p == cv::multicage::GPU_PIPELINE_COMPUTE ? "compute" : "vertex_shader") << "{"
+               << "positions_ms" << f.positions << "raster_ms" << f.raster << "gather_ms" << f.gather
+               << "readback_ms" << f.readback << "gpu_total_ms" << f.gpuTotal << "deform_ms"
+               << f.deform << "compute_maps_ms" << f.maps << "}";
+        }
+        fs << "}" << "}";
+    }
+    fs << "]";
+    cv::multicage::writeFileAtomic(path, fs.releaseAndGetString());
+}
+
+void printGpuTable(const std::vector<CaseRecord>& cases) {
+    std::printf("\nGPU pose update per pipeline: GPU time of each stage (timer queries) and wall "
+                "time of Deformer calls, ms\n");
+    std::printf("%-10s %4s %-13s | %9s %9s %9s %9s %9s | %9s %9s | %9s %9s\n", "image", "V",
+                "pipeline", "positions", "raster", "gather", "GPU total", "readback", "deform",
+                "maps", "create 1st", "create");
+    for (const CaseRecord& c : cases) {
+        for (int p : {cv::multicage::GPU_PIPELINE_COMPUTE, cv::multicage::GPU_PIPELINE_VERTEX_SHADER}) {
+            const PipelineFigures& f = c.gpu.pipelines[p];
+            char size[16];
+            std::snprintf(size, sizeof size, "%dx%d", c.size.width, c.size.height);
+            auto v = [](double x) {
+                static char buf[8][16];
+                static int next = 0;
+                char* b = buf[next++ % 8];
+                std::snprintf(b, 16, x < 0 ? "-" : "%.3f", x);
+                return b;
+            };
+            std::printf("%-10s %4d %-13s | %9s %9s %9s %9s %9s | %9s %9s |", size, c.vertices,
+                        pipelineName(p), v(f.positions), v(f.raster), v(f.gather), v(f.gpuTotal),
+                        v(f.readback), v(f.deform), v(f.maps));
+            if (p == cv::multicage::GPU_PIPELINE_COMPUTE)
+                std::printf(" %10.1f %9.1f\n", c.gpu.createFirst, c.gpu.createAgain);
+            else
+                std::printf("\n");
+        }
+    }
+    std::printf(
+        "positions: the coefficient sum (compute pipeline); raster: the mesh into per-pixel "
+        "triangle owners (compute) or the whole draw call (vertex shader: sum, raster and "
+        "fragments); gather: inverse map + bilinear sampling; GPU total: the three; readback: "
+        "glReadPixels into a cv::Mat. deform / maps: Deformer::deform to a cv::Mat and "
+        "computeMaps, wall clock. create: Deformer::create with GPU binding, the first of its "
+        "layout (compiles the programs) and again (programs cached). On a software renderer "
+        "(llvmpipe) these are CPU times and say nothing of a GPU.\n");
+}
+
+cv::Size parseSize(const std::string& text) {
+    int w = 0, h = 0;
+    char x = 0, extra = 0;
+    if (std::sscanf(text.c_str(), "%d%c%d%c", &w, &x, &h, &extra) != 3 || (x != 'x' && x != 'X') ||
+        w < 16 || h < 16 || w > 16384 || h > 16384)
+        throw Failure("--size wants WIDTHxHEIGHT between 16 and 16384, e.g. 4096x3072; got '" + text + "'");
+    return {w, h};
 }
 
 void runBench(const BenchOptions& o) {
     using namespace cv::multicage;
-    std::printf("multicage bench: medians of %d runs, %d threads, OpenCV %s\n", o.repeats,
-                cv::getNumThreads(), CV_VERSION);
+    // Everything that can fail on bad input fails before the first line of output.
+    std::vector<BenchCase> cases(std::begin(kPaperCases), std::end(kPaperCases));
+    if (!o.size.empty()) cases = {{parseSize(o.size), o.vertices, -1}};
+    if (o.paperOnly) cases.resize(1);
+    if (!o.image.empty()) readImage(o.image);
+    std::printf("multicage bench: medians of %d runs, %d threads, OpenCV %s%s\n", o.repeats,
+                cv::getNumThreads(), CV_VERSION, o.half ? ", half-float coefficients on the GPU" : "");
     std::unique_ptr<HeadlessGLContext> gl;
+    std::string device = "none";
     if (!o.noGpu) {
         try {
             gl.reset(new HeadlessGLContext());
-            std::printf("GPU: %s\n", gl->description().c_str());
+            device = gl->description();
+            std::printf("GPU: %s\n", device.c_str());
         } catch (const cv::Exception& e) {
-            std::printf("GPU: none (%s); GPU columns show -\n", e.err.c_str());
+            device = "none (" + e.err + ")";
+            std::printf("GPU: %s; GPU columns show -\n", device.c_str());
         }
     }
     std::printf("%-10s %4s | %8s %8s %8s | %8s %8s | %8s %8s %8s | %8s %8s %8s | %8s %7s | %7s %7s\n",
-                "image", "V", "bind", "bind", "paper", "pack+up", "shaders", "pose", "pose+rd",
+                "image", "V", "bind", "bind", "paper", "pack+up", "create", "pose", "deform",
                 "pose", "pose", "maps", "TPS", "TPS", "TPS/gpu", "coef MB", "coef MB");
     std::printf("%-10s %4s | %8s %8s %8s | %8s %8s | %8s %8s %8s | %8s %8s %8s | %8s %7s | %7s %7s\n",
                 "", "", "CPU ms", "GPU ms", "bind ms", "GPU ms", "GPU ms", "GPU ms", "GPU ms",
-                "CPU ms", "CPU s=4", "CPU ms", "warp ms", "/CPU", "+rd", "CPU", "texture");
+                "CPU ms", "CPU s=4", "CPU ms", "warp ms", "/CPU", "deform", "CPU", "texture");
     auto cell = [](double v, const char* fmt) {
         static char buf[24][32];  // one per cell of a row
         static int next = 0;
@@ -127,30 +287,31 @@ void runBench(const BenchOptions& o) {
             std::snprintf(b, 32, fmt, v);
         return b;
     };
-    for (const BenchCase& c : kPaperCases) {
+    std::vector<CaseRecord> records;
+    for (const BenchCase& c : cases) {
+        CaseRecord r;
+        r.size = c.size, r.vertices = c.vertices;
         const cv::Mat image = benchImage(o.image, c.size);
         const Multicage cage = multicage_fixtures::lotusMulticage(c.size, c.vertices);
         const std::vector<cv::Point2f> pose = multicage_fixtures::wavePose(cage, 12.f, 0.5f);
         Binding binding;
-        const double bindMs = medianMs(o.repeats, [&] { binding = bind(cage, MEAN_VALUE, 1); });
-        DeformParams cpu;
-        cpu.backend = BACKEND_CPU;
-        cv::Ptr<Deformer> d1 = Deformer::create(image, binding, cpu);
-        cv::Mat out, mapx, mapy;
-        const double pose1 = medianMs(o.repeats, [&] { d1->deform(pose, out); });
-        const double maps1 = medianMs(o.repeats, [&] { d1->computeMaps(pose, mapx, mapy); });
-        cpu.gridStep = 4;
-        cv::Ptr<Deformer> d4 = Deformer::create(image, cage, cpu);
-        const double pose4 = medianMs(o.repeats, [&] { d4->deform(pose, out); });
-
-        GpuFigures g;
+        if (!o.gpuOnly) {
+            r.cpuBind = medianMs(o.repeats, [&] { binding = bind(cage, MEAN_VALUE, 1); });
+            DeformParams cpu;
+            cpu.backend = BACKEND_CPU;
+            cv::Ptr<Deformer> d1 = Deformer::create(image, binding, cpu);
+            cv::Mat out, mapx, mapy;
+            r.cpuPose = medianMs(o.repeats, [&] { d1->deform(pose, out); });
+            r.cpuMaps = medianMs(o.repeats, [&] { d1->computeMaps(pose, mapx, mapy); });
+            cpu.gridStep = 4;
+            cv::Ptr<Deformer> d4 = Deformer::create(image, cage, cpu);
+            r.cpuPose4 = medianMs(o.repeats, [&] { d4->deform(pose, out); });
+        }
         if (gl) {
             HeadlessGLContext::Scope scope(*gl);
-            g = gpuFigures(o, image, cage, binding, pose);
+            r.gpu = gpuFigures(o, image, cage, binding, pose);
         }
-
-        double tpsMs = -1;
-        if (!o.noPeer) {
+        if (!o.noPeer && !o.gpuOnly) {
             // The peer: one thin-plate spline through the same vertices (rest -> pose).
             std::vector<cv::Point2f> rest = cage.vertices();
             rest.resize(cage.vertexCount());
@@ -159,35 +320,42 @@ void runBench(const BenchOptions& o) {
             cv::Ptr<cv::ThinPlateSplineShapeTransformer> tps = cv::createThinPlateSplineShapeTransformer();
             cv::Mat tpsOut;
             // warpImage maps output to input, so the estimate goes from pose to rest.
-            tpsMs = medianMs(std::max(1, o.repeats / 2), [&] {
+            r.tps = medianMs(std::max(1, o.repeats / 2), [&] {
                 tps->estimateTransformation(cv::Mat(pose).reshape(2, 1), cv::Mat(rest).reshape(2, 1), matches);
                 tps->warpImage(image, tpsOut);
             });
         }
-        const double coefMB = binding.coefficients.total() * sizeof(float) / (1024.0 * 1024.0);
+        const double coefMB =
+            binding.empty() ? -1 : binding.coefficients.total() * sizeof(float) / (1024.0 * 1024.0);
+        const GpuFigures& g = r.gpu;
         char size[16];
         std::snprintf(size, sizeof size, "%dx%d", c.size.width, c.size.height);
         std::printf("%-10s %4d | %8s %8s %8s | %8s %8s | %8s %8s %8s | %8s %8s %8s | %8s %7s | %7s %7s\n",
-                    size, c.vertices, cell(bindMs, "%.1f"), cell(g.bind, "%.1f"),
+                    size, c.vertices, cell(r.cpuBind, "%.1f"), cell(g.bind, "%.1f"),
                     cell(c.paperBindSeconds * 1000, "%.0f"), cell(g.packUpload, "%.1f"),
-                    cell(g.shaders, "%.1f"), cell(g.pose, "%.2f"), cell(g.poseRead, "%.2f"),
-                    cell(pose1, "%.1f"), cell(pose4, "%.2f"), cell(maps1, "%.1f"),
-                    cell(tpsMs, "%.1f"), cell(tpsMs > 0 ? tpsMs / pose1 : -1, "%.1f"),
-                    cell(tpsMs > 0 && g.poseRead > 0 ? tpsMs / g.poseRead : -1, "%.1f"),
+                    cell(g.createAgain, "%.1f"), cell(g.pose, "%.3f"), cell(g.poseRead, "%.3f"),
+                    cell(r.cpuPose, "%.1f"), cell(r.cpuPose4, "%.2f"), cell(r.cpuMaps, "%.1f"),
+                    cell(r.tps, "%.1f"), cell(r.tps > 0 && r.cpuPose > 0 ? r.tps / r.cpuPose : -1, "%.1f"),
+                    cell(r.tps > 0 && g.poseRead > 0 ? r.tps / g.poseRead : -1, "%.1f"),
                     cell(coefMB, "%.1f"), cell(g.coefMB, "%.1f"));
         std::fflush(stdout);
-        if (o.paperOnly) break;
+        records.push_back(r);
     }
     std::printf(
         "bind: Algorithm 1 over every pixel (grid step 1): CPU on all threads, GPU in the compute "
         "shader (float, double near vertices/edges); paper: Table 1's binding time (only the "
-        "1024x768 figure is quoted). pack+up: Eq. 6-7 packing and texture upload; shaders: "
-        "building the generated vertex shader and its fragment shaders (Mesa caches compiled "
-        "shaders, so repeats are warm). pose: one pose drawn into the FBO and finished; pose+rd: "
-        "the same read back into a cv::Mat; CPU pose: CPU backend to a cv::Mat (grid step 1 and "
-        "4); maps: CPU inverse maps only. TPS: cv::ThinPlateSplineShapeTransformer estimate + "
-        "warpImage with the same points. coef MB: planar float32 coefficients on the CPU, and "
-        "the packed texture (empty blocks included) on the GPU.\n");
+        "1024x768 figure is quoted). pack+up: Eq. 6-7 packing of a CPU binding straight into a "
+        "mapped buffer and its upload; create: Deformer::create binding on the GPU, programs "
+        "cached. pose: GPU time of one pose in the compute pipeline (timer queries); deform: "
+        "Deformer::deform to a cv::Mat, wall clock; CPU pose: CPU backend to a cv::Mat (grid "
+        "step 1 and 4); maps: CPU inverse maps only. TPS: cv::ThinPlateSplineShapeTransformer "
+        "estimate + warpImage with the same points. coef MB: planar float32 coefficients on the "
+        "CPU, and the packed texture (empty blocks included) on the GPU.\n");
+    if (gl) printGpuTable(records);
+    if (!o.json.empty()) {
+        writeJson(o.json, device, o, records);
+        std::printf("figures written to %s\n", o.json.c_str());
+    }
 }
 }  // namespace
 
@@ -196,13 +364,26 @@ void addBenchCommand(CLI::App& app) {
     CLI::App* cmd = app.add_subcommand(
         "bench",
         "Time binding and pose updates on the paper's Table 1 cases (two 'lotus' multicages of "
-        "68, 44, 40, 35, 29 and 41 vertices) next to OpenCV's thin-plate spline warp.");
+        "68, 44, 40, 35, 29 and 41 vertices) next to OpenCV's thin-plate spline warp, and the "
+        "GPU stages of both pipelines (compute and the paper's vertex shader) from timer queries.\n"
+        "On an NVIDIA machine, one command fills the README's GPU table:\n"
+        "  multicage bench --first --json gpu.json && multicage bench --size 4096x3072 --half "
+        "--gpu-only --json gpu_4k.json");
     cmd->add_option("--repeats", o->repeats, "Timed runs per figure (the median is printed)")->capture_default_str()
         ->check(CLI::Range(1, 1000));
     cmd->add_flag("--first", o->paperOnly, "Only the first case (1024x768, 68 vertices)");
     cmd->add_flag("--no-peer", o->noPeer, "Skip the thin-plate spline peer");
     cmd->add_flag("--no-gpu", o->noGpu, "Skip the GPU columns");
     cmd->add_option("--image", o->image, "Photograph to resize for every case (default: a pattern)");
+    cmd->add_option("--size", o->size,
+                    "One case of this size (WIDTHxHEIGHT, e.g. 4096x3072) instead of Table 1's");
+    cmd->add_option("--vertices", o->vertices, "User vertices of the --size case")
+        ->capture_default_str()->check(CLI::Range(8, 4096));
+    cmd->add_flag("--half", o->half, "Half-float coefficients on the GPU (RGBA16F)");
+    cmd->add_flag("--gpu-only", o->gpuOnly,
+                  "GPU figures only (no CPU binding, no peer): for sizes whose CPU binding would "
+                  "not fit in memory");
+    cmd->add_option("--json", o->json, "Also write every figure to this JSON file (atomically)");
     cmd->callback([o] { runBench(*o); });
 }
 
