@@ -174,14 +174,10 @@ void setDocument(Editor& e, const Document& d) {
 // ---------------------------------------------------------------------------------------
 // GL helpers: the plain image texture and screenshots.
 
-void uploadImageTexture(View& v, const cv::Mat& image) {
-    cv::Mat rgba;
-    if (image.channels() == 1)
-        cv::cvtColor(image, rgba, cv::COLOR_GRAY2RGBA);
-    else if (image.channels() == 3)
-        cv::cvtColor(image, rgba, cv::COLOR_BGR2RGBA);
-    else
-        cv::cvtColor(image, rgba, cv::COLOR_BGRA2RGBA);
+/** Uploads the display image (8-bit RGBA from displayImage(), the same pixels the GLDeformer
+renders in Pose mode) as is: converting it again would swap red and blue in Rest mode. */
+void uploadImageTexture(View& v, const cv::Mat& rgba) {
+    CV_Assert(rgba.type() == CV_8UC4 && rgba.isContinuous());
     if (!v.imageTexture) glGenTextures(1, &v.imageTexture);
     glBindTexture(GL_TEXTURE_2D, v.imageTexture);
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
