@@ -225,8 +225,12 @@ int defaultGridStep(cv::Size size) {
 }
 
 void openImage(Editor& e, View& v, Settings& s, const std::string& path) {
-    cv::Mat img = cv::imread(path, cv::IMREAD_UNCHANGED);
-    if (img.empty()) throw std::runtime_error(path + ": cannot read the image");
+    cv::Mat img;
+    try {
+        img = mc::readImage(path);  // refuses truncated JPEG and PNG files
+    } catch (const cv::Exception& ex) {
+        throw std::runtime_error(ex.err);
+    }
     if (img.depth() != CV_8U && img.depth() != CV_16U && img.depth() != CV_32F)
         throw std::runtime_error(path + ": unsupported pixel type (8U, 16U or 32F only)");
     e.image = img;
@@ -282,12 +286,14 @@ void exportImage(Editor& e, const std::string& path, const Settings& s, GLFWwind
     cv::Ptr<mc::Deformer> deformer = mc::Deformer::create(e.image, e.shown.cage, params);
     cv::Mat out;
     deformer->deform(e.shown.pose, out);
-    mc::imwriteAtomic(path, out);
+    std::string note;  // e.g. a float image exported to .png: stored as 16 bits, said in the message
+    mc::imwriteAtomic(path, mc::convertForImageFormat(path, out, &note));
     e.exportPath = path;
     char buf[256];
     std::snprintf(buf, sizeof buf, "exported %s (%dx%d, %s, %.0f ms)", path.c_str(), out.cols, out.rows,
                   deformer->backend() == mc::BACKEND_GPU ? "GPU" : "CPU", msSince(t0));
     e.message = buf;
+    if (!note.empty()) e.message += "; " + note;
 }
 
 void propose(Editor& e) {

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <filesystem>
+#include <iostream>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
@@ -12,11 +13,10 @@ cv::Mat readImage(const std::string& path) {
     if (!std::filesystem::is_regular_file(path)) throw Failure(path + ": no such file");
     cv::Mat img;
     try {
-        img = cv::imread(path, cv::IMREAD_UNCHANGED);
+        img = cv::multicage::readImage(path);  // refuses truncated JPEG and PNG files
     } catch (const cv::Exception& e) {
-        throw Failure(path + ": cannot be decoded: " + e.err);
+        throw Failure(e.err);
     }
-    if (img.empty()) throw Failure(path + ": not an image OpenCV can read");
     const int depth = img.depth(), cn = img.channels();
     if (cn == 2) cv::cvtColor(img, img, cv::COLOR_GRAY2BGR);  // gray+alpha is rare; keep going
     if (depth != CV_8U && depth != CV_16U && depth != CV_32F)
@@ -32,6 +32,13 @@ void checkImageOutput(const std::string& path) {
     if (!cv::haveImageWriter(path))
         throw Failure("cannot write " + path + ": unknown image extension '" + p.extension().string() +
                       "' (use .png, .jpg, .tif, .exr, ...)");
+}
+
+void writeImage(const std::string& command, const std::string& path, const cv::Mat& image) {
+    std::string note;
+    const cv::Mat stored = cv::multicage::convertForImageFormat(path, image, &note);
+    cv::multicage::imwriteAtomic(path, stored);
+    if (!note.empty()) std::cerr << "multicage " << command << ": note: " << note << std::endl;
 }
 
 cv::multicage::Multicage loadCage(const std::string& path, cv::Size imageSize) {

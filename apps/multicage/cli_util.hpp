@@ -13,11 +13,15 @@ struct Failure : std::runtime_error {
     using std::runtime_error::runtime_error;
 };
 
-/** Reads an image as stored (depth and alpha kept), or throws a Failure that says why. */
+/** Reads an image as stored (depth and alpha kept), or throws a Failure that says why (a
+missing, undecodable or truncated file, an unsupported pixel type). */
 cv::Mat readImage(const std::string& path);
 /** Throws a Failure unless `path` can be written as an image: a known extension and an
 existing folder. Called before any work, so a typo costs nothing. */
 void checkImageOutput(const std::string& path);
+/** Writes image to path atomically, converted to a depth the format stores (float to .jpg:
+8 bits x255, ...); a conversion is said in one line on stderr, "multicage COMMAND: note: ...". */
+void writeImage(const std::string& command, const std::string& path, const cv::Mat& image);
 /** Loads a cage file and scales it to imageSize when it was made for another size. */
 cv::multicage::Multicage loadCage(const std::string& path, cv::Size imageSize);
 

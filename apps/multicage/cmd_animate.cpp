@@ -11,7 +11,7 @@ namespace multicage_cli {
 
 namespace {
 struct AnimateOptions {
-    std::string image, cage, output, backend = "auto", coords = "mvc", interpolation = "catmull-rom";
+    std::string image, cage, output, backend = "auto", coords, interpolation = "catmull-rom";
     double fps = 25, duration = 0;
     bool loop = false, quiet = false;
     int gridStep = 1;
@@ -58,7 +58,7 @@ void runAnimate(const AnimateOptions& o) {
     params.interpolation = o.interpolation == "linear" ? INTERPOLATE_LINEAR : INTERPOLATE_CATMULL_ROM;
     DeformParams deformParams;
     deformParams.backend = parseBackend(o.backend);
-    deformParams.coordinates = parseCoordinates(o.coords);
+    deformParams.coordinates = o.coords.empty() ? cage.coordinates() : parseCoordinates(o.coords);
     deformParams.gridStep = o.gridStep;
 
     Progress progress(o.quiet);
@@ -71,6 +71,7 @@ void runAnimate(const AnimateOptions& o) {
                 o.output.c_str(), s.frames, image.cols, image.rows, o.fps, s.frames / o.fps,
                 backendName(s.backend), o.gridStep, s.fps(), s.totalMs, s.bindMs, s.sampleMs / n,
                 s.deformMs / n, s.writeMs / n);
+    if (!s.note.empty()) std::fprintf(stderr, "multicage animate: note: %s: %s\n", o.output.c_str(), s.note.c_str());
 }
 }  // namespace
 
@@ -101,7 +102,8 @@ void addAnimateCommand(CLI::App& app) {
         ->capture_default_str()->check(CLI::IsMember({"linear", "catmull-rom"}));
     cmd->add_option("--backend", o->backend, "auto (GPU if available, else CPU), cpu or gpu")->capture_default_str()
         ->check(CLI::IsMember({"auto", "cpu", "gpu"}));
-    cmd->add_option("--coords", o->coords, "Cage coordinates: mvc (mean value) or harmonic")->capture_default_str()
+    cmd->add_option("--coords", o->coords,
+                    "Cage coordinates: mvc (mean value) or harmonic (default: the cage file's choice)")
         ->check(CLI::IsMember({"mvc", "harmonic"}));
     cmd->add_option("--grid-step", o->gridStep,
                     "A mesh node every N pixels: 1 is exact, larger binds N^2 times faster")->capture_default_str()

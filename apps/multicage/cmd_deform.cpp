@@ -54,7 +54,7 @@ void runDeform(const DeformOptions& o) {
     cv::Mat out;
     deformer->deform(pose.vertices, out);
     const double deformMs = msSince(td);
-    cv::multicage::imwriteAtomic(o.output, out);
+    writeImage("deform", o.output, out);
     std::cout << "wrote " << o.output << " (" << out.cols << "x" << out.rows << ", pose '" << pose.name
               << "', " << backendName(deformer->backend()) << ", grid step " << binding.gridStep
               << ", bind " << cvRound(bindMs) << " ms, deform " << cvRound(deformMs) << " ms, total "

@@ -105,3 +105,93 @@ TEST(Cli, DemoWritesItsOutputs) {
     EXPECT_TRUE(cage.validate());
     EXPECT_GE(cage.poseCount(), 1);
 }
+
+namespace {
+double meanLevel(const cv::Mat& m) {
+    const cv::Scalar s = cv::mean(m);
+    return (s[0] + s[1] + s[2]) / 3;
+}
+int countOf(const std::string& s, const std::string& what) {
+    int n = 0;
+    for (size_t at = s.find(what); at != std::string::npos; at = s.find(what, at + 1)) ++n;
+    return n;
+}
+}  // namespace
+
+// Issue 13 item 2: float and 16-bit inputs written to a format that cannot hold them came out
+// black or white with exit 0. Now: the right scale (float [0,1] x255 or x65535, 16-bit x1/257),
+// one note line, and the depth kept where the format can.
+TEST(Cli, HighDepthImagesAreWrittenWithTheRightScaleAndOneNote) {
+    const std::string dir = multicage_testing::tempDir("cli_depth");
+    const cv::Mat in = cv::imread(sample("butterfly.jpg"));
+    cv::Mat f32, u16;
+    in.convertTo(f32, CV_32F, 1.0 / 255);
+    in.convertTo(u16, CV_16U, 257);
+    ASSERT_TRUE(cv::imwrite(dir + "/f32.tif", f32));
+    ASSERT_TRUE(cv::imwrite(dir + "/u16.png", u16));
+    const std::string cage = sample("../butterfly.yml"), opts = " --backend cpu --grid-step 4";
+    ASSERT_EQ(run("deform " + sample("butterfly.jpg") + " " + cage + " -o " + dir + "/ref.png" + opts, dir).code, 0);
+    const double reference = meanLevel(cv::imread(dir + "/ref.png"));
+    struct Case {
+        std::string input, output;
+        int depth;           // expected stored depth
+        double scale;        // from 8-bit levels to the stored ones
+        bool note;
+    } cases[] = {
+        {"f32.tif", "f.png", CV_16U, 257, true},  {"f32.tif", "f.jpg", CV_8U, 1, true},
+        {"f32.tif", "f.tif", CV_32F, 1.0 / 255, false}, {"u16.png", "u.jpg", CV_8U, 1, true},
+        {"u16.png", "u.png", CV_16U, 257, false},
+    };
+    for (const Case& c : cases) {
+        const Result r = run("deform " + dir + "/" + c.input + " " + cage + " -o " + dir + "/" + c.output + opts, dir);
+        ASSERT_EQ(r.code, 0) << c.output << ": " << r.err;
+        const cv::Mat out = cv::imread(dir + "/" + c.output, cv::IMREAD_UNCHANGED);
+        ASSERT_FALSE(out.empty()) << c.output;
+        EXPECT_EQ(out.depth(), c.depth) << c.output;
+        const double level = meanLevel(out) / c.scale;
+        std::printf("%s -> %s: mean %.1f (8-bit reference %.1f)\n", c.input.c_str(), c.output.c_str(), level, reference);
+        EXPECT_NEAR(level, reference, 3.0) << c.output;  // not black (< 1) nor white (254)
+        EXPECT_EQ(countOf(r.err, "note:"), c.note ? 1 : 0) << c.output << ": " << r.err;
+        if (c.note) EXPECT_NE(r.err.find("scaled by"), std::string::npos) << r.err;
+    }
+}
+
+// Issue 13 item 2, animate: a float image gave a black video; PNG frames were black too.
+TEST(Cli, AnimateOfAFloatImageIsNotBlack) {
+    const std::string dir = multicage_testing::tempDir("cli_animate_depth");
+    const cv::Mat in = cv::imread(sample("butterfly.jpg"));
+    cv::Mat f32;
+    in.convertTo(f32, CV_32F, 1.0 / 255);
+    ASSERT_TRUE(cv::imwrite(dir + "/f32.tif", f32));
+    const std::string args = "animate " + dir + "/f32.tif " + sample("../butterfly_flap.yml") +
+                             " --backend cpu --grid-step 4 -q -o " + dir;
+    Result r = run(args + "/frames/", dir);
+    ASSERT_EQ(r.code, 0) << r.err;
+    const cv::Mat frame = cv::imread(dir + "/frames/frame_0000.png", cv::IMREAD_UNCHANGED);
+    ASSERT_EQ(frame.depth(), CV_16U);
+    EXPECT_NEAR(meanLevel(frame) / 257, meanLevel(in), 6.0);
+    EXPECT_EQ(countOf(r.err, "note:"), 1) << r.err;
+    r = run(args + "/a.gif", dir);
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_NE(r.err.find("scaled by 255"), std::string::npos) << r.err;
+}
+
+// Issue 13 item 3: a JPEG cut after 3000 bytes (and a cut PNG) was deformed without a word.
+TEST(Cli, TruncatedImagesAreRefusedWithOneLineAndNoOutput) {
+    const std::string dir = multicage_testing::tempDir("cli_truncated");
+    for (const std::string name : {"butterfly.jpg", "smarties.png"}) {
+        std::ifstream f(sample(name), std::ios::binary);
+        const std::string bytes(std::istreambuf_iterator<char>(f), {});
+        const std::string cut = dir + "/cut_" + name;
+        std::ofstream(cut, std::ios::binary) << bytes.substr(0, name == "butterfly.jpg" ? 3000 : bytes.size() / 2);
+        for (const std::string& cmd : {"deform " + cut + " " + sample("../butterfly.yml") + " -o " + dir + "/out.png --backend cpu",
+                                       "propose " + cut + " -o " + dir + "/out.yml"}) {
+            const Result r = run(cmd, dir);
+            EXPECT_EQ(r.code, 1) << cmd;
+            EXPECT_EQ(lines(r.err), 1) << r.err;
+            EXPECT_NE(r.err.find(cut + ": the file is truncated"), std::string::npos) << r.err;
+        }
+    }
+    EXPECT_FALSE(fs::exists(dir + "/out.png"));
+    EXPECT_FALSE(fs::exists(dir + "/out.yml"));
+}
