@@ -248,6 +248,11 @@ void openImage(Editor& e, View& v, Settings& s, const std::string& path) {
     e.message = "opened " + path + " (" + std::to_string(img.cols) + "x" + std::to_string(img.rows) + ")";
 }
 
+/** "1 polygon", "2 polygons". */
+std::string count(int n, const char* one, const char* many) {
+    return std::to_string(n) + " " + (n == 1 ? one : many);
+}
+
 void openCage(Editor& e, const std::string& path, Settings& s) {
     if (e.image.empty()) throw std::runtime_error("open an image first");
     mc::Multicage cage = mc::Multicage::load(path);
@@ -256,8 +261,8 @@ void openCage(Editor& e, const std::string& path, Settings& s) {
     setDocument(e, makeDocument(cage));
     s.coordinates = cage.coordinates();
     e.cagePath = path;
-    e.message = "loaded " + path + ": " + std::to_string(cage.polygonCount()) + " polygons, " +
-                std::to_string(cage.poseCount()) + " poses";
+    e.message = "loaded " + path + ": " + count(cage.polygonCount(), "polygon", "polygons") + ", " +
+                count(cage.poseCount(), "pose", "poses");
 }
 
 void saveCage(Editor& e, const std::string& path, const Settings& s) {
@@ -299,14 +304,13 @@ void exportImage(Editor& e, const std::string& path, const Settings& s, GLFWwind
 void propose(Editor& e) {
     if (e.image.empty()) throw std::runtime_error("open an image first");
     const auto t0 = Clock::now();
-    mc::Multicage cage = mc::proposeMulticage(e.image);
+    // As `multicage propose`: outlines plus inner polygons protecting the features inside.
+    mc::Multicage cage = mc::proposeProtectedMulticage(e.image);
     edit(e);
     e.mode = Mode::Rest;
     setDocument(e, makeDocument(cage));
-    char buf[128];
-    std::snprintf(buf, sizeof buf, "proposed %d polygons, %d vertices (%.0f ms)", cage.polygonCount(),
-                  cage.vertexCount(), msSince(t0));
-    e.message = buf;
+    e.message = "proposed " + count(cage.polygonCount(), "polygon", "polygons") + ", " +
+                count(cage.vertexCount(), "vertex", "vertices") + " (" + std::to_string(cvRound(msSince(t0))) + " ms)";
 }
 
 void setMode(Editor& e, Mode m) {
@@ -1037,8 +1041,9 @@ void panel(Editor& e, View& v, Settings& s, GLFWwindow* window) {
     if (ImGui::Button("Export", ImVec2(-1, 0))) attempt([&] { exportImage(e, e.exportPath, s, window); });
 
     section("Status");
-    ImGui::Text("%d polygons, %d vertices, %d poses", e.doc.cage.polygonCount(), e.doc.cage.vertexCount(),
-                e.doc.cage.poseCount());
+    ImGui::Text("%s, %s, %s", count(e.doc.cage.polygonCount(), "polygon", "polygons").c_str(),
+                count(e.doc.cage.vertexCount(), "vertex", "vertices").c_str(),
+                count(e.doc.cage.poseCount(), "pose", "poses").c_str());
     if (!e.restOk || !e.poseOk) {
         ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(1.f, 0.3f, 0.3f, 1.f));
         ImGui::TextWrapped("Invalid: %s", (!e.restOk ? e.restWhy : e.poseWhy).c_str());

@@ -64,6 +64,10 @@ const char* backendName(int backend) {
     return backend == cv::multicage::BACKEND_GPU ? "gpu" : backend == cv::multicage::BACKEND_CPU ? "cpu" : "auto";
 }
 
+std::string plural(long long n, const std::string& one, const std::string& many) {
+    return std::to_string(n) + " " + (n == 1 ? one : many.empty() ? one + "s" : many);
+}
+
 double msSince(std::chrono::steady_clock::time_point start) {
     return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
 }

@@ -29,6 +29,8 @@ int parseBackend(const std::string& name);       // auto | cpu | gpu
 int parseCoordinates(const std::string& name);   // mvc | harmonic
 const char* backendName(int backend);
 
+/** "1 polygon", "3 polygons" (many: the plural when it is not singular + "s"). */
+std::string plural(long long n, const std::string& one, const std::string& many = "");
 /** Milliseconds since `start` (std::chrono::steady_clock). */
 double msSince(std::chrono::steady_clock::time_point start);
 /** Median of samples (copied and sorted). */

@@ -20,7 +20,8 @@ void runDeform(const DeformOptions& o) {
     const cv::Mat image = readImage(o.image);
     const Multicage cage = loadCage(o.cage, image.size());
     if (cage.poseCount() == 0)
-        throw Failure(o.cage + ": has no poses; add one under `poses:` (see multicage deform --help)");
+        throw Failure(o.cage + ": has no poses; add one under `poses:`, e.g. `- { name: stretch, vertices: "
+                      "[ x0, y0, x1, y1, ... ] }` with every vertex in order (see multicage deform --help)");
     int poseIndex = 0;
     if (!o.pose.empty()) {
         poseIndex = cage.findPose(o.pose);
@@ -67,8 +68,14 @@ void addDeformCommand(CLI::App& app) {
     CLI::App* cmd = app.add_subcommand(
         "deform",
         "Deform IMAGE to a pose stored in CAGE.yml and write OUT.\n"
-        "The cage file holds rest polygons and named poses (see `multicage propose` or the "
-        "editor); a cage made for another image size is scaled to this image.\n"
+        "The cage file holds rest polygons and named poses (`multicage propose` writes a pose "
+        "named `rest`; the editor saves the poses you drag); a cage made for another image size "
+        "is scaled to this image. A pose lists every vertex of every polygon, in order, as x y "
+        "pairs in pixels:\n"
+        "  polygons:\n"
+        "     - [ 100, 80, 300, 80, 300, 240, 100, 240 ]\n"
+        "  poses:\n"
+        "     - { name: stretch, time: 1.0, vertices: [ 90, 70, 330, 75, 310, 250, 100, 240 ] }\n"
         "Example: multicage deform photo.jpg cage.yml -o out.png --pose stretch --grid-step 2");
     cmd->add_option("image", o->image, "Input image (8/16-bit or float, 1, 3 or 4 channels)")->required();
     cmd->add_option("cage", o->cage, "Cage file (.yml, .yaml or .json)")->required();

@@ -40,9 +40,8 @@ void runDemo(const DemoOptions& o) {
     // The multicage is proposed from the image: an outer polygon around the butterfly, then
     // inner polygons protecting the salient features inside it.
     auto t = std::chrono::steady_clock::now();
-    Multicage cage = proposeMulticage(image);
+    Multicage cage = proposeProtectedMulticage(image);  // what `multicage propose` does by default
     if (cage.polygonCount() == 0) throw Failure("the proposal found no object in the demo image");
-    cage = protectFeatures(image, cage, 0);
     std::cout << "  proposed a multicage in " << cvRound(msSince(t)) << " ms: " << cage.polygonCount()
               << " polygons, " << cage.vertexCount()
               << " vertices (inner polygons protect the wing patterns while the outline moves)\n";

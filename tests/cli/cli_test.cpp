@@ -195,3 +195,51 @@ TEST(Cli, TruncatedImagesAreRefusedWithOneLineAndNoOutput) {
     EXPECT_FALSE(fs::exists(dir + "/out.png"));
     EXPECT_FALSE(fs::exists(dir + "/out.yml"));
 }
+
+// Issue 13 item 4: propose wrote no pose, so `deform` of its cage failed with "has no poses"
+// and nothing showed the pose format.
+TEST(Cli, ProposedCageDeformsAsIsAndHelpShowsThePoseFormat) {
+    const std::string dir = multicage_testing::tempDir("cli_propose_deform");
+    const std::string image = sample("butterfly.jpg");
+    Result r = run("propose " + image + " -o " + dir + "/cage.yml", dir);
+    ASSERT_EQ(r.code, 0) << r.err;
+    const cv::multicage::Multicage cage = cv::multicage::Multicage::load(dir + "/cage.yml");
+    ASSERT_EQ(cage.findPose("rest"), 0);
+    const std::vector<cv::Point2f> all = cage.vertices();
+    EXPECT_EQ(cage.pose(0).vertices, std::vector<cv::Point2f>(all.begin(), all.end() - 4));
+    r = run("deform " + image + " " + dir + "/cage.yml -o " + dir + "/out.png --backend cpu --grid-step 2", dir);
+    ASSERT_EQ(r.code, 0) << r.err;
+    // The rest pose is the identity: the output is the input.
+    const double psnr = multicage_testing::psnr(cv::imread(dir + "/out.png"), cv::imread(image));
+    std::printf("deform at the proposed rest pose: PSNR %.1f dB\n", psnr);
+    EXPECT_GT(psnr, 45.0);
+    const std::string help = run("deform --help", dir).out;
+    EXPECT_NE(help.find("poses:"), std::string::npos) << help;
+    EXPECT_NE(help.find("vertices: ["), std::string::npos) << help;
+}
+
+// Issue 13 item 5: by default a proposal was one polygon per object; the multicage (outline
+// plus protected inner polygons) needed --protect. Now it is the default; --no-protect opts out.
+TEST(Cli, ProposeMakesNestedPolygonsByDefaultAndNoProtectOptsOut) {
+    const std::string dir = multicage_testing::tempDir("cli_propose_protect");
+    auto deepest = [&](const std::string& cageFile) {
+        const cv::multicage::Multicage c = cv::multicage::Multicage::load(cageFile);
+        int d = 0;
+        for (int p = 0; p < c.polygonCount(); ++p) d = std::max(d, c.depth(p));
+        return d;
+    };
+    int nested = 0;
+    for (const std::string name : {"butterfly.jpg", "fruits.jpg", "messi5.jpg", "HappyFish.jpg", "building.jpg"}) {
+        const Result r = run("propose " + sample(name) + " -o " + dir + "/" + name + ".yml", dir);
+        ASSERT_EQ(r.code, 0) << name << ": " << r.err;
+        nested += deepest(dir + "/" + name + ".yml") >= 2;
+    }
+    std::printf("photos whose default proposal has nested polygons: %d of 5\n", nested);
+    EXPECT_GE(nested, 4);
+    const Result r = run("propose " + sample("butterfly.jpg") + " -o " + dir + "/outline.yml --no-protect", dir);
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_EQ(deepest(dir + "/outline.yml"), 1);
+    EXPECT_NE(r.out.find("(1 polygon,"), std::string::npos) << r.out;  // not "1 polygons"
+    const std::string help = run("propose --help", dir).out;
+    EXPECT_NE(help.find("--no-protect"), std::string::npos);
+}
