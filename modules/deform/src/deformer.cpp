@@ -2,7 +2,10 @@
 #include <opencv2/core/utils/logger.hpp>
 #include <opencv2/multicage/deformer.hpp>
 
+#include <mutex>
+
 #include "cpu_deformer.hpp"
+#include "egl_context.hpp"
 #include "gpu_backend.hpp"
 
 namespace cv {
@@ -11,6 +14,32 @@ namespace multicage {
 static std::string formatBytes(size_t bytes) {
     const double mib = bytes / (1024.0 * 1024.0);
     return mib >= 1024 ? format("%.1f GiB", mib / 1024) : format("%.0f MiB", mib);
+}
+
+bool autoBackendUsesGpu(std::string* description) {
+    // Probed once per process: an EGL probe costs ~100 ms where there is no GPU, and its
+    // answer cannot change while the process runs.
+    struct Probe {
+        bool hardware = false;
+        std::string description;
+    };
+    static const Probe probe = [] {
+        Probe p;
+        std::string why;
+        std::unique_ptr<gpu::EglContext> context = gpu::EglContext::create(&why);
+        if (!context) {
+            p.description = why;
+        } else if (context->software()) {
+            p.description = "the only OpenGL here is a software renderer (" + context->description() +
+                            "), slower than the CPU backend";
+        } else {
+            p.hardware = true;
+            p.description = context->description();
+        }
+        return p;
+    }();
+    if (description) *description = probe.description;
+    return probe.hardware;
 }
 
 Ptr<Deformer> Deformer::create(InputArray image, const Multicage& rest, const DeformParams& params) {
@@ -22,6 +51,7 @@ Ptr<Deformer> Deformer::create(InputArray image, const Multicage& rest, const De
                    image.cols(), image.rows(), rest.imageSize().width, rest.imageSize().height));
     const int c = rest.vertexCount() + 4;
     DeformParams chosen = params;
+    chosen.coordinates = resolveCoordinates(rest, params.coordinates);
     const size_t need = bindingMemory(image.size(), c, params.gridStep);
     if (params.memoryBudget > 0 && need > params.memoryBudget) {
         const int fits = gridStepForBudget(image.size(), c, params.memoryBudget, params.gridStep);
@@ -35,7 +65,8 @@ Ptr<Deformer> Deformer::create(InputArray image, const Multicage& rest, const De
         CV_LOG_WARNING(NULL, "multicage: " << what << "; using grid step " << fits);
         chosen.gridStep = fits;
     }
-    if (chosen.gpuBinding && chosen.coordinates == MEAN_VALUE && params.backend != BACKEND_CPU) {
+    if (chosen.gpuBinding && chosen.coordinates == MEAN_VALUE &&
+        (params.backend == BACKEND_GPU || (params.backend == BACKEND_AUTO && autoBackendUsesGpu()))) {
         std::string why;
         Ptr<Deformer> gpu = gpu::createDeformer(image.getMat(), rest, chosen, &why);
         if (gpu) return gpu;
@@ -43,7 +74,7 @@ Ptr<Deformer> Deformer::create(InputArray image, const Multicage& rest, const De
             CV_Error(Error::StsNotImplemented, "multicage: BACKEND_GPU requested but " + why);
         CV_LOG_WARNING(NULL, "multicage: no GPU for gpuBinding (" << why << "); binding on the CPU");
     }
-    return create(image, bind(rest, chosen.coordinates, chosen.gridStep), chosen);
+    return create(image, bind(rest, chosen.coordinates, chosen.gridStep, params.progress), chosen);
 }
 
 size_t bindingMemory(Size imageSize, int coefficientCount, int gridStep) {
@@ -73,6 +104,11 @@ Ptr<Deformer> Deformer::create(InputArray imageIn, const Binding& binding, const
         case BACKEND_GPU:
         case BACKEND_AUTO: {
             std::string why;
+            if (params.backend == BACKEND_AUTO && !autoBackendUsesGpu(&why)) {
+                // The expected case on a machine without a GPU: no warning, no second probe.
+                CV_LOG_INFO(NULL, "multicage: BACKEND_AUTO uses the CPU backend: " << why);
+                return createCpuDeformer(image, binding, params);
+            }
             Ptr<Deformer> gpu = gpu::createDeformer(image, binding, params, &why);
             if (gpu) return gpu;
             if (params.backend == BACKEND_GPU)
