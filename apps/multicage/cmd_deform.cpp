@@ -8,8 +8,9 @@ namespace multicage_cli {
 
 namespace {
 struct DeformOptions {
-    std::string image, cage, output, pose, backend = "auto", coords;
+    std::string image, cage, output, pose, backend = "auto", coords, memoryBudget;
     int gridStep = 1;
+    bool gridStepTyped = false, quiet = false;
     std::vector<double> border;
 };
 
@@ -34,11 +35,24 @@ void runDeform(const DeformOptions& o) {
     DeformParams params;
     params.backend = parseBackend(o.backend);
     params.coordinates = o.coords.empty() ? cage.coordinates() : parseCoordinates(o.coords);
-    params.gridStep = o.gridStep;
+    if (!o.memoryBudget.empty()) params.memoryBudget = parseMemorySize(o.memoryBudget);
+    std::string stepChange;
+    params.gridStep = chooseGridStep("deform", image.size(), cage.vertexCount(), o.gridStep, o.gridStepTyped,
+                                     params.memoryBudget, &stepChange);
     for (size_t i = 0; i < o.border.size() && i < 4; ++i) params.borderValue[static_cast<int>(i)] = o.border[i];
 
+    probeAutoBackend(params.backend);  // once, and not counted as bind time
+    cv::Ptr<Deformer> deformer;
     const auto tb = std::chrono::steady_clock::now();
-    cv::Ptr<Deformer> deformer = Deformer::create(image, cage, params);
+    {
+        BindProgressLine progress("deform", o.quiet);
+        params.progress = progress.callback();
+        try {
+            deformer = Deformer::create(image, cage, params);
+        } catch (const cv::Exception& e) {
+            progress.rethrow(e);
+        }
+    }
     const double bindMs = msSince(tb);
     const Binding& binding = deformer->binding();
     if (binding.minConditioning < kConditioningWarning)
@@ -57,8 +71,9 @@ void runDeform(const DeformOptions& o) {
     const double deformMs = msSince(td);
     writeImage("deform", o.output, out);
     std::cout << "wrote " << o.output << " (" << out.cols << "x" << out.rows << ", pose '" << pose.name
-              << "', " << backendName(deformer->backend()) << ", grid step " << binding.gridStep
-              << ", bind " << cvRound(bindMs) << " ms, deform " << cvRound(deformMs) << " ms, total "
+              << "', " << backendName(deformer->backend()) << (o.backend == "auto" ? " (auto)" : "") << ", "
+              << (binding.coordinates == HARMONIC ? "harmonic" : "mean value") << " coordinates, grid step "
+              << binding.gridStep << (stepChange.empty() ? "" : " (" + stepChange + ")") << ", bind " << cvRound(bindMs) << " ms, deform " << cvRound(deformMs) << " ms, total "
               << cvRound(msSince(t0)) << " ms)" << std::endl;
 }
 }  // namespace
@@ -86,12 +101,19 @@ void addDeformCommand(CLI::App& app) {
     cmd->add_option("--coords", o->coords,
                     "Cage coordinates: mvc (mean value) or harmonic (default: the cage file's choice)")
         ->check(CLI::IsMember({"mvc", "harmonic"}));
-    cmd->add_option("--grid-step", o->gridStep,
-                    "A mesh node every N pixels: 1 is exact, larger binds N^2 times faster")->capture_default_str()
+    CLI::Option* step = cmd->add_option("--grid-step", o->gridStep,
+                    "A mesh node every N pixels: 1 is exact, larger binds N^2 times faster (raised, "
+                    "and said, when the coefficients would not fit in --memory-budget)")->capture_default_str()
         ->check(CLI::Range(1, 256));
-    cmd->add_option("--border", o->border, "Value of uncovered pixels, e.g. --border 255 255 255")
-        ->expected(1, 4);
-    cmd->callback([o] { runDeform(*o); });
+    cmd->add_option("--memory-budget", o->memoryBudget,
+                    "Most memory the binding's coefficients may take, e.g. 4G or 512M; 0: no limit (default 1G)");
+    cmd->add_option("--border", o->border, "Value of uncovered pixels: one value, or B G R [A], e.g. --border 255 255 255")
+        ->expected(1, 4)->type_name("V [V V V]");
+    cmd->add_flag("-q,--quiet", o->quiet, "No progress line while binding");
+    cmd->callback([o, step] {
+        o->gridStepTyped = step->count() > 0;
+        runDeform(*o);
+    });
 }
 
 }  // namespace multicage_cli

@@ -243,3 +243,95 @@ TEST(Cli, ProposeMakesNestedPolygonsByDefaultAndNoProtectOptsOut) {
     const std::string help = run("propose --help", dir).out;
     EXPECT_NE(help.find("--no-protect"), std::string::npos);
 }
+
+namespace {
+// The number after `key` in s ("bind 12 ms" -> 12 for key "bind "), or -1.
+double numberAfter(const std::string& s, const std::string& key) {
+    const size_t at = s.find(key);
+    return at == std::string::npos ? -1 : std::atof(s.c_str() + at + key.size());
+}
+}  // namespace
+
+// Issue 13 item 6: `coordinates: harmonic` in a cage file was ignored by animate.
+TEST(Cli, AnimateFollowsTheCageFilesCoordinatesUnlessToldOtherwise) {
+    const std::string dir = multicage_testing::tempDir("cli_animate_coords");
+    cv::multicage::Multicage cage = cv::multicage::Multicage::load(sample("../butterfly_flap.yml"));
+    cage.setCoordinates(cv::multicage::HARMONIC);
+    cage.save(dir + "/harmonic.yml");
+    const std::string args = "animate " + sample("butterfly.jpg") + " " + dir + "/harmonic.yml --backend cpu --grid-step 4 -q";
+    Result r = run(args + " -o " + dir + "/a.gif", dir);
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_NE(r.out.find("harmonic coordinates"), std::string::npos) << r.out;
+    r = run(args + " -o " + dir + "/b.gif --coords mvc", dir);
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_NE(r.out.find("mean value coordinates"), std::string::npos) << r.out;
+}
+
+// Issue 13 item 7: a typed --grid-step was raised silently (a WARN line naming a C++ field),
+// and the CLI could not raise the budget.
+TEST(Cli, MemoryBudgetRaisesTheGridStepAndSaysSoInPlainWords) {
+    const std::string dir = multicage_testing::tempDir("cli_budget");
+    const std::string args = "deform " + sample("butterfly.jpg") + " " + sample("../butterfly.yml") + " -o " + dir +
+                             "/out.png --backend cpu";
+    // 493x356 nodes x 24 coefficients x 4 bytes = 16.8 MB at step 1: over 8 MiB, under 32 MiB.
+    Result r = run(args + " --grid-step 1 --memory-budget 8M", dir);
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_NE(r.out.find("grid step 2 (raised from 1 to fit the 8 MiB memory budget)"), std::string::npos) << r.out;
+    EXPECT_EQ(lines(r.err), 1) << r.err;
+    EXPECT_NE(r.err.find("grid step 1 would need"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("--memory-budget"), std::string::npos) << r.err;
+    EXPECT_EQ(r.err.find("DeformParams"), std::string::npos) << r.err;
+    // Not typed: the output line says it, stderr stays quiet.
+    r = run(args + " --memory-budget 8M", dir);
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_NE(r.out.find("(raised from 1"), std::string::npos) << r.out;
+    EXPECT_EQ(r.err, "");
+    // A larger budget keeps the step.
+    r = run(args + " --grid-step 1 --memory-budget 32M", dir);
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_NE(r.out.find("grid step 1,"), std::string::npos) << r.out;
+    EXPECT_EQ(r.err, "");
+    EXPECT_NE(run(args + " --memory-budget lots", dir).err.find("'lots' is not a size"), std::string::npos);
+}
+
+// Issue 13 item 8: every `auto` run without a GPU printed a 300-character WARN line, and the
+// EGL probe (~110 ms) was counted as bind time (142 ms auto vs 1 ms cpu at step 4).
+TEST(Cli, AutoBackendIsSaidOnceInTheOutputAndItsProbeIsNotBindTime) {
+    const std::string dir = multicage_testing::tempDir("cli_auto");
+    const std::string args = "deform " + sample("butterfly.jpg") + " " + sample("../butterfly.yml") + " -o " + dir +
+                             "/out.png --grid-step 4";
+    const Result autoRun = run(args, dir), cpuRun = run(args + " --backend cpu", dir);
+    ASSERT_EQ(autoRun.code, 0) << autoRun.err;
+    ASSERT_EQ(cpuRun.code, 0) << cpuRun.err;
+    EXPECT_EQ(autoRun.err, "") << "auto printed on stderr";
+    EXPECT_EQ(countOf(autoRun.out, "(auto)"), 1) << autoRun.out;
+    const double bindAuto = numberAfter(autoRun.out, "bind "), bindCpu = numberAfter(cpuRun.out, "bind ");
+    std::printf("bind at grid step 4: auto %.0f ms, cpu %.0f ms\n", bindAuto, bindCpu);
+    if (autoRun.out.find("cpu (auto)") != std::string::npos) EXPECT_LT(bindAuto, bindCpu + 40) << autoRun.out;
+}
+
+// Issue 13 item 9: a long harmonic binding showed no progress and could not be interrupted
+// cleanly. Now: progress lines on stderr, and Ctrl-C stops it with one line and no output.
+TEST(Cli, LongBindingShowsProgressAndCtrlCStopsItCleanly) {
+    const std::string dir = multicage_testing::tempDir("cli_bind_progress");
+    cv::Mat big;
+    cv::resize(cv::imread(sample("butterfly.jpg")), big, cv::Size(986, 712));
+    ASSERT_TRUE(cv::imwrite(dir + "/big.png", big));
+    const std::string args = "deform " + dir + "/big.png " + sample("../butterfly.yml") +
+                             " --backend cpu --coords harmonic -o " + dir;
+    Result r = run(args + "/out.png", dir);
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_GE(countOf(r.err, "multicage deform: binding "), 2) << r.err;
+    EXPECT_NE(r.err.find("binding 100%"), std::string::npos) << r.err;
+    // Ctrl-C (SIGINT) after the first progress line.
+    const std::string err = dir + "/interrupted.2";
+    const std::string cmd = std::string(MULTICAGE_CLI) + " " + args + "/stopped.png > /dev/null 2>" + err +
+                            " & pid=$!; for i in $(seq 100); do grep -q binding " + err +
+                            " 2>/dev/null && break; sleep 0.1; done; kill -INT $pid; wait $pid";
+    const int status = std::system(("bash -c '" + cmd + "'").c_str());
+    std::ifstream f(err);
+    const std::string text(std::istreambuf_iterator<char>(f), {});
+    EXPECT_EQ(WIFEXITED(status) ? WEXITSTATUS(status) : -1, 1) << text;
+    EXPECT_NE(text.find("multicage deform: interrupted while binding; nothing written"), std::string::npos) << text;
+    EXPECT_FALSE(fs::exists(dir + "/stopped.png"));
+}
