@@ -142,6 +142,24 @@ void BindProgressLine::rethrow(const cv::Exception& e) const {
     throw e;
 }
 
+CLI::Validator wholeNumber(int lo, int hi) {
+    return CLI::Validator(
+        [lo, hi](std::string& text) -> std::string {
+            size_t used = 0;
+            long value = 0;
+            try {
+                value = std::stol(text, &used);
+            } catch (const std::exception&) {
+                used = 0;
+            }
+            if (used == 0 || used != text.size()) return "'" + text + "' is not a whole number";
+            if (value < lo || value > hi)
+                return text + " is out of range: " + std::to_string(lo) + " to " + std::to_string(hi);
+            return std::string();
+        },
+        "INT in [" + std::to_string(lo) + " - " + std::to_string(hi) + "]");
+}
+
 int parseBackend(const std::string& name) {
     if (name == "auto") return cv::multicage::BACKEND_AUTO;
     if (name == "cpu") return cv::multicage::BACKEND_CPU;

@@ -63,6 +63,10 @@ class BindProgressLine {
     void (*previous_)(int) = nullptr;
 };
 
+/** A CLI11 check for a whole number in [lo, hi] that names what is wrong ("'abc' is not a
+whole number", "0 is out of range: 1 to 256"). */
+CLI::Validator wholeNumber(int lo, int hi);
+
 int parseBackend(const std::string& name);       // auto | cpu | gpu
 int parseCoordinates(const std::string& name);   // mvc | harmonic
 const char* backendName(int backend);

@@ -122,7 +122,7 @@ void addAnimateCommand(CLI::App& app) {
     CLI::Option* step = cmd->add_option("--grid-step", o->gridStep,
                     "A mesh node every N pixels: 1 is exact, larger binds N^2 times faster (raised, "
                     "and said, when the coefficients would not fit in --memory-budget)")->capture_default_str()
-        ->check(CLI::Range(1, 256));
+        ->check(wholeNumber(1, 256));
     cmd->add_option("--memory-budget", o->memoryBudget,
                     "Most memory the binding's coefficients may take, e.g. 4G or 512M; 0: no limit (default 1G)");
     cmd->add_flag("-q,--quiet", o->quiet, "No progress output");

@@ -104,7 +104,7 @@ void addDeformCommand(CLI::App& app) {
     CLI::Option* step = cmd->add_option("--grid-step", o->gridStep,
                     "A mesh node every N pixels: 1 is exact, larger binds N^2 times faster (raised, "
                     "and said, when the coefficients would not fit in --memory-budget)")->capture_default_str()
-        ->check(CLI::Range(1, 256));
+        ->check(wholeNumber(1, 256));
     cmd->add_option("--memory-budget", o->memoryBudget,
                     "Most memory the binding's coefficients may take, e.g. 4G or 512M; 0: no limit (default 1G)");
     cmd->add_option("--border", o->border, "Value of uncovered pixels: one value, or B G R [A], e.g. --border 255 255 255")

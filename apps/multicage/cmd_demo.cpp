@@ -97,7 +97,7 @@ void addDemoCommand(CLI::App& app) {
     cmd->add_option("-o,--output-dir", o->outDir, "Folder for the outputs")->capture_default_str();
     cmd->add_option("--backend", o->backend, "auto, cpu or gpu")->capture_default_str()
         ->check(CLI::IsMember({"auto", "cpu", "gpu"}));
-    cmd->add_option("--grid-step", o->gridStep, "A mesh node every N pixels")->capture_default_str()->check(CLI::Range(1, 256));
+    cmd->add_option("--grid-step", o->gridStep, "A mesh node every N pixels")->capture_default_str()->check(wholeNumber(1, 256));
     cmd->callback([o] { runDemo(*o); });
 }
 

@@ -58,6 +58,15 @@ void runPropose(const ProposeOptions& o) {
         if (params.method == PROPOSE_LABELS)
             throw Failure(o.image + ": a label image has one channel (this one has " +
                           std::to_string(image.channels()) + ")");
+        // A mask saved in colour has equal channels; a photo does not, and read as a mask it
+        // is "object" almost everywhere (one polygon around the whole image): refuse it.
+        std::vector<cv::Mat> ch;
+        cv::split(image, ch);
+        const double spread = (cv::norm(ch[0], ch[1], cv::NORM_L1) + cv::norm(ch[1], ch[2], cv::NORM_L1)) /
+                              static_cast<double>(image.total());
+        if (spread > 2.0)
+            throw Failure(o.image + ": --method mask wants a mask (black background, non-zero object), "
+                          "and this is a colour image; for a photo use --method auto");
         cv::cvtColor(image, input,
                      image.channels() == 4 ? cv::COLOR_BGRA2GRAY : cv::COLOR_BGR2GRAY);
     }

@@ -335,3 +335,31 @@ TEST(Cli, LongBindingShowsProgressAndCtrlCStopsItCleanly) {
     EXPECT_NE(text.find("multicage deform: interrupted while binding; nothing written"), std::string::npos) << text;
     EXPECT_FALSE(fs::exists(dir + "/stopped.png"));
 }
+
+// Issue 13 item 14: the smaller dead ends.
+TEST(Cli, SmallerDeadEndsGivePlainAnswers) {
+    const std::string dir = multicage_testing::tempDir("cli_small");
+    Result r = run("--version", dir);
+    EXPECT_EQ(r.code, 0);
+    EXPECT_EQ(r.out.rfind("multicage ", 0), 0u) << r.out;
+    const std::string deform = "deform " + sample("butterfly.jpg") + " " + sample("../butterfly.yml") + " -o " + dir + "/o.png";
+    r = run(deform + " --grid-step abc", dir);
+    EXPECT_EQ(r.code, 2);
+    EXPECT_NE(r.err.find("'abc' is not a whole number"), std::string::npos) << r.err;
+    r = run("animate " + sample("butterfly.jpg") + " " + sample("../butterfly_flap.yml") + " -o " + dir +
+                "/a.gif --duration 0",
+            dir);
+    EXPECT_NE(r.code, 0) << "--duration 0 was taken as the default";
+    EXPECT_FALSE(fs::exists(dir + "/a.gif"));
+    EXPECT_NE(run("deform --help", dir).out.find("--border V [V V V]"), std::string::npos);
+    r = run("propose " + sample("butterfly.jpg") + " -o " + dir + "/m.yml --method mask", dir);
+    EXPECT_EQ(r.code, 1) << r.out;
+    EXPECT_NE(r.err.find("colour image"), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(dir + "/m.yml"));
+    // A grey mask saved in colour is still a mask.
+    cv::Mat mask(200, 300, CV_8UC3, cv::Scalar::all(0));
+    cv::circle(mask, {150, 100}, 50, cv::Scalar::all(255), cv::FILLED);
+    ASSERT_TRUE(cv::imwrite(dir + "/mask.png", mask));
+    r = run("propose " + dir + "/mask.png -o " + dir + "/m.yml --method mask", dir);
+    EXPECT_EQ(r.code, 0) << r.err;
+}
