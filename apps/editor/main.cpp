@@ -174,14 +174,10 @@ void setDocument(Editor& e, const Document& d) {
 // ---------------------------------------------------------------------------------------
 // GL helpers: the plain image texture and screenshots.
 
-void uploadImageTexture(View& v, const cv::Mat& image) {
-    cv::Mat rgba;
-    if (image.channels() == 1)
-        cv::cvtColor(image, rgba, cv::COLOR_GRAY2RGBA);
-    else if (image.channels() == 3)
-        cv::cvtColor(image, rgba, cv::COLOR_BGR2RGBA);
-    else
-        cv::cvtColor(image, rgba, cv::COLOR_BGRA2RGBA);
+/** Uploads the display image (8-bit RGBA from displayImage(), the same pixels the GLDeformer
+renders in Pose mode) as is: converting it again would swap red and blue in Rest mode. */
+void uploadImageTexture(View& v, const cv::Mat& rgba) {
+    CV_Assert(rgba.type() == CV_8UC4 && rgba.isContinuous());
     if (!v.imageTexture) glGenTextures(1, &v.imageTexture);
     glBindTexture(GL_TEXTURE_2D, v.imageTexture);
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
@@ -229,8 +225,12 @@ int defaultGridStep(cv::Size size) {
 }
 
 void openImage(Editor& e, View& v, Settings& s, const std::string& path) {
-    cv::Mat img = cv::imread(path, cv::IMREAD_UNCHANGED);
-    if (img.empty()) throw std::runtime_error(path + ": cannot read the image");
+    cv::Mat img;
+    try {
+        img = mc::readImage(path);  // refuses truncated JPEG and PNG files
+    } catch (const cv::Exception& ex) {
+        throw std::runtime_error(ex.err);
+    }
     if (img.depth() != CV_8U && img.depth() != CV_16U && img.depth() != CV_32F)
         throw std::runtime_error(path + ": unsupported pixel type (8U, 16U or 32F only)");
     e.image = img;
@@ -248,6 +248,11 @@ void openImage(Editor& e, View& v, Settings& s, const std::string& path) {
     e.message = "opened " + path + " (" + std::to_string(img.cols) + "x" + std::to_string(img.rows) + ")";
 }
 
+/** "1 polygon", "2 polygons". */
+std::string count(int n, const char* one, const char* many) {
+    return std::to_string(n) + " " + (n == 1 ? one : many);
+}
+
 void openCage(Editor& e, const std::string& path, Settings& s) {
     if (e.image.empty()) throw std::runtime_error("open an image first");
     mc::Multicage cage = mc::Multicage::load(path);
@@ -256,8 +261,8 @@ void openCage(Editor& e, const std::string& path, Settings& s) {
     setDocument(e, makeDocument(cage));
     s.coordinates = cage.coordinates();
     e.cagePath = path;
-    e.message = "loaded " + path + ": " + std::to_string(cage.polygonCount()) + " polygons, " +
-                std::to_string(cage.poseCount()) + " poses";
+    e.message = "loaded " + path + ": " + count(cage.polygonCount(), "polygon", "polygons") + ", " +
+                count(cage.poseCount(), "pose", "poses");
 }
 
 void saveCage(Editor& e, const std::string& path, const Settings& s) {
@@ -286,25 +291,26 @@ void exportImage(Editor& e, const std::string& path, const Settings& s, GLFWwind
     cv::Ptr<mc::Deformer> deformer = mc::Deformer::create(e.image, e.shown.cage, params);
     cv::Mat out;
     deformer->deform(e.shown.pose, out);
-    mc::imwriteAtomic(path, out);
+    std::string note;  // e.g. a float image exported to .png: stored as 16 bits, said in the message
+    mc::imwriteAtomic(path, mc::convertForImageFormat(path, out, &note));
     e.exportPath = path;
     char buf[256];
     std::snprintf(buf, sizeof buf, "exported %s (%dx%d, %s, %.0f ms)", path.c_str(), out.cols, out.rows,
                   deformer->backend() == mc::BACKEND_GPU ? "GPU" : "CPU", msSince(t0));
     e.message = buf;
+    if (!note.empty()) e.message += "; " + note;
 }
 
 void propose(Editor& e) {
     if (e.image.empty()) throw std::runtime_error("open an image first");
     const auto t0 = Clock::now();
-    mc::Multicage cage = mc::proposeMulticage(e.image);
+    // As `multicage propose`: outlines plus inner polygons protecting the features inside.
+    mc::Multicage cage = mc::proposeProtectedMulticage(e.image);
     edit(e);
     e.mode = Mode::Rest;
     setDocument(e, makeDocument(cage));
-    char buf[128];
-    std::snprintf(buf, sizeof buf, "proposed %d polygons, %d vertices (%.0f ms)", cage.polygonCount(),
-                  cage.vertexCount(), msSince(t0));
-    e.message = buf;
+    e.message = "proposed " + count(cage.polygonCount(), "polygon", "polygons") + ", " +
+                count(cage.vertexCount(), "vertex", "vertices") + " (" + std::to_string(cvRound(msSince(t0))) + " ms)";
 }
 
 void setMode(Editor& e, Mode m) {
@@ -1035,8 +1041,9 @@ void panel(Editor& e, View& v, Settings& s, GLFWwindow* window) {
     if (ImGui::Button("Export", ImVec2(-1, 0))) attempt([&] { exportImage(e, e.exportPath, s, window); });
 
     section("Status");
-    ImGui::Text("%d polygons, %d vertices, %d poses", e.doc.cage.polygonCount(), e.doc.cage.vertexCount(),
-                e.doc.cage.poseCount());
+    ImGui::Text("%s, %s, %s", count(e.doc.cage.polygonCount(), "polygon", "polygons").c_str(),
+                count(e.doc.cage.vertexCount(), "vertex", "vertices").c_str(),
+                count(e.doc.cage.poseCount(), "pose", "poses").c_str());
     if (!e.restOk || !e.poseOk) {
         ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(1.f, 0.3f, 0.3f, 1.f));
         ImGui::TextWrapped("Invalid: %s", (!e.restOk ? e.restWhy : e.poseWhy).c_str());

@@ -1,8 +1,16 @@
 #include "cli_util.hpp"
 
+#include <unistd.h>
+
 #include <algorithm>
+#include <atomic>
+#include <cctype>
+#include <csignal>
+#include <cstdio>
 #include <chrono>
+#include <cmath>
 #include <filesystem>
+#include <iostream>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
@@ -12,11 +20,10 @@ cv::Mat readImage(const std::string& path) {
     if (!std::filesystem::is_regular_file(path)) throw Failure(path + ": no such file");
     cv::Mat img;
     try {
-        img = cv::imread(path, cv::IMREAD_UNCHANGED);
+        img = cv::multicage::readImage(path);  // refuses truncated JPEG and PNG files
     } catch (const cv::Exception& e) {
-        throw Failure(path + ": cannot be decoded: " + e.err);
+        throw Failure(e.err);
     }
-    if (img.empty()) throw Failure(path + ": not an image OpenCV can read");
     const int depth = img.depth(), cn = img.channels();
     if (cn == 2) cv::cvtColor(img, img, cv::COLOR_GRAY2BGR);  // gray+alpha is rare; keep going
     if (depth != CV_8U && depth != CV_16U && depth != CV_32F)
@@ -34,10 +41,123 @@ void checkImageOutput(const std::string& path) {
                       "' (use .png, .jpg, .tif, .exr, ...)");
 }
 
+void writeImage(const std::string& command, const std::string& path, const cv::Mat& image) {
+    std::string note;
+    const cv::Mat stored = cv::multicage::convertForImageFormat(path, image, &note);
+    cv::multicage::imwriteAtomic(path, stored);
+    if (!note.empty()) std::cerr << "multicage " << command << ": note: " << note << std::endl;
+}
+
 cv::multicage::Multicage loadCage(const std::string& path, cv::Size imageSize) {
     cv::multicage::Multicage cage = cv::multicage::Multicage::load(path);
     if (cage.imageSize() != imageSize) cage = cage.scaled(imageSize);
     return cage;
+}
+
+size_t parseMemorySize(const std::string& text) {
+    size_t used = 0;
+    double value = -1;
+    try {
+        value = std::stod(text, &used);
+    } catch (const std::exception&) {
+    }
+    std::string unit = text.substr(std::min(used, text.size()));
+    for (char& ch : unit) ch = static_cast<char>(std::toupper(static_cast<unsigned char>(ch)));
+    if (unit.size() > 1 && unit.back() == 'B') unit.pop_back();          // GB, GiB -> G, Gi
+    if (unit.size() > 1 && unit.back() == 'I') unit.pop_back();
+    const std::string units = "KMGT";
+    const size_t power = unit.empty() ? 0 : units.find(unit) + 1;
+    if (value < 0 || used == 0 || unit.size() > 1 || (!unit.empty() && power == 0))
+        throw Failure("--memory-budget: '" + text + "' is not a size (e.g. 2G, 512M, or 0 for no limit)");
+    return static_cast<size_t>(value * std::pow(1024.0, double(power)));
+}
+
+std::string formatBytes(size_t bytes) {
+    const double mib = bytes / (1024.0 * 1024.0);
+    return mib >= 1024 ? cv::format("%.1f GiB", mib / 1024) : cv::format("%.0f MiB", mib);
+}
+
+int chooseGridStep(const std::string& command, cv::Size imageSize, int vertexCount, int step, bool typed,
+                   size_t budget, std::string* change) {
+    using namespace cv::multicage;
+    change->clear();
+    const int c = vertexCount + 4;
+    const size_t need = bindingMemory(imageSize, c, step);
+    if (budget == 0 || need <= budget) return step;
+    const int fits = gridStepForBudget(imageSize, c, budget, step);
+    *change = "raised from " + std::to_string(step) + " to fit the " + formatBytes(budget) + " memory budget";
+    if (typed)
+        std::cerr << "multicage " << command << ": grid step " << step << " would need " << formatBytes(need)
+                  << " of memory for this " << imageSize.width << "x" << imageSize.height << " image with "
+                  << plural(vertexCount, "vertex", "vertices") << ", more than the " << formatBytes(budget)
+                  << " budget; using grid step " << fits << " (" << formatBytes(bindingMemory(imageSize, c, fits))
+                  << ") instead. To keep grid step " << step << ", add --memory-budget "
+                  << (need + (size_t(1) << 30) - 1) / (size_t(1) << 30) << "G" << std::endl;
+    return fits;
+}
+
+void probeAutoBackend(int backend) {
+    if (backend == cv::multicage::BACKEND_AUTO) cv::multicage::autoBackendUsesGpu();
+}
+
+namespace {
+std::atomic<bool> interrupted{false};
+extern "C" void onInterrupt(int) { interrupted = true; }
+}  // namespace
+
+BindProgressLine::BindProgressLine(const std::string& command, bool quiet)
+    : command_(command), quiet_(quiet), tty_(::isatty(STDERR_FILENO) != 0),
+      start_(std::chrono::steady_clock::now()) {
+    interrupted = false;
+    previous_ = std::signal(SIGINT, onInterrupt);
+}
+
+BindProgressLine::~BindProgressLine() {
+    std::signal(SIGINT, previous_ == SIG_ERR ? SIG_DFL : previous_);
+    if (shown_ && tty_) std::fputc('\n', stderr);
+}
+
+cv::multicage::BindProgress BindProgressLine::callback() {
+    return [this](double fraction) {
+        if (interrupted) return false;
+        if (quiet_ || msSince(start_) < 1000) return true;  // quick bindings stay silent
+        const int percent = static_cast<int>(100 * fraction);
+        if (tty_) {
+            std::fprintf(stderr, "\rmulticage %s: binding %3d%% (%.0f s; Ctrl-C stops)", command_.c_str(), percent,
+                         msSince(start_) / 1000);
+        } else if (percent / 10 > lastDecile_) {
+            lastDecile_ = percent / 10;
+            std::fprintf(stderr, "multicage %s: binding %d%% (%.0f s)\n", command_.c_str(), percent,
+                         msSince(start_) / 1000);
+        }
+        std::fflush(stderr);
+        shown_ = true;
+        return true;
+    };
+}
+
+void BindProgressLine::rethrow(const cv::Exception& e) const {
+    if (e.err.find(cv::multicage::kBindCancelled) != std::string::npos)
+        throw Failure("interrupted while binding; nothing written");
+    throw e;
+}
+
+CLI::Validator wholeNumber(int lo, int hi) {
+    return CLI::Validator(
+        [lo, hi](std::string& text) -> std::string {
+            size_t used = 0;
+            long value = 0;
+            try {
+                value = std::stol(text, &used);
+            } catch (const std::exception&) {
+                used = 0;
+            }
+            if (used == 0 || used != text.size()) return "'" + text + "' is not a whole number";
+            if (value < lo || value > hi)
+                return text + " is out of range: " + std::to_string(lo) + " to " + std::to_string(hi);
+            return std::string();
+        },
+        "INT in [" + std::to_string(lo) + " - " + std::to_string(hi) + "]");
 }
 
 int parseBackend(const std::string& name) {
@@ -55,6 +175,10 @@ int parseCoordinates(const std::string& name) {
 
 const char* backendName(int backend) {
     return backend == cv::multicage::BACKEND_GPU ? "gpu" : backend == cv::multicage::BACKEND_CPU ? "cpu" : "auto";
+}
+
+std::string plural(long long n, const std::string& one, const std::string& many) {
+    return std::to_string(n) + " " + (n == 1 ? one : many.empty() ? one + "s" : many);
 }
 
 double msSince(std::chrono::steady_clock::time_point start) {

@@ -4,6 +4,7 @@
 
 #include <CLI/CLI.hpp>
 #include <opencv2/multicage.hpp>
+#include <chrono>
 #include <string>
 
 namespace multicage_cli {
@@ -13,18 +14,65 @@ struct Failure : std::runtime_error {
     using std::runtime_error::runtime_error;
 };
 
-/** Reads an image as stored (depth and alpha kept), or throws a Failure that says why. */
+/** Reads an image as stored (depth and alpha kept), or throws a Failure that says why (a
+missing, undecodable or truncated file, an unsupported pixel type). */
 cv::Mat readImage(const std::string& path);
 /** Throws a Failure unless `path` can be written as an image: a known extension and an
 existing folder. Called before any work, so a typo costs nothing. */
 void checkImageOutput(const std::string& path);
+/** Writes image to path atomically, converted to a depth the format stores (float to .jpg:
+8 bits x255, ...); a conversion is said in one line on stderr, "multicage COMMAND: note: ...". */
+void writeImage(const std::string& command, const std::string& path, const cv::Mat& image);
 /** Loads a cage file and scales it to imageSize when it was made for another size. */
 cv::multicage::Multicage loadCage(const std::string& path, cv::Size imageSize);
+
+/** Bytes from "2G", "512M", "1.5GiB", "300000000" (K, M, G, T: powers of 1024); "0": no limit.
+Throws a Failure naming the bad text. */
+size_t parseMemorySize(const std::string& text);
+/** "1.0 GiB", "640 MiB". */
+std::string formatBytes(size_t bytes);
+
+/** The grid step to bind with: `step`, or when its coefficients would exceed `budget` bytes
+(0: no limit) the smallest step that fits. A raised step the user typed (`typed`) is said on
+stderr in plain words, with the --memory-budget that would keep it. Returns the step and, in
+*change, what the normal output line should add ("" when unchanged). */
+int chooseGridStep(const std::string& command, cv::Size imageSize, int vertexCount, int step, bool typed,
+                   size_t budget, std::string* change);
+
+/** Runs the EGL probe of BACKEND_AUTO now (once per process), so that it is not counted as
+bind time; a no-op for cpu and gpu. */
+void probeAutoBackend(int backend);
+
+/** A progress line on stderr for bindings that take more than a second (redrawn in place on a
+terminal, every 10 % elsewhere), and Ctrl-C cancels the binding cleanly: the command then
+fails with "interrupted while binding; nothing written". Active while the object lives. */
+class BindProgressLine {
+  public:
+    BindProgressLine(const std::string& command, bool quiet);
+    ~BindProgressLine();
+    cv::multicage::BindProgress callback();
+    /** Rethrows a cancelled binding's exception as that one-line Failure. */
+    [[noreturn]] void rethrow(const cv::Exception& e) const;
+
+  private:
+    std::string command_;
+    bool quiet_, tty_;
+    std::chrono::steady_clock::time_point start_;
+    int lastDecile_ = -1;
+    bool shown_ = false;
+    void (*previous_)(int) = nullptr;
+};
+
+/** A CLI11 check for a whole number in [lo, hi] that names what is wrong ("'abc' is not a
+whole number", "0 is out of range: 1 to 256"). */
+CLI::Validator wholeNumber(int lo, int hi);
 
 int parseBackend(const std::string& name);       // auto | cpu | gpu
 int parseCoordinates(const std::string& name);   // mvc | harmonic
 const char* backendName(int backend);
 
+/** "1 polygon", "3 polygons" (many: the plural when it is not singular + "s"). */
+std::string plural(long long n, const std::string& one, const std::string& many = "");
 /** Milliseconds since `start` (std::chrono::steady_clock). */
 double msSince(std::chrono::steady_clock::time_point start);
 /** Median of samples (copied and sorted). */

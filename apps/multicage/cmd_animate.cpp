@@ -11,9 +11,9 @@ namespace multicage_cli {
 
 namespace {
 struct AnimateOptions {
-    std::string image, cage, output, backend = "auto", coords = "mvc", interpolation = "catmull-rom";
+    std::string image, cage, output, backend = "auto", coords, interpolation = "catmull-rom", memoryBudget;
     double fps = 25, duration = 0;
-    bool loop = false, quiet = false;
+    bool loop = false, quiet = false, gridStepTyped = false;
     int gridStep = 1;
 };
 
@@ -58,19 +58,34 @@ void runAnimate(const AnimateOptions& o) {
     params.interpolation = o.interpolation == "linear" ? INTERPOLATE_LINEAR : INTERPOLATE_CATMULL_ROM;
     DeformParams deformParams;
     deformParams.backend = parseBackend(o.backend);
-    deformParams.coordinates = parseCoordinates(o.coords);
-    deformParams.gridStep = o.gridStep;
+    deformParams.coordinates = o.coords.empty() ? cage.coordinates() : parseCoordinates(o.coords);
+    if (!o.memoryBudget.empty()) deformParams.memoryBudget = parseMemorySize(o.memoryBudget);
+    std::string stepChange;
+    deformParams.gridStep = chooseGridStep("animate", image.size(), cage.vertexCount(), o.gridStep, o.gridStepTyped,
+                                           deformParams.memoryBudget, &stepChange);
+    probeAutoBackend(deformParams.backend);  // once, and not counted as bind time
 
     Progress progress(o.quiet);
-    const AnimationStats s = renderAnimation(
-        image, cage, o.output, params, deformParams, [&progress](int done, int total) { progress(done, total); });
+    AnimationStats s;
+    {
+        BindProgressLine bindProgress("animate", o.quiet);
+        deformParams.progress = bindProgress.callback();
+        try {
+            s = renderAnimation(image, cage, o.output, params, deformParams,
+                                [&progress](int done, int total) { progress(done, total); });
+        } catch (const cv::Exception& e) {
+            bindProgress.rethrow(e);
+        }
+    }
     const double n = s.frames;
-    std::printf("wrote %s (%d frames, %dx%d, %g fps, %.2f s of animation, %s, grid step %d)\n"
+    std::printf("wrote %s (%d frames, %dx%d, %g fps, %.2f s of animation, %s, %s coordinates, grid step %d%s)\n"
                 "render: %.1f frames/s over %.0f ms (bind %.0f ms; per frame: pose %.2f ms, deform %.1f ms, "
                 "write %.1f ms)\n",
                 o.output.c_str(), s.frames, image.cols, image.rows, o.fps, s.frames / o.fps,
-                backendName(s.backend), o.gridStep, s.fps(), s.totalMs, s.bindMs, s.sampleMs / n,
+                backendName(s.backend), deformParams.coordinates == HARMONIC ? "harmonic" : "mean value",
+                deformParams.gridStep, stepChange.empty() ? "" : (" (" + stepChange + ")").c_str(), s.fps(), s.totalMs, s.bindMs, s.sampleMs / n,
                 s.deformMs / n, s.writeMs / n);
+    if (!s.note.empty()) std::fprintf(stderr, "multicage animate: note: %s: %s\n", o.output.c_str(), s.note.c_str());
 }
 }  // namespace
 
@@ -93,7 +108,7 @@ void addAnimateCommand(CLI::App& app) {
     cmd->add_option("--duration", o->duration,
                     "Seconds of output (default: from the first keyframe to the last, or one cycle with "
                     "--loop); longer holds the last pose, or repeats the cycle with --loop")
-        ->check(CLI::Range(0.0, 36000.0));
+        ->check(CLI::Range(0.001, 36000.0));
     cmd->add_flag("--loop", o->loop,
                   "Cycle: after the last keyframe, move back to the first (taking the mean keyframe "
                   "spacing), so the output can play on repeat without a jump");
@@ -101,13 +116,20 @@ void addAnimateCommand(CLI::App& app) {
         ->capture_default_str()->check(CLI::IsMember({"linear", "catmull-rom"}));
     cmd->add_option("--backend", o->backend, "auto (GPU if available, else CPU), cpu or gpu")->capture_default_str()
         ->check(CLI::IsMember({"auto", "cpu", "gpu"}));
-    cmd->add_option("--coords", o->coords, "Cage coordinates: mvc (mean value) or harmonic")->capture_default_str()
+    cmd->add_option("--coords", o->coords,
+                    "Cage coordinates: mvc (mean value) or harmonic (default: the cage file's choice)")
         ->check(CLI::IsMember({"mvc", "harmonic"}));
-    cmd->add_option("--grid-step", o->gridStep,
-                    "A mesh node every N pixels: 1 is exact, larger binds N^2 times faster")->capture_default_str()
-        ->check(CLI::Range(1, 256));
+    CLI::Option* step = cmd->add_option("--grid-step", o->gridStep,
+                    "A mesh node every N pixels: 1 is exact, larger binds N^2 times faster (raised, "
+                    "and said, when the coefficients would not fit in --memory-budget)")->capture_default_str()
+        ->check(wholeNumber(1, 256));
+    cmd->add_option("--memory-budget", o->memoryBudget,
+                    "Most memory the binding's coefficients may take, e.g. 4G or 512M; 0: no limit (default 1G)");
     cmd->add_flag("-q,--quiet", o->quiet, "No progress output");
-    cmd->callback([o] { runAnimate(*o); });
+    cmd->callback([o, step] {
+        o->gridStepTyped = step->count() > 0;
+        runAnimate(*o);
+    });
 }
 
 }  // namespace multicage_cli

@@ -8,8 +8,9 @@ namespace multicage_cli {
 
 namespace {
 struct DeformOptions {
-    std::string image, cage, output, pose, backend = "auto", coords;
+    std::string image, cage, output, pose, backend = "auto", coords, memoryBudget;
     int gridStep = 1;
+    bool gridStepTyped = false, quiet = false;
     std::vector<double> border;
 };
 
@@ -20,7 +21,8 @@ void runDeform(const DeformOptions& o) {
     const cv::Mat image = readImage(o.image);
     const Multicage cage = loadCage(o.cage, image.size());
     if (cage.poseCount() == 0)
-        throw Failure(o.cage + ": has no poses; add one under `poses:` (see multicage deform --help)");
+        throw Failure(o.cage + ": has no poses; add one under `poses:`, e.g. `- { name: stretch, vertices: "
+                      "[ x0, y0, x1, y1, ... ] }` with every vertex in order (see multicage deform --help)");
     int poseIndex = 0;
     if (!o.pose.empty()) {
         poseIndex = cage.findPose(o.pose);
@@ -33,11 +35,24 @@ void runDeform(const DeformOptions& o) {
     DeformParams params;
     params.backend = parseBackend(o.backend);
     params.coordinates = o.coords.empty() ? cage.coordinates() : parseCoordinates(o.coords);
-    params.gridStep = o.gridStep;
+    if (!o.memoryBudget.empty()) params.memoryBudget = parseMemorySize(o.memoryBudget);
+    std::string stepChange;
+    params.gridStep = chooseGridStep("deform", image.size(), cage.vertexCount(), o.gridStep, o.gridStepTyped,
+                                     params.memoryBudget, &stepChange);
     for (size_t i = 0; i < o.border.size() && i < 4; ++i) params.borderValue[static_cast<int>(i)] = o.border[i];
 
+    probeAutoBackend(params.backend);  // once, and not counted as bind time
+    cv::Ptr<Deformer> deformer;
     const auto tb = std::chrono::steady_clock::now();
-    cv::Ptr<Deformer> deformer = Deformer::create(image, cage, params);
+    {
+        BindProgressLine progress("deform", o.quiet);
+        params.progress = progress.callback();
+        try {
+            deformer = Deformer::create(image, cage, params);
+        } catch (const cv::Exception& e) {
+            progress.rethrow(e);
+        }
+    }
     const double bindMs = msSince(tb);
     const Binding& binding = deformer->binding();
     if (binding.minConditioning < kConditioningWarning)
@@ -54,10 +69,11 @@ void runDeform(const DeformOptions& o) {
     cv::Mat out;
     deformer->deform(pose.vertices, out);
     const double deformMs = msSince(td);
-    cv::multicage::imwriteAtomic(o.output, out);
+    writeImage("deform", o.output, out);
     std::cout << "wrote " << o.output << " (" << out.cols << "x" << out.rows << ", pose '" << pose.name
-              << "', " << backendName(deformer->backend()) << ", grid step " << binding.gridStep
-              << ", bind " << cvRound(bindMs) << " ms, deform " << cvRound(deformMs) << " ms, total "
+              << "', " << backendName(deformer->backend()) << (o.backend == "auto" ? " (auto)" : "") << ", "
+              << (binding.coordinates == HARMONIC ? "harmonic" : "mean value") << " coordinates, grid step "
+              << binding.gridStep << (stepChange.empty() ? "" : " (" + stepChange + ")") << ", bind " << cvRound(bindMs) << " ms, deform " << cvRound(deformMs) << " ms, total "
               << cvRound(msSince(t0)) << " ms)" << std::endl;
 }
 }  // namespace
@@ -67,8 +83,14 @@ void addDeformCommand(CLI::App& app) {
     CLI::App* cmd = app.add_subcommand(
         "deform",
         "Deform IMAGE to a pose stored in CAGE.yml and write OUT.\n"
-        "The cage file holds rest polygons and named poses (see `multicage propose` or the "
-        "editor); a cage made for another image size is scaled to this image.\n"
+        "The cage file holds rest polygons and named poses (`multicage propose` writes a pose "
+        "named `rest`; the editor saves the poses you drag); a cage made for another image size "
+        "is scaled to this image. A pose lists every vertex of every polygon, in order, as x y "
+        "pairs in pixels:\n"
+        "  polygons:\n"
+        "     - [ 100, 80, 300, 80, 300, 240, 100, 240 ]\n"
+        "  poses:\n"
+        "     - { name: stretch, time: 1.0, vertices: [ 90, 70, 330, 75, 310, 250, 100, 240 ] }\n"
         "Example: multicage deform photo.jpg cage.yml -o out.png --pose stretch --grid-step 2");
     cmd->add_option("image", o->image, "Input image (8/16-bit or float, 1, 3 or 4 channels)")->required();
     cmd->add_option("cage", o->cage, "Cage file (.yml, .yaml or .json)")->required();
@@ -79,12 +101,19 @@ void addDeformCommand(CLI::App& app) {
     cmd->add_option("--coords", o->coords,
                     "Cage coordinates: mvc (mean value) or harmonic (default: the cage file's choice)")
         ->check(CLI::IsMember({"mvc", "harmonic"}));
-    cmd->add_option("--grid-step", o->gridStep,
-                    "A mesh node every N pixels: 1 is exact, larger binds N^2 times faster")->capture_default_str()
-        ->check(CLI::Range(1, 256));
-    cmd->add_option("--border", o->border, "Value of uncovered pixels, e.g. --border 255 255 255")
-        ->expected(1, 4);
-    cmd->callback([o] { runDeform(*o); });
+    CLI::Option* step = cmd->add_option("--grid-step", o->gridStep,
+                    "A mesh node every N pixels: 1 is exact, larger binds N^2 times faster (raised, "
+                    "and said, when the coefficients would not fit in --memory-budget)")->capture_default_str()
+        ->check(wholeNumber(1, 256));
+    cmd->add_option("--memory-budget", o->memoryBudget,
+                    "Most memory the binding's coefficients may take, e.g. 4G or 512M; 0: no limit (default 1G)");
+    cmd->add_option("--border", o->border, "Value of uncovered pixels: one value, or B G R [A], e.g. --border 255 255 255")
+        ->expected(1, 4)->type_name("V [V V V]");
+    cmd->add_flag("-q,--quiet", o->quiet, "No progress line while binding");
+    cmd->callback([o, step] {
+        o->gridStepTyped = step->count() > 0;
+        runDeform(*o);
+    });
 }
 
 }  // namespace multicage_cli

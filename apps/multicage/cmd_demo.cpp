@@ -40,9 +40,8 @@ void runDemo(const DemoOptions& o) {
     // The multicage is proposed from the image: an outer polygon around the butterfly, then
     // inner polygons protecting the salient features inside it.
     auto t = std::chrono::steady_clock::now();
-    Multicage cage = proposeMulticage(image);
+    Multicage cage = proposeProtectedMulticage(image);  // what `multicage propose` does by default
     if (cage.polygonCount() == 0) throw Failure("the proposal found no object in the demo image");
-    cage = protectFeatures(image, cage, 0);
     std::cout << "  proposed a multicage in " << cvRound(msSince(t)) << " ms: " << cage.polygonCount()
               << " polygons, " << cage.vertexCount()
               << " vertices (inner polygons protect the wing patterns while the outline moves)\n";
@@ -57,6 +56,7 @@ void runDemo(const DemoOptions& o) {
     DeformParams params;
     params.backend = parseBackend(o.backend);
     params.gridStep = o.gridStep;
+    probeAutoBackend(params.backend);  // once, and not counted as bind time
     t = std::chrono::steady_clock::now();
     cv::Ptr<Deformer> deformer = Deformer::create(image, cage, params);
     std::cout << "  bound " << deformer->binding().nodeCount() << " nodes to "
@@ -97,7 +97,7 @@ void addDemoCommand(CLI::App& app) {
     cmd->add_option("-o,--output-dir", o->outDir, "Folder for the outputs")->capture_default_str();
     cmd->add_option("--backend", o->backend, "auto, cpu or gpu")->capture_default_str()
         ->check(CLI::IsMember({"auto", "cpu", "gpu"}));
-    cmd->add_option("--grid-step", o->gridStep, "A mesh node every N pixels")->capture_default_str()->check(CLI::Range(1, 256));
+    cmd->add_option("--grid-step", o->gridStep, "A mesh node every N pixels")->capture_default_str()->check(wholeNumber(1, 256));
     cmd->callback([o] { runDemo(*o); });
 }
 

@@ -15,7 +15,7 @@ struct ProposeOptions {
     float margin = -1.f;
     double minArea = 0.004;
     std::vector<int> rect;
-    bool protect = false;
+    bool protect = false, noProtect = false;
 };
 
 void checkCageOutput(const std::string& path) {
@@ -58,14 +58,25 @@ void runPropose(const ProposeOptions& o) {
         if (params.method == PROPOSE_LABELS)
             throw Failure(o.image + ": a label image has one channel (this one has " +
                           std::to_string(image.channels()) + ")");
+        // A mask saved in colour has equal channels; a photo does not, and read as a mask it
+        // is "object" almost everywhere (one polygon around the whole image): refuse it.
+        std::vector<cv::Mat> ch;
+        cv::split(image, ch);
+        const double spread = (cv::norm(ch[0], ch[1], cv::NORM_L1) + cv::norm(ch[1], ch[2], cv::NORM_L1)) /
+                              static_cast<double>(image.total());
+        if (spread > 2.0)
+            throw Failure(o.image + ": --method mask wants a mask (black background, non-zero object), "
+                          "and this is a colour image; for a photo use --method auto");
         cv::cvtColor(image, input,
                      image.channels() == 4 ? cv::COLOR_BGRA2GRAY : cv::COLOR_BGR2GRAY);
     }
     Multicage cage;
     try {
+        // The multicage is the product: inner polygons protect the features inside each
+        // outline unless --no-protect; a mask or label input is no photo to find features in.
+        const bool maskInput = params.method == PROPOSE_MASK || params.method == PROPOSE_LABELS;
         cage = proposeMulticage(input, params);
-        if (o.protect) {
-            // Protect features inside every top-level polygon, largest budget first.
+        if (!o.noProtect && (o.protect || !maskInput)) {
             const int top = cage.polygonCount();
             for (int p = 0; p < top; ++p)
                 if (cage.depth(p) == 1) cage = protectFeatures(image, cage, p, params);
@@ -79,6 +90,8 @@ void runPropose(const ProposeOptions& o) {
     std::string why;
     if (!cage.validate(&why))
         throw Failure("internal error: the proposed multicage is invalid: " + why);
+    // A pose to start from: `deform` needs one, and the file shows the format to edit.
+    cage.addPose("rest", cage.vertices(), 0.0);
     cage.save(o.output);
     if (!o.overlay.empty()) {
         cv::Mat overlay;
@@ -96,8 +109,9 @@ void runPropose(const ProposeOptions& o) {
     }
     int deepest = 0;
     for (int p = 0; p < cage.polygonCount(); ++p) deepest = std::max(deepest, cage.depth(p));
-    std::cout << "wrote " << o.output << " (" << cage.polygonCount() << " polygons, "
-              << cage.vertexCount() << " vertices, depth up to " << deepest << ", "
+    std::cout << "wrote " << o.output << " (" << plural(cage.polygonCount(), "polygon") << ", "
+              << plural(cage.vertexCount(), "vertex", "vertices") << ", depth up to " << deepest
+              << ", pose 'rest', "
               << cvRound(msSince(t0)) << " ms)";
     if (!o.overlay.empty()) std::cout << " and " << o.overlay;
     std::cout << std::endl;
@@ -118,13 +132,17 @@ void addProposeCommand(CLI::App& app) {
         "(from --rect, or a rectangle found by saliency), saliency (fine grained), spectral "
         "(spectral residual saliency, coarse and fast), mask (IMAGE is a mask: non-zero is "
         "object), labels (IMAGE is a label image: each label its own polygon).\n"
-        "--protect adds inner polygons around the salient features inside each outer polygon: "
-        "moving the outer one then leaves them almost rigid.\n"
+        "By default the result is a multicage: an outline around each object, plus inner polygons "
+        "around the salient features inside it (moving the outline then leaves them almost "
+        "rigid); --no-protect gives the outlines only.\n"
+        "The cage file gets a pose named `rest` (every vertex at rest): edit it, or add poses, "
+        "and `multicage deform` applies them.\n"
         "Examples:\n"
         "  multicage propose photo.jpg -o cage.yml --overlay check.png\n"
         "  multicage propose photo.jpg -o cage.yml --method grabcut --rect 40 30 400 300\n"
         "  multicage propose mask.png -o cage.yml --method mask --margin 12 --max-vertices 40\n"
-        "Then: multicage deform photo.jpg cage.yml -o out.png (after adding a pose).");
+        "Then: multicage deform photo.jpg cage.yml -o out.png --pose NAME (or multicage-editor photo.jpg "
+        "cage.yml to draw a pose).");
     cmd->add_option("image", o->image,
                     "Input image (or mask / label image with --method mask / labels)")
         ->required();
@@ -165,7 +183,11 @@ void addProposeCommand(CLI::App& app) {
     cmd->add_option("--rect", o->rect, "GrabCut's starting rectangle: X Y WIDTH HEIGHT in pixels")
         ->expected(4);
     cmd->add_flag("--protect", o->protect,
-                  "Add inner polygons around the salient features inside each polygon");
+                  "Add inner polygons around the salient features inside each outline (the default, "
+                  "except with --method mask or labels)");
+    cmd->add_flag("--no-protect", o->noProtect,
+                  "Outlines only: one polygon per object, no inner polygons")
+        ->excludes("--protect");
     cmd->callback([o] { runPropose(*o); });
 }
 

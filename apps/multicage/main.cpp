@@ -11,6 +11,7 @@ int main(int argc, char** argv) {
         "`multicage deform IMAGE cage.yml -o out.png`.",
         "multicage"};
     app.require_subcommand(1);
+    app.set_version_flag("--version", "multicage " MULTICAGE_VERSION);
     app.set_help_all_flag("--help-all", "Print the help of every command");
     multicage_cli::addDemoCommand(app);
     multicage_cli::addDeformCommand(app);
@@ -25,7 +26,7 @@ int main(int argc, char** argv) {
                   << (code == 2 ? " (see " + command + " --help)" : std::string()) << std::endl;
         return code;
     };
-    bool known = argc < 2 || argv[1][0] == '-';
+    bool known = argc < 2 || argv[1][0] == '-';  // --help, --version
     for (const CLI::App* sub : app.get_subcommands([](CLI::App*) { return true; }))
         known = known || sub->get_name() == argv[1];
     if (!known) {
@@ -36,6 +37,8 @@ int main(int argc, char** argv) {
     try {
         app.parse(argc, argv);
         return 0;
+    } catch (const CLI::CallForVersion& e) {
+        return app.exit(e);
     } catch (const CLI::CallForHelp& e) {
         return app.exit(e);
     } catch (const CLI::CallForAllHelp& e) {

@@ -105,3 +105,261 @@ TEST(Cli, DemoWritesItsOutputs) {
     EXPECT_TRUE(cage.validate());
     EXPECT_GE(cage.poseCount(), 1);
 }
+
+namespace {
+double meanLevel(const cv::Mat& m) {
+    const cv::Scalar s = cv::mean(m);
+    return (s[0] + s[1] + s[2]) / 3;
+}
+int countOf(const std::string& s, const std::string& what) {
+    int n = 0;
+    for (size_t at = s.find(what); at != std::string::npos; at = s.find(what, at + 1)) ++n;
+    return n;
+}
+}  // namespace
+
+// Issue 13 item 2: float and 16-bit inputs written to a format that cannot hold them came out
+// black or white with exit 0. Now: the right scale (float [0,1] x255 or x65535, 16-bit x1/257),
+// one note line, and the depth kept where the format can.
+TEST(Cli, HighDepthImagesAreWrittenWithTheRightScaleAndOneNote) {
+    const std::string dir = multicage_testing::tempDir("cli_depth");
+    const cv::Mat in = cv::imread(sample("butterfly.jpg"));
+    cv::Mat f32, u16;
+    in.convertTo(f32, CV_32F, 1.0 / 255);
+    in.convertTo(u16, CV_16U, 257);
+    ASSERT_TRUE(cv::imwrite(dir + "/f32.tif", f32));
+    ASSERT_TRUE(cv::imwrite(dir + "/u16.png", u16));
+    const std::string cage = sample("../butterfly.yml"), opts = " --backend cpu --grid-step 4";
+    ASSERT_EQ(run("deform " + sample("butterfly.jpg") + " " + cage + " -o " + dir + "/ref.png" + opts, dir).code, 0);
+    const double reference = meanLevel(cv::imread(dir + "/ref.png"));
+    struct Case {
+        std::string input, output;
+        int depth;           // expected stored depth
+        double scale;        // from 8-bit levels to the stored ones
+        bool note;
+    } cases[] = {
+        {"f32.tif", "f.png", CV_16U, 257, true},  {"f32.tif", "f.jpg", CV_8U, 1, true},
+        {"f32.tif", "f.tif", CV_32F, 1.0 / 255, false}, {"u16.png", "u.jpg", CV_8U, 1, true},
+        {"u16.png", "u.png", CV_16U, 257, false},
+    };
+    for (const Case& c : cases) {
+        const Result r = run("deform " + dir + "/" + c.input + " " + cage + " -o " + dir + "/" + c.output + opts, dir);
+        ASSERT_EQ(r.code, 0) << c.output << ": " << r.err;
+        const cv::Mat out = cv::imread(dir + "/" + c.output, cv::IMREAD_UNCHANGED);
+        ASSERT_FALSE(out.empty()) << c.output;
+        EXPECT_EQ(out.depth(), c.depth) << c.output;
+        const double level = meanLevel(out) / c.scale;
+        std::printf("%s -> %s: mean %.1f (8-bit reference %.1f)\n", c.input.c_str(), c.output.c_str(), level, reference);
+        EXPECT_NEAR(level, reference, 3.0) << c.output;  // not black (< 1) nor white (254)
+        EXPECT_EQ(countOf(r.err, "note:"), c.note ? 1 : 0) << c.output << ": " << r.err;
+        if (c.note) EXPECT_NE(r.err.find("scaled by"), std::string::npos) << r.err;
+    }
+}
+
+// Issue 13 item 2, animate: a float image gave a black video; PNG frames were black too.
+TEST(Cli, AnimateOfAFloatImageIsNotBlack) {
+    const std::string dir = multicage_testing::tempDir("cli_animate_depth");
+    const cv::Mat in = cv::imread(sample("butterfly.jpg"));
+    cv::Mat f32;
+    in.convertTo(f32, CV_32F, 1.0 / 255);
+    ASSERT_TRUE(cv::imwrite(dir + "/f32.tif", f32));
+    const std::string args = "animate " + dir + "/f32.tif " + sample("../butterfly_flap.yml") +
+                             " --backend cpu --grid-step 4 -q -o " + dir;
+    Result r = run(args + "/frames/", dir);
+    ASSERT_EQ(r.code, 0) << r.err;
+    const cv::Mat frame = cv::imread(dir + "/frames/frame_0000.png", cv::IMREAD_UNCHANGED);
+    ASSERT_EQ(frame.depth(), CV_16U);
+    EXPECT_NEAR(meanLevel(frame) / 257, meanLevel(in), 6.0);
+    EXPECT_EQ(countOf(r.err, "note:"), 1) << r.err;
+    r = run(args + "/a.gif", dir);
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_NE(r.err.find("scaled by 255"), std::string::npos) << r.err;
+}
+
+// Issue 13 item 3: a JPEG cut after 3000 bytes (and a cut PNG) was deformed without a word.
+TEST(Cli, TruncatedImagesAreRefusedWithOneLineAndNoOutput) {
+    const std::string dir = multicage_testing::tempDir("cli_truncated");
+    for (const std::string name : {"butterfly.jpg", "smarties.png"}) {
+        std::ifstream f(sample(name), std::ios::binary);
+        const std::string bytes(std::istreambuf_iterator<char>(f), {});
+        const std::string cut = dir + "/cut_" + name;
+        std::ofstream(cut, std::ios::binary) << bytes.substr(0, name == "butterfly.jpg" ? 3000 : bytes.size() / 2);
+        for (const std::string& cmd : {"deform " + cut + " " + sample("../butterfly.yml") + " -o " + dir + "/out.png --backend cpu",
+                                       "propose " + cut + " -o " + dir + "/out.yml"}) {
+            const Result r = run(cmd, dir);
+            EXPECT_EQ(r.code, 1) << cmd;
+            EXPECT_EQ(lines(r.err), 1) << r.err;
+            EXPECT_NE(r.err.find(cut + ": the file is truncated"), std::string::npos) << r.err;
+        }
+    }
+    EXPECT_FALSE(fs::exists(dir + "/out.png"));
+    EXPECT_FALSE(fs::exists(dir + "/out.yml"));
+}
+
+// Issue 13 item 4: propose wrote no pose, so `deform` of its cage failed with "has no poses"
+// and nothing showed the pose format.
+TEST(Cli, ProposedCageDeformsAsIsAndHelpShowsThePoseFormat) {
+    const std::string dir = multicage_testing::tempDir("cli_propose_deform");
+    const std::string image = sample("butterfly.jpg");
+    Result r = run("propose " + image + " -o " + dir + "/cage.yml", dir);
+    ASSERT_EQ(r.code, 0) << r.err;
+    const cv::multicage::Multicage cage = cv::multicage::Multicage::load(dir + "/cage.yml");
+    ASSERT_EQ(cage.findPose("rest"), 0);
+    const std::vector<cv::Point2f> all = cage.vertices();
+    EXPECT_EQ(cage.pose(0).vertices, std::vector<cv::Point2f>(all.begin(), all.end() - 4));
+    r = run("deform " + image + " " + dir + "/cage.yml -o " + dir + "/out.png --backend cpu --grid-step 2", dir);
+    ASSERT_EQ(r.code, 0) << r.err;
+    // The rest pose is the identity: the output is the input.
+    const double psnr = multicage_testing::psnr(cv::imread(dir + "/out.png"), cv::imread(image));
+    std::printf("deform at the proposed rest pose: PSNR %.1f dB\n", psnr);
+    EXPECT_GT(psnr, 45.0);
+    const std::string help = run("deform --help", dir).out;
+    EXPECT_NE(help.find("poses:"), std::string::npos) << help;
+    EXPECT_NE(help.find("vertices: ["), std::string::npos) << help;
+}
+
+// Issue 13 item 5: by default a proposal was one polygon per object; the multicage (outline
+// plus protected inner polygons) needed --protect. Now it is the default; --no-protect opts out.
+TEST(Cli, ProposeMakesNestedPolygonsByDefaultAndNoProtectOptsOut) {
+    const std::string dir = multicage_testing::tempDir("cli_propose_protect");
+    auto deepest = [&](const std::string& cageFile) {
+        const cv::multicage::Multicage c = cv::multicage::Multicage::load(cageFile);
+        int d = 0;
+        for (int p = 0; p < c.polygonCount(); ++p) d = std::max(d, c.depth(p));
+        return d;
+    };
+    int nested = 0;
+    for (const std::string name : {"butterfly.jpg", "fruits.jpg", "messi5.jpg", "HappyFish.jpg", "building.jpg"}) {
+        const Result r = run("propose " + sample(name) + " -o " + dir + "/" + name + ".yml", dir);
+        ASSERT_EQ(r.code, 0) << name << ": " << r.err;
+        nested += deepest(dir + "/" + name + ".yml") >= 2;
+    }
+    std::printf("photos whose default proposal has nested polygons: %d of 5\n", nested);
+    EXPECT_GE(nested, 4);
+    const Result r = run("propose " + sample("butterfly.jpg") + " -o " + dir + "/outline.yml --no-protect", dir);
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_EQ(deepest(dir + "/outline.yml"), 1);
+    EXPECT_NE(r.out.find("(1 polygon,"), std::string::npos) << r.out;  // not "1 polygons"
+    const std::string help = run("propose --help", dir).out;
+    EXPECT_NE(help.find("--no-protect"), std::string::npos);
+}
+
+namespace {
+// The number after `key` in s ("bind 12 ms" -> 12 for key "bind "), or -1.
+double numberAfter(const std::string& s, const std::string& key) {
+    const size_t at = s.find(key);
+    return at == std::string::npos ? -1 : std::atof(s.c_str() + at + key.size());
+}
+}  // namespace
+
+// Issue 13 item 6: `coordinates: harmonic` in a cage file was ignored by animate.
+TEST(Cli, AnimateFollowsTheCageFilesCoordinatesUnlessToldOtherwise) {
+    const std::string dir = multicage_testing::tempDir("cli_animate_coords");
+    cv::multicage::Multicage cage = cv::multicage::Multicage::load(sample("../butterfly_flap.yml"));
+    cage.setCoordinates(cv::multicage::HARMONIC);
+    cage.save(dir + "/harmonic.yml");
+    const std::string args = "animate " + sample("butterfly.jpg") + " " + dir + "/harmonic.yml --backend cpu --grid-step 4 -q";
+    Result r = run(args + " -o " + dir + "/a.gif", dir);
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_NE(r.out.find("harmonic coordinates"), std::string::npos) << r.out;
+    r = run(args + " -o " + dir + "/b.gif --coords mvc", dir);
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_NE(r.out.find("mean value coordinates"), std::string::npos) << r.out;
+}
+
+// Issue 13 item 7: a typed --grid-step was raised silently (a WARN line naming a C++ field),
+// and the CLI could not raise the budget.
+TEST(Cli, MemoryBudgetRaisesTheGridStepAndSaysSoInPlainWords) {
+    const std::string dir = multicage_testing::tempDir("cli_budget");
+    const std::string args = "deform " + sample("butterfly.jpg") + " " + sample("../butterfly.yml") + " -o " + dir +
+                             "/out.png --backend cpu";
+    // 493x356 nodes x 24 coefficients x 4 bytes = 16.8 MB at step 1: over 8 MiB, under 32 MiB.
+    Result r = run(args + " --grid-step 1 --memory-budget 8M", dir);
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_NE(r.out.find("grid step 2 (raised from 1 to fit the 8 MiB memory budget)"), std::string::npos) << r.out;
+    EXPECT_EQ(lines(r.err), 1) << r.err;
+    EXPECT_NE(r.err.find("grid step 1 would need"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("--memory-budget"), std::string::npos) << r.err;
+    EXPECT_EQ(r.err.find("DeformParams"), std::string::npos) << r.err;
+    // Not typed: the output line says it, stderr stays quiet.
+    r = run(args + " --memory-budget 8M", dir);
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_NE(r.out.find("(raised from 1"), std::string::npos) << r.out;
+    EXPECT_EQ(r.err, "");
+    // A larger budget keeps the step.
+    r = run(args + " --grid-step 1 --memory-budget 32M", dir);
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_NE(r.out.find("grid step 1,"), std::string::npos) << r.out;
+    EXPECT_EQ(r.err, "");
+    EXPECT_NE(run(args + " --memory-budget lots", dir).err.find("'lots' is not a size"), std::string::npos);
+}
+
+// Issue 13 item 8: every `auto` run without a GPU printed a 300-character WARN line, and the
+// EGL probe (~110 ms) was counted as bind time (142 ms auto vs 1 ms cpu at step 4).
+TEST(Cli, AutoBackendIsSaidOnceInTheOutputAndItsProbeIsNotBindTime) {
+    const std::string dir = multicage_testing::tempDir("cli_auto");
+    const std::string args = "deform " + sample("butterfly.jpg") + " " + sample("../butterfly.yml") + " -o " + dir +
+                             "/out.png --grid-step 4";
+    const Result autoRun = run(args, dir), cpuRun = run(args + " --backend cpu", dir);
+    ASSERT_EQ(autoRun.code, 0) << autoRun.err;
+    ASSERT_EQ(cpuRun.code, 0) << cpuRun.err;
+    EXPECT_EQ(autoRun.err, "") << "auto printed on stderr";
+    EXPECT_EQ(countOf(autoRun.out, "(auto)"), 1) << autoRun.out;
+    const double bindAuto = numberAfter(autoRun.out, "bind "), bindCpu = numberAfter(cpuRun.out, "bind ");
+    std::printf("bind at grid step 4: auto %.0f ms, cpu %.0f ms\n", bindAuto, bindCpu);
+    if (autoRun.out.find("cpu (auto)") != std::string::npos) EXPECT_LT(bindAuto, bindCpu + 40) << autoRun.out;
+}
+
+// Issue 13 item 9: a long harmonic binding showed no progress and could not be interrupted
+// cleanly. Now: progress lines on stderr, and Ctrl-C stops it with one line and no output.
+TEST(Cli, LongBindingShowsProgressAndCtrlCStopsItCleanly) {
+    const std::string dir = multicage_testing::tempDir("cli_bind_progress");
+    cv::Mat big;
+    cv::resize(cv::imread(sample("butterfly.jpg")), big, cv::Size(986, 712));
+    ASSERT_TRUE(cv::imwrite(dir + "/big.png", big));
+    const std::string args = "deform " + dir + "/big.png " + sample("../butterfly.yml") +
+                             " --backend cpu --coords harmonic -o " + dir;
+    Result r = run(args + "/out.png", dir);
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_GE(countOf(r.err, "multicage deform: binding "), 2) << r.err;
+    EXPECT_NE(r.err.find("binding 100%"), std::string::npos) << r.err;
+    // Ctrl-C (SIGINT) after the first progress line.
+    const std::string err = dir + "/interrupted.2";
+    const std::string cmd = std::string(MULTICAGE_CLI) + " " + args + "/stopped.png > /dev/null 2>" + err +
+                            " & pid=$!; for i in $(seq 100); do grep -q binding " + err +
+                            " 2>/dev/null && break; sleep 0.1; done; kill -INT $pid; wait $pid";
+    const int status = std::system(("bash -c '" + cmd + "'").c_str());
+    std::ifstream f(err);
+    const std::string text(std::istreambuf_iterator<char>(f), {});
+    EXPECT_EQ(WIFEXITED(status) ? WEXITSTATUS(status) : -1, 1) << text;
+    EXPECT_NE(text.find("multicage deform: interrupted while binding; nothing written"), std::string::npos) << text;
+    EXPECT_FALSE(fs::exists(dir + "/stopped.png"));
+}
+
+// Issue 13 item 14: the smaller dead ends.
+TEST(Cli, SmallerDeadEndsGivePlainAnswers) {
+    const std::string dir = multicage_testing::tempDir("cli_small");
+    Result r = run("--version", dir);
+    EXPECT_EQ(r.code, 0);
+    EXPECT_EQ(r.out.rfind("multicage ", 0), 0u) << r.out;
+    const std::string deform = "deform " + sample("butterfly.jpg") + " " + sample("../butterfly.yml") + " -o " + dir + "/o.png";
+    r = run(deform + " --grid-step abc", dir);
+    EXPECT_EQ(r.code, 2);
+    EXPECT_NE(r.err.find("'abc' is not a whole number"), std::string::npos) << r.err;
+    r = run("animate " + sample("butterfly.jpg") + " " + sample("../butterfly_flap.yml") + " -o " + dir +
+                "/a.gif --duration 0",
+            dir);
+    EXPECT_NE(r.code, 0) << "--duration 0 was taken as the default";
+    EXPECT_FALSE(fs::exists(dir + "/a.gif"));
+    EXPECT_NE(run("deform --help", dir).out.find("--border V [V V V]"), std::string::npos);
+    r = run("propose " + sample("butterfly.jpg") + " -o " + dir + "/m.yml --method mask", dir);
+    EXPECT_EQ(r.code, 1) << r.out;
+    EXPECT_NE(r.err.find("colour image"), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(dir + "/m.yml"));
+    // A grey mask saved in colour is still a mask.
+    cv::Mat mask(200, 300, CV_8UC3, cv::Scalar::all(0));
+    cv::circle(mask, {150, 100}, 50, cv::Scalar::all(255), cv::FILLED);
+    ASSERT_TRUE(cv::imwrite(dir + "/mask.png", mask));
+    r = run("propose " + dir + "/mask.png -o " + dir + "/m.yml --method mask", dir);
+    EXPECT_EQ(r.code, 0) << r.err;
+}

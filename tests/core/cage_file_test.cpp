@@ -114,3 +114,29 @@ TEST(CageFile, FailedSaveLeavesNoFile) {
     EXPECT_EQ(fs::file_size(path), before);
     EXPECT_FALSE(fs::exists(dir + "/cage.png"));
 }
+
+// Issue 13 item 14: a valid YAML cage file without OpenCV's "%YAML:1.0" line was refused as
+// "Unsupported file storage format".
+TEST(CageFile, YamlWithoutTheOpenCvHeaderLoads) {
+    const std::string dir = multicage_testing::tempDir("cage_no_header");
+    const std::string body = "image_size: [ 493, 356 ]\npolygons:\n  - [ 100, 100, 200, 100, 200, 200 ]\n"
+                             "poses:\n  - { name: up, time: 0, vertices: [ 100, 90, 200, 90, 200, 190 ] }\n";
+    std::ofstream(dir + "/plain.yml") << body;
+    std::ofstream(dir + "/dashes.yaml") << "---\n" << body;
+    for (const char* name : {"plain.yml", "dashes.yaml"}) {
+        const Multicage cage = Multicage::load(dir + "/" + name);
+        EXPECT_EQ(cage.imageSize(), Size(493, 356)) << name;
+        EXPECT_EQ(cage.polygonCount(), 1) << name;
+        ASSERT_EQ(cage.poseCount(), 1) << name;
+        EXPECT_EQ(cage.pose(0).vertices[0], Point2f(100, 90)) << name;
+    }
+    // Errors still name the line of the user's file (line 3 here, not 4).
+    std::ofstream(dir + "/bad.yml") << "image_size: [ 493, 356 ]\npolygons:\n   - [ 1, 2\n  - ]\n";
+    try {
+        Multicage::load(dir + "/bad.yml");
+        ADD_FAILURE() << "a malformed file loaded";
+    } catch (const cv::Exception& e) {
+        std::printf("%s\n", e.err.c_str());
+        EXPECT_NE(e.err.find("bad.yml"), std::string::npos) << e.err;
+    }
+}

@@ -460,3 +460,36 @@ TEST(EditorWindow, KeyframesFromThePoseAndPlayback) {
     EXPECT_NEAR(keys.pose(late).vertices[0].y, rest[0].y - 20, 1e-3);
     EXPECT_EQ(keys.pose(1 - late).vertices[0], rest[0]);
 }
+
+// Issue 13 item 1: Rest mode showed the image with red and blue swapped (its texture was
+// converted BGR->RGBA twice). Four quadrants of distinct, non-grey colours: each must appear
+// on the canvas in its own colour, and not with red and blue swapped, in both modes.
+TEST(EditorWindow, CanvasShowsTheImageColoursInRestAndPoseMode) {
+    ASSERT_FALSE(std::string(MULTICAGE_XVFB_RUN).empty()) << "xvfb-run not found: install xvfb (.ci/deps.sh)";
+    const std::string dir = multicage_testing::tempDir("editor_colours");
+    const Size size(493, 356);
+    const std::vector<Vec3b> colours = {Vec3b(40, 140, 230), Vec3b(220, 120, 30), Vec3b(60, 200, 120),
+                                        Vec3b(200, 40, 150)};  // BGR: orange, blue, green, purple
+    Mat image(size, CV_8UC3);
+    for (int q = 0; q < 4; ++q)
+        image(Rect((q % 2) * size.width / 2, (q / 2) * size.height / 2, size.width / 2 + 1, size.height / 2 + 1) &
+              Rect(Point(), size))
+            .setTo(Scalar(colours[q][0], colours[q][1], colours[q][2]));
+    ASSERT_TRUE(imwrite(dir + "/in.png", image));
+    twoOctagons().save(dir + "/cage.yml");
+    runEditorScript(dir, "load " + dir + "/in.png " + dir + "/cage.yml\n" + "show-cage 0\nwait 2\n" +
+                             "screenshot " + dir + "/rest.png\n" + "mode pose\nwait 3\n" + "screenshot " + dir +
+                             "/pose.png\nquit\n");
+    for (const std::string mode : {"rest", "pose"}) {
+        const Mat shot = imread(dir + "/" + mode + ".png");
+        ASSERT_FALSE(shot.empty()) << mode;
+        // The canvas shows the image at about 1.8x: each quadrant covers well over 20k pixels.
+        for (const Vec3b& c : colours) {
+            const int right = countColour(shot, c, 12), swapped = countColour(shot, Vec3b(c[2], c[1], c[0]), 12);
+            std::printf("%s mode, colour (%d %d %d): %d pixels right, %d with red and blue swapped\n", mode.c_str(),
+                        c[0], c[1], c[2], right, swapped);
+            EXPECT_GT(right, 20000) << mode << " mode";
+            EXPECT_LT(swapped, right / 100 + 10) << mode << " mode";
+        }
+    }
+}

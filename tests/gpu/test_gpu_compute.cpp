@@ -227,8 +227,8 @@ TEST(GpuCompute, ProgramsAreCompiledOncePerLayout) {
     EXPECT_EQ(programs, 4u);  // positions, raster, and two gathers
     {
         GLDeformer second(image, b);
-        EXPECT_EQ(cache->size(), programs);
-        EXPECT_LT(second.timings().shaderBuild, std::max(1.0, first.timings().shaderBuild / 10));
+        EXPECT_EQ(cache->size(), programs);  // nothing compiled (no timing: Mesa's disk cache
+                                             // can make a first compile fast too)
     }
     GLDeformer other(image, bind(cage, MEAN_VALUE, 2));
     EXPECT_EQ(cache->size(), 2 * programs);

@@ -1,4 +1,5 @@
 // Harmonic coordinates of a multicage on the node grid (DeRose & Meyer 2006).
+#include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <opencv2/imgcodecs.hpp>
@@ -377,4 +378,71 @@ TEST(Harmonic, SideBySidePicture) {
     hconcat(std::vector<Mat>{motion[0], gapV, motion[1]}, bottom);
     vconcat(std::vector<Mat>{top, Mat(8, top.cols, CV_8UC3, Scalar::all(255)), bottom}, picture);
     ASSERT_TRUE(imwrite(path, picture));
+}
+
+// Issue 13 item 9: a harmonic binding of a large image ran for tens of seconds with no sign of
+// progress and no way to stop it. The progress callback rises from 0 to 1 in many steps, and
+// returning false stops the binding with an exception that says so, long before the end.
+TEST(Harmonic, ProgressRisesToOneAndCancellingStopsEarly) {
+    Multicage big = multicage_testing::butterflyCage(true).scaled(Size(986, 712));  // twice the sample
+    std::vector<std::pair<double, double>> log;  // (seconds, fraction)
+    const auto t0 = std::chrono::steady_clock::now();
+    auto seconds = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); };
+    const Binding whole = bind(big, HARMONIC, 1, [&](double f) {
+        log.emplace_back(seconds(), f);
+        return true;
+    });
+    const double total = seconds();
+    ASSERT_GE(log.size(), 10u);
+    EXPECT_EQ(log.front().second, 0.0);
+    EXPECT_EQ(log.back().second, 1.0);
+    for (size_t i = 1; i < log.size(); ++i) EXPECT_GE(log[i].second, log[i - 1].second) << "report " << i;
+    // How well the fraction tracks time: the largest gap between reports, and where the
+    // fraction stands at half time.
+    double gap = 0, atHalf = 0;
+    for (size_t i = 1; i < log.size(); ++i) gap = std::max(gap, log[i].first - log[i - 1].first);
+    for (const auto& [t, f] : log)
+        if (t <= total / 2) atHalf = f;
+    std::printf("harmonic bind of 986x712: %.2f s, %zu reports, largest gap %.2f s, %.0f%% reported at half time\n",
+                total, log.size(), gap, 100 * atHalf);
+    EXPECT_EQ(whole.coordinates, HARMONIC);
+
+    // Cancel at the first report after the start: it throws, saying so, and stops well before
+    // the end (the factorisation of the largest region, most of the time, cannot be cut short,
+    // so cancel before it).
+    const auto t1 = std::chrono::steady_clock::now();
+    try {
+        bind(big, HARMONIC, 1, [](double f) { return f == 0.0; });
+        ADD_FAILURE() << "a cancelled binding returned";
+    } catch (const cv::Exception& e) {
+        EXPECT_NE(e.err.find(kBindCancelled), std::string::npos) << e.err;
+    }
+    const double cancelled = std::chrono::duration<double>(std::chrono::steady_clock::now() - t1).count();
+    std::printf("cancelled after %.2f s (the whole binding %.2f s)\n", cancelled, total);
+    EXPECT_LT(cancelled, 0.5 * total);
+    // Nothing is left in a bad state: binding again gives the same result.
+    const Binding again = bind(big, HARMONIC, 1, [](double) { return true; });
+    EXPECT_EQ(norm(again.coefficients, whole.coefficients, NORM_INF), 0.0);
+}
+
+// Issue 13 item 6: `coordinates: harmonic` in a cage file was followed by `deform` only. The
+// library's rule: the multicage's choice unless the caller names a type.
+TEST(Harmonic, CoordinatesComeFromTheCageUnlessTheCallerNamesThem) {
+    const Mat image = multicage_testing::readSample("butterfly.jpg");
+    Multicage cage = multicage_testing::butterflyCage(true);
+    cage.setCoordinates(HARMONIC);
+    DeformParams params;
+    params.backend = BACKEND_CPU;
+    params.gridStep = 4;
+    EXPECT_EQ(params.coordinates, COORDINATES_FROM_CAGE);
+    EXPECT_EQ(Deformer::create(image, cage, params)->binding().coordinates, HARMONIC);
+    EXPECT_EQ(bind(cage, COORDINATES_FROM_CAGE, 4).coordinates, HARMONIC);
+    EXPECT_EQ(bind(cage).coordinates, HARMONIC);
+    params.coordinates = MEAN_VALUE;  // the caller says otherwise
+    EXPECT_EQ(Deformer::create(image, cage, params)->binding().coordinates, MEAN_VALUE);
+    cage.setCoordinates(MEAN_VALUE);
+    params.coordinates = COORDINATES_FROM_CAGE;
+    EXPECT_EQ(Deformer::create(image, cage, params)->binding().coordinates, MEAN_VALUE);
+    params.coordinates = HARMONIC;
+    EXPECT_EQ(Deformer::create(image, cage, params)->binding().coordinates, HARMONIC);
 }

@@ -59,17 +59,27 @@ void checkFolderWritable(const fs::path& dir, const std::string& path) {
         CV_Error(Error::StsBadArg, "cannot write " + path + ": folder " + dir.string() + " is not writable");
 }
 
-// 8-bit BGR for video and GIF. Float frames in [0, 1] are scaled by 255 (decided on the
-// first frame, so that every frame is scaled alike).
-Mat toBgr8(const Mat& frame, double& floatScale) {
+// Whether float frames hold values in [0, 1] (scaled up to integers) or 0-255, decided on the
+// first frame so that every frame is scaled alike. Lossy float codecs (TIFF's SGILOG) overshoot
+// 1 a little: up to 2 still counts as [0, 1], as in convertForImageFormat().
+bool unitFloatRange(const Mat& frame) {
+    double lo, hi;
+    minMaxLoc(frame.reshape(1), &lo, &hi);
+    return hi <= 2.0;
+}
+
+// 8-bit BGR for video and GIF. floatScale: 0 until the first float frame decides it.
+Mat toBgr8(const Mat& frame, double& floatScale, std::string& note) {
     Mat m = frame;
     if (m.depth() == CV_16U) {
         m.convertTo(m, CV_8U, 1.0 / 257);
+        if (note.empty()) note = "the 16-bit frames were scaled by 1/257 to 8 bits";
     } else if (m.depth() == CV_32F || m.depth() == CV_64F) {
         if (floatScale <= 0) {
-            double lo, hi;
-            minMaxLoc(m.reshape(1), &lo, &hi);
-            floatScale = hi <= 1.0 + 1e-6 ? 255.0 : 1.0;
+            const bool unit = unitFloatRange(m);
+            floatScale = unit ? 255.0 : 1.0;
+            note = unit ? "the float frames (values 0-1) were scaled by 255 to 8 bits"
+                        : "the float frames (values taken as 0-255) were stored as 8 bits";
         }
         m.convertTo(m, CV_8U, floatScale);
     } else if (m.depth() != CV_8U) {
@@ -86,6 +96,7 @@ public:
     WriterBase(int format, double fps) : format_(format), fps_(fps) {}
     int frameCount() const override { return frames_; }
     int format() const override { return format_; }
+    String note() const override { return note_; }
     void write(InputArray frameIn) override {
         CV_Assert(!finished_);
         const Mat frame = frameIn.getMat();
@@ -114,6 +125,8 @@ protected:
     int frames_ = 0;
     bool finished_ = false;
     Size size_;
+    std::string note_;
+    double floatScale_ = 0;  // float frames: decided on the first one
 };
 
 // ---- PNG frames in a folder ----------------------------------------------------------
@@ -133,7 +146,19 @@ protected:
         char name[32];
         std::snprintf(name, sizeof(name), "frame_%04d.png", frames_);
         const std::string file = (temp_ / name).string();
-        if (!imwrite(file, frame, {IMWRITE_PNG_COMPRESSION, 1}))
+        Mat stored = frame;
+        if (frame.depth() == CV_32F || frame.depth() == CV_64F) {  // PNG: 8 or 16 bits
+            if (floatScale_ <= 0) {
+                const bool unit = unitFloatRange(frame);
+                floatScale_ = unit ? 65535.0 : 257.0;
+                note_ = unit ? "PNG does not store float pixels: the float frames (values 0-1) were scaled by "
+                               "65535 to 16 bits"
+                             : "PNG does not store float pixels: the float frames (values taken as 0-255) were "
+                               "scaled by 257 to 16 bits";
+            }
+            frame.convertTo(stored, CV_16U, floatScale_);
+        }
+        if (!imwrite(file, stored, {IMWRITE_PNG_COMPRESSION, 1}))
             CV_Error(Error::StsError, "cannot write " + file);
     }
     void commit() override {
@@ -166,8 +191,14 @@ public:
 
 protected:
     void writeFrame(const Mat& frame) override {
-        Mat bgr = toBgr8(frame, floatScale_);
-        if (frames_ == 0) open(bgr.size());
+        Mat bgr = toBgr8(frame, floatScale_, note_);
+        if (frames_ == 0) {
+            open(bgr.size());
+            if (encoded_ != bgr.size())
+                note_ += std::string(note_.empty() ? "" : "; ") + "frames padded from " + std::to_string(bgr.cols) +
+                         "x" + std::to_string(bgr.rows) + " to " + std::to_string(encoded_.width) + "x" +
+                         std::to_string(encoded_.height) + " (edge pixels repeated: the codec needs even sizes)";
+        }
         if (bgr.size() != encoded_) copyMakeBorder(bgr, bgr, 0, encoded_.height - bgr.rows, 0,
                                                    encoded_.width - bgr.cols, BORDER_REPLICATE);
         writer_.write(bgr);
@@ -203,7 +234,6 @@ private:
     fs::path target_, temp_;
     VideoWriter writer_;
     Size encoded_;
-    double floatScale_ = 0;
 };
 
 // ---- GIF through giflib -----------------------------------------------------------------
@@ -222,7 +252,7 @@ public:
 
 protected:
     void writeFrame(const Mat& frame) override {
-        const Mat bgr = toBgr8(frame, floatScale_);
+        const Mat bgr = toBgr8(frame, floatScale_, note_);
         if (frames_ == 0) open(bgr);
         Mat index(bgr.size(), CV_8U);
         parallel_for_(Range(0, bgr.rows), [&](const Range& r) {
@@ -351,7 +381,6 @@ private:
     GifFileType* gif_ = nullptr;
     std::vector<uchar> cube_;
     Mat previous_;
-    double floatScale_ = 0;
 };
 }  // namespace
 

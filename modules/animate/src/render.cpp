@@ -37,6 +37,7 @@ AnimationStats renderAnimation(Deformer& deformer, const Multicage& cage, const 
     const auto t = clock::now();
     writer->finish();
     stats.writeMs += msSince(t);
+    stats.note = writer->note();
     stats.totalMs = msSince(start);
     return stats;
 }

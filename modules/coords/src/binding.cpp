@@ -275,6 +275,7 @@ Binding emptyBinding(const Multicage& multicage, int coordinates, int gridStep) 
 Binding bind(const Multicage& multicage, int coordinates, int gridStep) {
     std::string why;
     if (!multicage.validateGeometry(&why)) CV_Error(Error::StsBadArg, "multicage: cannot bind: " + why);
+    coordinates = resolveCoordinates(multicage, coordinates);
     if (coordinates == HARMONIC) return bindHarmonic(multicage, gridStep);
     if (coordinates != MEAN_VALUE)
         CV_Error_(Error::StsOutOfRange, ("multicage: unknown coordinate type %d", coordinates));

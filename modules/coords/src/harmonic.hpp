@@ -43,8 +43,10 @@ Inputs:
   gridStep   >= 1, the node spacing in pixels
 Outputs:
   stats      optional: sizes of the systems that were solved
+  progress   optional: see bind(..., progress); cancelling throws between steps
 Returns a Binding with coordinates = HARMONIC, minConditioning = 1. */
-Binding bindHarmonic(const Multicage& multicage, int gridStep, HarmonicStats* stats = nullptr);
+Binding bindHarmonic(const Multicage& multicage, int gridStep, HarmonicStats* stats = nullptr,
+                     const BindProgress& progress = BindProgress());
 
 }  // namespace multicage
 }  // namespace cv

@@ -173,12 +173,16 @@ Multicage Multicage::load(const String& path) {
         CV_Error(Error::StsParseError, format("cage file %s: not valid YAML/JSON: a NUL byte at offset "
                                               "%d (not a text file)", path.c_str(), static_cast<int>(nul)));
     if (ext != ".json") checkYamlLayout(text, "cage file " + path);
+    // OpenCV's YAML reader insists on its "%YAML:1.0" first line, which other YAML writers do
+    // not emit: add it (error line numbers are given back in the user's file).
+    const bool addHeader = ext != ".json" && text.rfind("%YAML", 0) != 0;
+    const std::string parsed = addHeader ? "%YAML:1.0\n" + text : text;
     FileStorage fs;
     try {
         const int flags = FileStorage::READ | FileStorage::MEMORY |
                           (ext == ".json" ? FileStorage::FORMAT_JSON : FileStorage::FORMAT_YAML);
         if (text.empty()) CV_Error(Error::StsParseError, "cage file " + path + ": the file is empty");
-        if (!fs.open(text, flags)) CV_Error(Error::StsParseError, "cage file " + path + ": not valid YAML/JSON");
+        if (!fs.open(parsed, flags)) CV_Error(Error::StsParseError, "cage file " + path + ": not valid YAML/JSON");
     } catch (const cv::Exception& e) {
         if (e.err.rfind("cage file", 0) == 0) throw;
         // OpenCV 4.6's parser puts its function name in err and the reason, with the line,
@@ -186,7 +190,8 @@ Multicage Multicage::load(const String& path) {
         std::string reason = e.func.find(':') != std::string::npos ? e.func : e.err;
         const size_t close = reason.find("): ");
         if (reason[0] == '(' && close != std::string::npos)  // "(4): why" -> "line 4: why"
-            reason = "line " + reason.substr(1, close - 1) + ": " + reason.substr(close + 3);
+            reason = "line " + std::to_string(std::atoi(reason.c_str() + 1) - (addHeader ? 1 : 0)) + ": " +
+                     reason.substr(close + 3);
         CV_Error(Error::StsParseError, "cage file " + path + ": not valid YAML/JSON: " + reason);
     } catch (const std::exception& e) {
         // OpenCV's parser can also throw standard exceptions on malformed text (4.6: "{ :name"

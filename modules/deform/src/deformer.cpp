@@ -13,6 +13,10 @@ static std::string formatBytes(size_t bytes) {
     return mib >= 1024 ? format("%.1f GiB", mib / 1024) : format("%.0f MiB", mib);
 }
 
+bool autoBackendUsesGpu(std::string* description) {
+    return gpu::hardwareGpu(description);
+}
+
 Ptr<Deformer> Deformer::create(InputArray image, const Multicage& rest, const DeformParams& params) {
     checkImage(image);
     if (rest.imageSize() != image.size())
@@ -22,6 +26,7 @@ Ptr<Deformer> Deformer::create(InputArray image, const Multicage& rest, const De
                    image.cols(), image.rows(), rest.imageSize().width, rest.imageSize().height));
     const int c = rest.vertexCount() + 4;
     DeformParams chosen = params;
+    chosen.coordinates = resolveCoordinates(rest, params.coordinates);
     const size_t need = bindingMemory(image.size(), c, params.gridStep);
     if (params.memoryBudget > 0 && need > params.memoryBudget) {
         const int fits = gridStepForBudget(image.size(), c, params.memoryBudget, params.gridStep);
@@ -45,7 +50,7 @@ Ptr<Deformer> Deformer::create(InputArray image, const Multicage& rest, const De
             CV_LOG_WARNING(NULL, "multicage: no GPU for gpuBinding (" << why << "); binding on the CPU");
         }
     }
-    return create(image, bind(rest, chosen.coordinates, chosen.gridStep), chosen);
+    return create(image, bind(rest, chosen.coordinates, chosen.gridStep, params.progress), chosen);
 }
 
 size_t bindingMemory(Size imageSize, int coefficientCount, int gridStep) {
@@ -75,6 +80,11 @@ Ptr<Deformer> Deformer::create(InputArray imageIn, const Binding& binding, const
         case BACKEND_GPU:
         case BACKEND_AUTO: {
             std::string why;
+            if (params.backend == BACKEND_AUTO && !autoBackendUsesGpu(&why)) {
+                // The expected case on a machine without a GPU: no warning, no second probe.
+                CV_LOG_INFO(NULL, "multicage: BACKEND_AUTO uses the CPU backend: " << why);
+                return createCpuDeformer(image, binding, params);
+            }
             Ptr<Deformer> gpu = gpu::createDeformer(image, binding, params, &why);
             if (gpu) return gpu;
             if (params.backend == BACKEND_GPU)

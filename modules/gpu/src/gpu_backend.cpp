@@ -156,12 +156,14 @@ bool gpuAvailable(std::string* description) {
     return context != nullptr;
 }
 
-bool gpuAccelerated(std::string* description) {
+namespace gpu {
+bool hardwareGpu(std::string* description) {
     std::string why;
-    const gpu::EglContext* context = gpu::acceleratedContext(&why);
+    const EglContext* context = acceleratedContext(&why);
     if (description) *description = context ? context->description() : why;
     return context != nullptr;
 }
+}  // namespace gpu
 
 }  // namespace multicage
 }  // namespace cv

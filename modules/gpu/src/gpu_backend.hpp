@@ -9,6 +9,11 @@ namespace cv {
 namespace multicage {
 namespace gpu {
 
+/** Whether the process's shared EGL context is on a hardware device (not llvmpipe): what
+BACKEND_AUTO and the default gpuBinding take as "a real GPU". *description: the device, or
+why not. Probes once per process (EglContext::shared). */
+bool hardwareGpu(std::string* description);
+
 /** The GL deformer for image and binding, or nullptr with the reason in *why when no EGL
 context can be made (no driver, no device, too old a GL), or when the only OpenGL is a software
 renderer and params.backend is BACKEND_AUTO: llvmpipe runs the vertex shader on the CPU, 5 to 10

@@ -541,6 +541,15 @@ Multicage proposeMulticage(InputArray image, const ProposeParams& params) {
     return out;
 }
 
+Multicage proposeProtectedMulticage(InputArray image, const ProposeParams& params) {
+    Multicage cage = proposeMulticage(image, params);
+    if (params.method == PROPOSE_MASK || params.method == PROPOSE_LABELS) return cage;
+    const int top = cage.polygonCount();  // protectFeatures appends; only the outlines get it
+    for (int p = 0; p < top; ++p)
+        if (cage.depth(p) == 1) cage = protectFeatures(image, cage, p, params);
+    return cage;
+}
+
 Multicage protectFeatures(InputArray image, const Multicage& cage, int polygon,
                           const ProposeParams& params) {
     checkParams(params);

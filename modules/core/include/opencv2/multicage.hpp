@@ -5,6 +5,7 @@
 #define OPENCV2_MULTICAGE_HPP
 
 #include <opencv2/multicage/multicage.hpp>
+#include <opencv2/multicage/imageio.hpp>
 #include <opencv2/multicage/coordinates.hpp>
 #include <opencv2/multicage/packing.hpp>
 #include <opencv2/multicage/deformer.hpp>

@@ -101,8 +101,9 @@ destroyed before finish() removes it, so `path` never holds a partial animation.
 frames folder is replaced only if it holds nothing but frame_NNNN.png files.
 
 Frames: all the same size, CV_8UC1, CV_8UC3 (BGR) or CV_8UC4 (BGRA; alpha dropped for
-video and GIF); 16-bit and float frames are scaled to 8 bits for video and GIF (PNG frames
-keep their depth). Video frames of odd width or height are padded by one pixel (the edge
+video and GIF); 16-bit and float frames are scaled to 8 bits for video and GIF (x1/257; floats x255 when the
+first frame's values are in [0, 1], a maximum up to 2 included, else x1); PNG frames keep 8 and
+16 bits and store floats as 16 bits (x65535, or x257 for 0-255 floats). note() says which. Video frames of odd width or height are padded by one pixel (the edge
 repeated), since 4:2:0 chroma needs even sizes. GIF: one palette of 255 colours found by k-means on the first frame
 (deformed frames reuse the image's colours), unchanged pixels written as transparent and
 each frame cropped to what changed, repeats forever. Delays are in 1/100 s, at least 2. */
@@ -115,6 +116,10 @@ public:
     virtual void finish() = 0;
     virtual int frameCount() const = 0;
     virtual int format() const = 0;  //!< AnimationFormat
+    /** What the writer changed to store the frames, in one sentence, or "": a depth scaled
+    ("the float frames (values 0-1) were scaled by 255 to 8 bits"), a size padded ("padded from
+    493x356 to 494x356: the codec needs even sizes"). Known after the first frame. */
+    virtual String note() const = 0;
 };
 
 struct CV_EXPORTS AnimationStats {
@@ -125,6 +130,7 @@ struct CV_EXPORTS AnimationStats {
     double deformMs = 0;         //!< Deformer::deform, all frames (GPU: includes readback)
     double writeMs = 0;          //!< encoding and writing, all frames, and finish()
     double totalMs = 0;          //!< the whole render, binding included
+    String note;                 //!< AnimationWriter::note(): a depth or size change, or ""
     /** Frames per second of the whole render (frames / totalMs). */
     double fps() const { return totalMs > 0 ? 1000.0 * frames / totalMs : 0.0; }
 };

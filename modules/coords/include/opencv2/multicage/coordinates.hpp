@@ -2,15 +2,23 @@
 #ifndef OPENCV2_MULTICAGE_COORDINATES_HPP
 #define OPENCV2_MULTICAGE_COORDINATES_HPP
 
+#include <functional>
 #include <opencv2/multicage/multicage.hpp>
 
 namespace cv {
 namespace multicage {
 
 enum CoordinateType {
+    /** Whatever the multicage says (Multicage::coordinates(): a cage file's `coordinates:`,
+    mean value when it names none). The default of bind() and DeformParams, so that one rule
+    holds everywhere: the cage file's choice unless the caller names a type. */
+    COORDINATES_FROM_CAGE = -1,
     MEAN_VALUE = 0,  //!< Hormann & Floater 2006; smooth, may be negative, global support
     HARMONIC = 1     //!< DeRose & Meyer 2006; non-negative, each region sees only its polygons
 };
+
+/** coordinates, or multicage.coordinates() when it is COORDINATES_FROM_CAGE. */
+CV_EXPORTS int resolveCoordinates(const Multicage& multicage, int coordinates);
 
 /** Mean value coordinates of points with respect to one polygon (Hormann & Floater 2006),
 valid inside and outside the polygon.
@@ -84,10 +92,29 @@ every polygon edge and the frame as Dirichlet boundaries (Eigen sparse LDL^T); c
 in [0, 1] and a region's nodes see only the polygons bounding it. minConditioning is 1 and
 worstNode (0, 0): there is no cancellation.
 
+COORDINATES_FROM_CAGE (the default) binds with multicage.coordinates().
+
 Runs on all cores (cv::parallel_for_). Throws a cv::Exception when the multicage does not pass
 validateGeometry(). */
-CV_EXPORTS Binding bind(const Multicage& multicage, int coordinates = MEAN_VALUE,
+CV_EXPORTS Binding bind(const Multicage& multicage, int coordinates = COORDINATES_FROM_CAGE,
                         int gridStep = 1);
+
+/** Progress of a long binding: called with the fraction done, from 0 to 1 and never
+decreasing, one call at a time but from any of the binding's threads. Return false to cancel: bind() then stops at the
+next step and throws a cv::Exception (code Error::StsError) whose message ends in
+kBindCancelled, leaving nothing behind. */
+typedef std::function<bool(double)> BindProgress;
+/** The end of the message of the exception a cancelled bind() throws. */
+constexpr const char* kBindCancelled = "binding cancelled";
+
+/** bind() reporting progress, and cancellable. Harmonic coordinates report after the
+boundary, the system assembly, each region's factorisation and each block of solves, and stop
+at the next of these points when cancelled; the one step that cannot be
+interrupted is the factorisation of the largest region, most of the time (80 % on the butterfly
+multicage): until it ends, reports pause and a cancel waits. Mean value coordinates (fast: tens of milliseconds per megapixel) report 0
+and 1 only. */
+CV_EXPORTS Binding bind(const Multicage& multicage, int coordinates, int gridStep,
+                        const BindProgress& progress);
 
 }  // namespace multicage
 }  // namespace cv

@@ -9,13 +9,32 @@ namespace cv {
 namespace multicage {
 
 enum Backend {
-    BACKEND_AUTO = 0,  //!< the GPU when an EGL context can be made, else the CPU (one log line)
+    /** The GPU when autoBackendUsesGpu() (a hardware GPU; a software renderer such as Mesa's
+    llvmpipe is slower than the CPU backend and does not count), else the CPU. The probe runs
+    once per process; the choice is logged at INFO level, and Deformer::backend() says it. */
+    BACKEND_AUTO = 0,
     BACKEND_CPU = 1,   //!< node positions, inverse maps by mesh rasterisation, cv::remap
-    BACKEND_GPU = 2    //!< headless EGL + OpenGL 4.5; throws if no context can be made
+    BACKEND_GPU = 2    //!< headless EGL + OpenGL 4.5, software renderers included; throws if no context can be made
 };
 
+/** Whether BACKEND_AUTO deforms on the GPU in this process: whether a headless EGL context on
+a hardware GPU can be made. The first call probes EGL (on a machine without a GPU about 100 ms,
+and the driver libraries stay loaded); the answer is kept for the life of the process, so
+later calls and every Deformer::create with BACKEND_AUTO cost nothing more. Call it before
+timing a Deformer::create to keep the probe out of the timing. *description gets the device
+(vendor, renderer, GL version) or why AUTO uses the CPU ("the only OpenGL here is a software
+renderer (llvmpipe ...)", "no EGL device ...").
+
+Not the same question as gpuAvailable() (opencv2/multicage/gpu.hpp), which says whether any
+EGL context, software included, can be made, i.e. whether BACKEND_GPU works. With llvmpipe only:
+gpuAvailable() is true and autoBackendUsesGpu() false. Thread-safe. */
+CV_EXPORTS bool autoBackendUsesGpu(std::string* description = nullptr);
+
 struct CV_EXPORTS DeformParams {
-    int coordinates = MEAN_VALUE;   //!< CoordinateType
+    /** CoordinateType. The default, COORDINATES_FROM_CAGE, binds with the multicage's own choice
+    (Multicage::coordinates(): a cage file's `coordinates:`, mean value when it names none);
+    MEAN_VALUE or HARMONIC overrides it. Ignored by the create() that takes a Binding. */
+    int coordinates = COORDINATES_FROM_CAGE;
     int gridStep = 1;               //!< a mesh node every gridStep pixels; 1 is the paper's
     int backend = BACKEND_AUTO;     //!< Backend
     Scalar borderValue = Scalar();  //!< output pixels no deformed triangle covers
@@ -23,7 +42,7 @@ struct CV_EXPORTS DeformParams {
     memory; positions use the displacement form, so the rest pose stays exact). */
     bool halfFloat = false;
     /** GPU backend: where the mean value binding is computed. -1 (default): in a compute
-    shader when the GPU is a hardware one (gpuAccelerated()), else on the CPU; 1: in a compute
+    shader when the GPU is a hardware one (autoBackendUsesGpu()), else on the CPU; 1: in a compute
     shader whenever the GPU backend is used; 0: always on the CPU (bind()). Harmonic
     coordinates always bind on the CPU. */
     int gpuBinding = -1;
@@ -37,6 +56,10 @@ struct CV_EXPORTS DeformParams {
     to the smallest that fits (and logs the choice); false throws, naming the memory needed
     and the grid step that would fit. */
     bool autoGridStep = true;
+    /** Called while create() binds (see bind(..., BindProgress)): the fraction done, return
+    false to cancel (create() then throws). Harmonic bindings of large images take seconds to
+    minutes; empty: no reports. */
+    BindProgress progress;
 };
 
 /** Bytes of the coefficients of a binding: nodes(imageSize, gridStep) x coefficientCount x 4. */

@@ -176,11 +176,6 @@ included); *description gets the device (vendor, renderer, GL version, platform)
 reason there is none. Probes once per process: later calls answer from the first. */
 CV_EXPORTS bool gpuAvailable(std::string* description = nullptr);
 
-/** Whether BACKEND_AUTO deforms on the GPU here: a hardware OpenGL device, not a software
-renderer such as llvmpipe (slower than the CPU backend). *description as gpuAvailable's, or
-why AUTO takes the CPU. Also the rule for binding on the GPU by default (DeformParams). */
-CV_EXPORTS bool gpuAccelerated(std::string* description = nullptr);
-
 }  // namespace multicage
 }  // namespace cv
 

@@ -80,6 +80,14 @@ parameters out of range. */
 CV_EXPORTS Multicage proposeMulticage(InputArray image,
                                       const ProposeParams& params = ProposeParams());
 
+/** The multicage the tools propose by default (`multicage propose`, the editor, the demo):
+proposeMulticage(), then protectFeatures() inside every top-level polygon, so the result is an
+outline around each object plus inner polygons protecting its salient features. With
+PROPOSE_MASK or PROPOSE_LABELS the input is a mask, not a photo: nothing is added. The inner
+polygons share params' budgets (maxVertices, maxPolygons) with the outlines. */
+CV_EXPORTS Multicage proposeProtectedMulticage(InputArray image,
+                                               const ProposeParams& params = ProposeParams());
+
 /** The segmentation that proposeMulticage() encloses, after cleaning: CV_8UC1 of the image's
 size, 255 on the region pixels the polygons must contain (the same regions, before the
 budget keeps the largest). For PROPOSE_LABELS it holds the label components. */

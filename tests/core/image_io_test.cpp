@@ -1,0 +1,103 @@
+// Image files in and out (issue 13 items 2 and 3): truncated JPEG/PNG inputs are refused,
+// outputs are converted to a depth the format holds with the scale that keeps white white.
+#include <fstream>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/multicage/imageio.hpp>
+
+#include "testing.hpp"
+
+using namespace cv;
+using namespace cv::multicage;
+
+namespace {
+std::vector<uchar> encode(const std::string& ext, const Mat& image, const std::vector<int>& params = {}) {
+    std::vector<uchar> bytes;
+    EXPECT_TRUE(imencode(ext, image, bytes, params));
+    return bytes;
+}
+
+void writeBytes(const std::string& path, const std::vector<uchar>& bytes, size_t count) {
+    std::ofstream(path, std::ios::binary).write(reinterpret_cast<const char*>(bytes.data()), std::streamsize(count));
+}
+
+Mat photo() { return imread(multicage_testing::samplePath("butterfly.jpg"), IMREAD_COLOR); }
+}  // namespace
+
+TEST(ImageIo, TruncatedJpegIsRefusedAtEveryCutWholeOneIsRead) {
+    const Mat image = photo();
+    ASSERT_FALSE(image.empty());
+    for (bool progressive : {false, true}) {
+        const std::vector<uchar> jpg = encode(".jpg", image, {IMWRITE_JPEG_PROGRESSIVE, progressive ? 1 : 0});
+        EXPECT_EQ(truncatedImageReason(jpg), "") << "progressive " << progressive;
+        // Data after the end marker (camera trailers, motion photos) does not make it truncated.
+        std::vector<uchar> trailer = jpg;
+        for (uchar b : {0xFF, 0xDA, 0x00, 0x08, 0x12, 0xFF}) trailer.push_back(b);
+        EXPECT_EQ(truncatedImageReason(trailer), "");
+        for (size_t cut : {size_t(3000), jpg.size() / 2, jpg.size() - 2, jpg.size() - 1}) {
+            const std::vector<uchar> part(jpg.begin(), jpg.begin() + long(cut));
+            EXPECT_NE(truncatedImageReason(part).find("truncated"), std::string::npos)
+                << "progressive " << progressive << ", cut after " << cut << " of " << jpg.size() << " bytes";
+        }
+    }
+}
+
+TEST(ImageIo, TruncatedPngIsRefusedAtEveryCutWholeOneIsRead) {
+    const std::vector<uchar> png = encode(".png", photo());
+    EXPECT_EQ(truncatedImageReason(png), "");
+    for (size_t cut : {size_t(40), size_t(3000), png.size() / 2, png.size() - 1, png.size() - 12}) {
+        const std::vector<uchar> part(png.begin(), png.begin() + long(cut));
+        EXPECT_NE(truncatedImageReason(part).find("truncated"), std::string::npos) << "cut after " << cut;
+    }
+}
+
+TEST(ImageIo, ReadImageNamesTheTruncatedFileAndReadsEverySample) {
+    const std::string dir = multicage_testing::tempDir("image_io_read");
+    const std::vector<uchar> jpg = encode(".jpg", photo());
+    writeBytes(dir + "/cut.jpg", jpg, 3000);
+    // OpenCV itself decodes the cut file with only a libjpeg warning: that is the defect.
+    EXPECT_FALSE(imread(dir + "/cut.jpg").empty());
+    try {
+        readImage(dir + "/cut.jpg");
+        ADD_FAILURE() << "a JPEG cut after 3000 bytes was read";
+    } catch (const cv::Exception& e) {
+        EXPECT_NE(e.err.find(dir + "/cut.jpg: the file is truncated"), std::string::npos) << e.err;
+    }
+    EXPECT_THROW(readImage(dir + "/missing.png"), cv::Exception);
+    for (const char* name : {"butterfly.jpg", "building.jpg", "fruits.jpg", "HappyFish.jpg", "messi5.jpg",
+                             "smarties.png"}) {
+        const Mat m = readImage(multicage_testing::samplePath(name));
+        EXPECT_FALSE(m.empty()) << name;
+    }
+}
+
+TEST(ImageIo, ConversionKeepsWhiteWhiteAndTheDepthWhereTheFormatCan) {
+    Mat u16(4, 4, CV_16UC3, Scalar(65535, 32896, 0)), f32(4, 4, CV_32FC3, Scalar(1.0, 0.5, 0.0));
+    std::string note;
+    // Kept where the format holds it.
+    EXPECT_EQ(convertForImageFormat("a.png", u16, &note).depth(), CV_16U);
+    EXPECT_EQ(note, "");
+    EXPECT_EQ(convertForImageFormat("a.TIF", f32, &note).depth(), CV_32F);
+    EXPECT_EQ(note, "");
+    // 16 bits to JPEG: x1/257, white stays 255.
+    Mat m = convertForImageFormat("out.jpg", u16, &note);
+    EXPECT_EQ(m.type(), CV_8UC3);
+    EXPECT_EQ(m.at<Vec3b>(0, 0), Vec3b(255, 128, 0));
+    EXPECT_NE(note.find("scaled by 1/257"), std::string::npos) << note;
+    // Float in [0, 1] to JPEG: x255; to PNG: 16 bits, x65535.
+    m = convertForImageFormat("out.jpg", f32, &note);
+    EXPECT_EQ(m.at<Vec3b>(0, 0), Vec3b(255, 128, 0));
+    EXPECT_NE(note.find("scaled by 255"), std::string::npos) << note;
+    m = convertForImageFormat("out.png", f32, &note);
+    EXPECT_EQ(m.type(), CV_16UC3);
+    EXPECT_EQ(m.at<Vec3w>(0, 0)[0], 65535);
+    // A lossy float codec overshoots 1 a little: still [0, 1].
+    m = convertForImageFormat("out.jpg", Mat(2, 2, CV_32FC1, Scalar(1.02)), &note);
+    EXPECT_EQ(m.at<uchar>(0, 0), 255);
+    // Floats holding 0-255 values are kept as such.
+    m = convertForImageFormat("out.jpg", Mat(2, 2, CV_32FC1, Scalar(200.0)), &note);
+    EXPECT_EQ(m.at<uchar>(0, 0), 200);
+    // 8 bits to a float-only format: x1/255.
+    m = convertForImageFormat("out.exr", Mat(2, 2, CV_8UC1, Scalar(255)), &note);
+    EXPECT_EQ(m.type(), CV_32FC1);
+    EXPECT_FLOAT_EQ(m.at<float>(0, 0), 1.f);
+}
