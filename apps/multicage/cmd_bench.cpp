@@ -80,7 +80,9 @@ const char* pipelineName(int pipeline) {
 
 // Stage times of `pipeline` in the bench's own context, and Deformer wall times (the
 // process's shared context).
+// With no CPU binding (--gpu-only) both bind on the GPU, so nothing is read back.
 PipelineFigures pipelineFigures(const BenchOptions& o, const cv::Mat& image,
+                                const cv::multicage::Multicage& cage,
                                 const cv::multicage::Binding& binding,
                                 const std::vector<cv::Point2f>& pose, int pipeline) {
     using namespace cv::multicage;
@@ -89,7 +91,9 @@ PipelineFigures pipelineFigures(const BenchOptions& o, const cv::Mat& image,
         GLDeformerParams params;
         params.pipeline = pipeline;
         params.halfFloat = o.half;
-        GLDeformer d(image, binding, params);
+        std::unique_ptr<GLDeformer> bound(binding.empty() ? new GLDeformer(image, cage, 1, params)
+                                                          : new GLDeformer(image, binding, params));
+        GLDeformer& d = *bound;
         d.setProfiling(true);
         std::vector<double> positions, raster, gather, readback, total;
         cv::Mat out;
@@ -110,7 +114,10 @@ PipelineFigures pipelineFigures(const BenchOptions& o, const cv::Mat& image,
     params.backend = BACKEND_GPU;
     params.pipeline = pipeline;
     params.halfFloat = o.half;
-    cv::Ptr<Deformer> d = Deformer::create(image, binding, params);
+    params.gpuBinding = 1;
+    params.memoryBudget = 0;  // grid step 1 whatever the size: the GPU holds it
+    cv::Ptr<Deformer> d = binding.empty() ? Deformer::create(image, cage, params)
+                                          : Deformer::create(image, binding, params);
     cv::Mat out, mapx, mapy;
     f.deform = medianMs(o.repeats, [&] { d->deform(pose, out); });
     f.maps = medianMs(o.repeats, [&] { d->computeMaps(pose, mapx, mapy); });
@@ -146,6 +153,7 @@ GpuFigures gpuFigures(const BenchOptions& o, const cv::Mat& image, const cv::mul
     params.backend = BACKEND_GPU;
     params.gpuBinding = 1;
     params.halfFloat = o.half;
+    params.memoryBudget = 0;
     auto create = [&] {
         const auto t = std::chrono::steady_clock::now();
         cv::Ptr<Deformer> created = Deformer::create(image, cage, params);
@@ -156,14 +164,8 @@ GpuFigures gpuFigures(const BenchOptions& o, const cv::Mat& image, const cv::mul
     for (int i = 0; i < o.repeats; ++i) again.push_back(create());
     f.createAgain = median(again);
 
-    for (int pipeline : {GPU_PIPELINE_COMPUTE, GPU_PIPELINE_VERTEX_SHADER}) {
-        if (binding.empty()) {  // --gpu-only: bind on the GPU, read the binding back once
-            cv::Ptr<Deformer> gpu = Deformer::create(image, cage, params);
-            f.pipelines[pipeline] = pipelineFigures(o, image, gpu->binding(), pose, pipeline);
-        } else {
-            f.pipelines[pipeline] = pipelineFigures(o, image, binding, pose, pipeline);
-        }
-    }
+    for (int pipeline : {GPU_PIPELINE_COMPUTE, GPU_PIPELINE_VERTEX_SHADER})
+        f.pipelines[pipeline] = pipelineFigures(o, image, cage, binding, pose, pipeline);
     f.pose = f.pipelines[GPU_PIPELINE_COMPUTE].gpuTotal;
     f.poseRead = f.pipelines[GPU_PIPELINE_COMPUTE].deform;
     return f;
