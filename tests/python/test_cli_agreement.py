@@ -97,3 +97,62 @@ def test_python_cage_file_and_propose_equal_cli(cli, tmp_path):
     expected = cli_deform(cli, tmp_path, image_path, tmp_path / "py_cage.yml", "--pose", "wider", "--backend", "cpu")
     got = mc.Deformer(image, mc.Multicage.load(str(tmp_path / "py_cage.yml")), backend="cpu").deform(pose)
     assert_same_pixels(got, expected)
+
+
+@pytest.mark.parametrize("size", [(301, 217), (986, 712)])
+def test_a_cage_for_another_size_is_scaled_as_the_cli_scales_it(cli, tmp_path, butterfly, butterfly_cage,
+                                                                butterfly_cage_path, size):
+    """Issue 13 item 11: Deformer(resized_image, cage) scales the cage to the image silently,
+    as `multicage deform` does, and takes poses in the cage's own coordinates (the cage file's
+    poses), so the same pose name gives the same pixels in both."""
+    image = cv2.resize(butterfly, size, interpolation=cv2.INTER_AREA)
+    path = tmp_path / "resized.png"
+    assert cv2.imwrite(str(path), image)
+    expected = cli_deform(cli, tmp_path, path, butterfly_cage_path, "--pose", "flap", "--backend", "cpu",
+                          "--grid-step", "2")
+    deformer = mc.Deformer(image, butterfly_cage, backend="cpu", grid_step=2)
+    assert deformer.image_size == size and deformer.cage_size == (493, 356)
+    flap = butterfly_cage.pose("flap").vertices
+    got = deformer.deform(flap)
+    assert got.shape == image.shape
+    assert_same_pixels(got, expected)
+    # The one-shot form scales the same way; explicit scaling gives the same deformer.
+    assert_same_pixels(mc.deform_image(image, butterfly_cage, flap, backend="cpu", grid_step=2), expected)
+    scaled = butterfly_cage.scaled(size)
+    explicit = mc.Deformer(image, scaled, backend="cpu", grid_step=2)
+    assert_same_pixels(explicit.deform(scaled.pose("flap").vertices), expected)
+    # Maps and fold-over counts take the pose in the same coordinates as deform.
+    for got_map, explicit_map in zip(deformer.compute_maps(flap), explicit.compute_maps(scaled.pose("flap").vertices)):
+        assert np.array_equal(got_map, explicit_map)
+    assert deformer.folded_triangles(flap) == explicit.folded_triangles(scaled.pose("flap").vertices)
+    # With the frame corners appended (vertex_count + 4 points) the pose scales the same.
+    assert_same_pixels(deformer.deform(np.vstack([flap, butterfly_cage.frame()])), expected)
+
+
+def test_the_cage_files_coordinates_are_followed_unless_given(cli, tmp_path, butterfly, butterfly_cage):
+    """Issue 13 item 6: a cage file's `coordinates: harmonic` is followed by Deformer,
+    deform_image and bind as by `multicage deform`; coordinates= overrides it."""
+    from conftest import DATA
+    butterfly_cage.coordinates = "harmonic"
+    path = tmp_path / "harmonic.yml"
+    butterfly_cage.save(str(path))
+    cage = mc.Multicage.load(str(path))
+    assert cage.coordinates == "harmonic"
+    expected = cli_deform(cli, tmp_path, DATA / "butterfly.jpg", path, "--backend", "cpu", "--grid-step", "4")
+    deformer = mc.Deformer(butterfly, cage, backend="cpu", grid_step=4)
+    assert deformer.coordinates == "harmonic" and deformer.binding.coordinates == "harmonic"
+    pose = cage.pose(0).vertices
+    assert_same_pixels(deformer.deform(pose), expected)
+    assert_same_pixels(mc.deform_image(butterfly, cage, pose, backend="cpu", grid_step=4), expected)
+    assert mc.bind(cage, grid_step=8).coordinates == "harmonic"
+    # The caller's choice wins, as --coords does.
+    expected_mvc = cli_deform(cli, tmp_path, DATA / "butterfly.jpg", path, "--backend", "cpu", "--grid-step", "4",
+                              "--coords", "mvc")
+    mvc = mc.Deformer(butterfly, cage, backend="cpu", grid_step=4, coordinates="mvc")
+    assert mvc.coordinates == "mvc"
+    assert_same_pixels(mvc.deform(pose), expected_mvc)
+    assert not np.array_equal(expected, expected_mvc)
+    assert mc.bind(cage, coordinates="mvc", grid_step=8).coordinates == "mvc"
+    # A Binding already holds its coordinates: asking for others is a mistake, not a rebind.
+    with pytest.raises(ValueError, match="the binding holds harmonic coordinates, not mvc"):
+        mc.Deformer(butterfly, mc.bind(cage, grid_step=8), coordinates="mvc")

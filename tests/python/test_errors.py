@@ -40,9 +40,25 @@ def test_not_an_array_is_a_type_error(butterfly, butterfly_cage):
         mc.Deformer(butterfly.tolist(), butterfly_cage)
 
 
-def test_image_of_another_size_names_both_sizes(butterfly, butterfly_cage):
-    with pytest.raises(mc.Error, match="the image is 493x100 but the multicage was made for 493x356") as e:
-        mc.Deformer(butterfly[:100], butterfly_cage)
+def test_binding_of_another_size_says_what_to_do_in_python_terms(butterfly, butterfly_cage):
+    # A Multicage is scaled to the image (test_cli_agreement); a Binding cannot be: the error
+    # names both sizes and the Python way out, never a C++ function.
+    binding = mc.bind(butterfly_cage, grid_step=8)
+    with pytest.raises(ValueError, match=r"the image is 493x100 but the binding was made for 493x356; "
+                                         r"pass the Multicage instead .* cage\.scaled\(\(493, 100\)\)") as e:
+        mc.Deformer(butterfly[:100], binding)
+    assert "::" not in str(e.value) and "Size" not in str(e.value)
+
+
+def test_multicage_without_a_size_is_a_value_error(butterfly):
+    with pytest.raises(ValueError, match=r"the multicage has no image size; make it with Multicage\(\(width, height\)\)"):
+        mc.Deformer(butterfly, mc.Multicage())
+
+
+def test_library_errors_carry_code_and_function(butterfly, butterfly_cage):
+    pose = butterfly_cage.rest_pose()
+    with pytest.raises(mc.Error) as e:
+        mc.Deformer(butterfly, butterfly_cage, backend="cpu", grid_step=8).deform(pose[:3])
     assert isinstance(e.value, ValueError)
     assert not str(e.value).startswith("OpenCV"), "the message must be the library's, not cv::Exception::what()"
     assert e.value.code < 0 and e.value.func
