@@ -156,3 +156,74 @@ def test_the_cage_files_coordinates_are_followed_unless_given(cli, tmp_path, but
     # A Binding already holds its coordinates: asking for others is a mistake, not a rebind.
     with pytest.raises(ValueError, match="the binding holds harmonic coordinates, not mvc"):
         mc.Deformer(butterfly, mc.bind(cage, grid_step=8), coordinates="mvc")
+
+
+def cli_propose_options(cli):
+    """`multicage propose --help`: {option name: default shown or None}."""
+    import re
+    text = cli("propose", "--help").stdout
+    options = {}
+    for line in text.splitlines():
+        m = re.match(r"\s+(?:-\w,)?--([\w-]+)(\s+\S+)?", line)
+        if m:
+            default = re.search(r"\S=([\w.-]+)\s*$", line)
+            options[m.group(1)] = default.group(1) if default else None
+    return options
+
+
+def test_propose_keywords_are_the_cli_options(cli):
+    """Issue 13 items 5 and 13: every `multicage propose` option is a propose_multicage keyword
+    of the same name ('-' as '_', --no-X as X=False), with the same default, and the Python
+    defaults are the library's own (propose_defaults())."""
+    defaults = mc.propose_defaults()
+    options = cli_propose_options(cli)
+    assert {"max-vertices", "margin", "method"} <= set(options), options
+    aliases = {"min-area": "min_region_area"}  # the CLI's older name, accepted by Python too
+    for option, default in options.items():
+        if option in ("help", "help-all", "output", "overlay"):
+            continue
+        name = option.replace("-", "_")
+        name = aliases.get(option, name[3:] if name.startswith("no_") else name)
+        assert name in defaults, f"--{option} has no propose_multicage keyword {name!r}"
+        if default is not None:
+            expected = defaults[name]
+            assert type(expected)(default) == expected, f"--{option} defaults to {default}, Python to {expected}"
+    # protect: the CLI's flag says which way its default goes; Python's default is the same.
+    if "no-protect" in options:
+        assert defaults["protect"] is True
+    elif "protect" in options:
+        assert defaults["protect"] is False
+
+
+def test_protect_gives_the_multicage_the_cli_gives(cli, tmp_path):
+    """protect=True adds inner polygons (depth 2) around features inside the outline, as
+    `multicage propose --protect` does; protect=False gives outlines only; no keyword gives
+    the library's default."""
+    from conftest import DATA
+    image_path = DATA / "butterfly.jpg"
+    image = cv2.imread(str(image_path), cv2.IMREAD_UNCHANGED)
+    protected = mc.propose_multicage(image, protect=True)
+    outline = mc.propose_multicage(image, protect=False)
+    assert max(protected.depth(i) for i in range(protected.polygon_count)) == 2
+    assert max(outline.depth(i) for i in range(outline.polygon_count)) == 1
+    default = mc.propose_multicage(image)
+    assert default.polygon_count == (protected if mc.propose_defaults()["protect"] else outline).polygon_count
+    assert protected.validate() == (True, "")
+    options = cli_propose_options(cli)
+    flag = "--protect" if "protect" in options else None
+    if flag:
+        cli("propose", image_path, "-o", tmp_path / "cli.yml", flag)
+        from_cli = mc.Multicage.load(str(tmp_path / "cli.yml"))
+        assert from_cli.polygon_count == protected.polygon_count
+        for i in range(protected.polygon_count):
+            assert np.array_equal(from_cli.polygon(i), protected.polygon(i)), f"polygon {i} differs"
+    # Every default passed explicitly is the same as no keyword at all, and min_area is
+    # min_region_area under the CLI's older name.
+    explicit = mc.propose_multicage(image, **mc.propose_defaults())
+    assert explicit.polygon_count == default.polygon_count
+    assert all(np.array_equal(explicit.polygon(i), default.polygon(i)) for i in range(default.polygon_count))
+    a = mc.propose_multicage(image, method="threshold", min_area=0.05, protect=False)
+    b = mc.propose_multicage(image, method="threshold", min_region_area=0.05, protect=False)
+    assert a.polygon_count == b.polygon_count and np.array_equal(a.polygon(0), b.polygon(0))
+    with pytest.raises(TypeError, match="both min_region_area and min_area"):
+        mc.propose_multicage(image, min_area=0.05, min_region_area=0.05)

@@ -83,7 +83,8 @@ bool boolArg(const py::handle& v, const std::string& name) {
     throw py::type_error(name + ": expected True or False, got " + shortValue(v));
 }
 
-/** A string name, one of the enum's members, or its integer value. */
+/** A string name, one of the enum's members, or its integer value (not a float: 2.0 is
+more likely a mistake than a method). */
 int enumFromObject(const py::handle& obj, const char* what,
                    const std::vector<std::pair<std::string, int>>& names, int count) {
     if (py::isinstance<py::str>(obj)) {
@@ -95,12 +96,11 @@ int enumFromObject(const py::handle& obj, const char* what,
         }
         throw py::value_error(std::string(what) + ": '" + obj.cast<std::string>() + "' is not one of " + known);
     }
-    int v;
-    try {
-        v = py::int_(py::reinterpret_borrow<py::object>(obj)).cast<int>();
-    } catch (const py::error_already_set&) {
+    // pybind11 enums convert through int(); ints and numpy integers through __index__.
+    const bool isEnum = py::hasattr(obj, "__members__") && py::hasattr(obj, "value");
+    if (PyBool_Check(obj.ptr()) || !(isEnum || PyIndex_Check(obj.ptr())))
         throw py::type_error(std::string(what) + ": expected a name or an enum value, got " + shortValue(obj));
-    }
+    const int v = isEnum ? obj.attr("value").cast<int>() : intArg(obj, what);
     if (v < 0 || v >= count)
         throw py::value_error(std::string(what) + ": " + std::to_string(v) + " is out of range");
     return v;
@@ -1004,7 +1004,13 @@ by polygon, then the 4 frame corners.)doc")
                 d->cageSize = sizeFromObject(state[4], "Deformer state: cage size");
                 return d;
             }))
-        .def("__repr__", [](PyDeformer& d) {
+        .def("__repr__", [](const py::handle& self) {
+            // A failed __init__ leaves an instance that tracebacks (pytest's among them) still
+            // show: its repr must not touch the PyDeformer it never got.
+            auto* inst = reinterpret_cast<py::detail::instance*>(self.ptr());
+            if (!inst->get_value_and_holder(py::detail::get_type_info(typeid(PyDeformer))).holder_constructed())
+                return std::string("<multicage.Deformer (not initialised)>");
+            PyDeformer& d = self.cast<PyDeformer&>();
             const Binding& b = d.binding();
             return "<multicage.Deformer " + std::string(backendName(d.deformer->backend())) + ", " +
                    std::to_string(b.imageSize.width) + "x" + std::to_string(b.imageSize.height) + ", " +
@@ -1074,7 +1080,7 @@ by polygon, then the 4 frame corners.)doc")
             if (cage.polygonCount() == 0) {
                 std::ostringstream s;
                 s << "propose_multicage: no object found with method='" << proposeMethodName(options.params.method)
-                  << "' (no region covers min_region_area=" << options.params.minRegionArea
+                  << "' (no region larger than min_region_area=" << options.params.minRegionArea
                   << " of the image); try another method, a smaller min_region_area, or a mask "
                      "(method='mask')";
                 raise(noObjectErrorType, s.str());
