@@ -259,3 +259,10 @@ def test_propose_without_an_object_raises_as_the_cli_fails(tmp_path):
         r = subprocess.run([cli, "propose", str(tmp_path / "noise.png"), "-o", str(tmp_path / "c.yml")],
                            capture_output=True, text=True)
         assert r.returncode != 0 and "no object found" in r.stderr
+
+
+def test_an_image_cv2_could_not_read_says_so(butterfly_cage):
+    import cv2
+    missing = cv2.imread("no/such/file.jpg")
+    with pytest.raises(TypeError, match=r"image: expected a numpy array, got None \(cv2.imread returns None"):
+        mc.Deformer(missing, butterfly_cage)

@@ -6,13 +6,21 @@ HxWx3 BGR or HxWx4 BGRA), points are Nx2 arrays of (x, y) with pixel (x, y) at i
 sizes are (width, height).
 
     import cv2, multicage
-    image = cv2.imread("butterfly.jpg")
-    cage = multicage.propose_multicage(image)            # or Multicage.load("cage.yml")
+    image = cv2.imread("samples/data/butterfly.jpg")     # paths from the source folder
+    cage = multicage.propose_multicage(image)            # or Multicage.load("samples/butterfly.yml")
     deformer = multicage.Deformer(image, cage, backend="cpu")
     pose = cage.rest_pose(); pose[:, 1] -= 10            # move every vertex up 10 px
     out = deformer.deform(pose)                          # same shape and dtype as image
     mapx, mapy = deformer.compute_maps(pose)             # for cv2.remap of masks, labels
+    mask = multicage.propose_segmentation(image)         # or any HxW mask of the image's size
     mask_out = cv2.remap(mask, mapx, mapy, cv2.INTER_NEAREST)
+
+A multicage made for another image size is scaled to the image (poses too), as the CLI does;
+Deformer follows the multicage's coordinates (a cage file's `coordinates:`) unless given
+coordinates=; propose_multicage takes the CLI's options as keywords and raises
+NoObjectFoundError where the CLI says "no object found". gpu_available() says whether
+backend='gpu' works, auto_backend() what backend='auto' takes. Multicage, Pose, Binding and
+Deformer pickle (multiprocessing, Dask).
 
 Errors reported by the library raise multicage.Error (a ValueError) with the library's
 message; wrong array types raise TypeError, wrong shapes ValueError. The GIL is released
