@@ -528,7 +528,7 @@ rest          a Multicage, or a Binding made by multicage.bind() for an image of
               given in the multicage's own coordinates and scaled the same way.
 coordinates   'mvc' (mean value) or 'harmonic', or a CoordinateType; None (the default)
               follows the multicage's choice (Multicage.coordinates, a cage file's
-              `coordinates:`), as `multicage deform` does without --coords
+              `coordinates:`), as `multicage deform` does without --coords    [--coords]
 grid_step     a mesh node every grid_step pixels (1 is the paper's method)   [--grid-step]
 backend       'auto', 'cpu' or 'gpu', or a Backend. 'auto' takes the GPU when a hardware
               OpenGL context can be made, else the CPU (multicage.auto_backend() says which);
@@ -539,6 +539,7 @@ half_float    GPU: store coefficients as 16-bit floats
 gpu_binding   GPU: compute the mean value binding in a compute shader
 memory_budget most bytes the coefficients may take (None: the library's 1 GiB; 0: no limit);
               above it the grid step is raised (deformer.grid_step says the step used)
+[--name]: the `multicage deform` option that sets the same thing.
 
 A pose is an Nx2 array of vertex_count points (or vertex_count + 4 with the frame corners
 last). The GIL is released while binding and deforming.
