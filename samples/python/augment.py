@@ -138,10 +138,10 @@ def main(argv=None):
         cage = multicage.propose_multicage(source, method=method, max_vertices=args.max_vertices)
         if mask is None:
             mask = multicage.propose_segmentation(image, method=method)
+    except multicage.NoObjectFoundError:
+        sys.exit("augment.py: no object found in the image; nothing to deform (try --method or --mask)")
     except multicage.Error as e:
         sys.exit(f"augment.py: cannot propose a multicage: {e}")
-    if cage.polygon_count == 0:
-        sys.exit("augment.py: no object found in the image; nothing to deform (try --method or --mask)")
 
     deformer = multicage.Deformer(image, cage, grid_step=args.grid_step, backend=args.backend)
     rng = np.random.default_rng(args.seed)

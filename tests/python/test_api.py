@@ -174,3 +174,30 @@ def test_propose_multicage_and_segmentation(butterfly):
     # drawing returns a new image
     drawn = cage.draw(butterfly)
     assert drawn.shape == butterfly.shape and not np.array_equal(drawn, butterfly)
+
+
+def test_gpu_available_and_auto_backend_agree_with_auto(butterfly, butterfly_cage):
+    """Issue 13 item 8: gpu_available() says whether backend='gpu' works (any OpenGL, software
+    renderers included); auto_backend() says what backend='auto' takes, and agrees with a
+    Deformer made with backend='auto'. Both are probed once per process."""
+    available, description = mc.gpu_available()
+    assert isinstance(available, bool) and description
+    auto = mc.auto_backend()
+    assert auto in ("cpu", "gpu")
+    assert mc.Deformer(butterfly, butterfly_cage, grid_step=8).backend == auto
+    assert mc.deform_image(butterfly, butterfly_cage, butterfly_cage.rest_pose(), grid_step=8).shape == butterfly.shape
+    if auto == "gpu":
+        assert available
+    if not available or any(s in description for s in ("llvmpipe", "softpipe", "SwiftShader")):
+        assert auto == "cpu", "auto skips software OpenGL: the CPU backend is faster there"
+    if available:
+        assert mc.Deformer(butterfly, butterfly_cage, grid_step=8, backend="gpu").backend == "gpu"
+    # The docs say the same.
+    assert "auto_backend()" in mc.gpu_available.__doc__ and "software" in mc.gpu_available.__doc__
+    assert "gpu_available()" in mc.auto_backend.__doc__
+    # Probed once: later calls are answers from memory, not new EGL contexts.
+    import time
+    t0 = time.perf_counter()
+    for _ in range(20):
+        assert mc.gpu_available() == (available, description) and mc.auto_backend() == auto
+    assert time.perf_counter() - t0 < 0.05

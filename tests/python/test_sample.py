@@ -60,3 +60,11 @@ def test_augments_image_and_mask_within_bound(tmp_path):
     again = cv2.remap(mask, mapx, mapy, cv2.INTER_NEAREST)
     saved = cv2.imread(str(out / "HappyFish_001_mask.png"), cv2.IMREAD_UNCHANGED)
     assert np.array_equal(again[covered], saved[covered])
+
+
+def test_no_object_fails_with_one_line(tmp_path):
+    noise = np.random.default_rng(1).integers(0, 255, (20, 20, 3), dtype=np.uint8)
+    cv2.imwrite(str(tmp_path / "noise.png"), noise)
+    r = run(tmp_path / "noise.png", "-o", tmp_path / "out")
+    assert r.returncode != 0 and "no object found in the image" in r.stderr
+    assert len(r.stderr.strip().splitlines()) == 1

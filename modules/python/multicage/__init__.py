@@ -6,18 +6,89 @@ HxWx3 BGR or HxWx4 BGRA), points are Nx2 arrays of (x, y) with pixel (x, y) at i
 sizes are (width, height).
 
     import cv2, multicage
-    image = cv2.imread("butterfly.jpg")
-    cage = multicage.propose_multicage(image)            # or Multicage.load("cage.yml")
+    image = cv2.imread("samples/data/butterfly.jpg")     # paths from the source folder
+    cage = multicage.propose_multicage(image)            # or Multicage.load("samples/butterfly.yml")
     deformer = multicage.Deformer(image, cage, backend="cpu")
     pose = cage.rest_pose(); pose[:, 1] -= 10            # move every vertex up 10 px
     out = deformer.deform(pose)                          # same shape and dtype as image
     mapx, mapy = deformer.compute_maps(pose)             # for cv2.remap of masks, labels
+    mask = multicage.propose_segmentation(image)         # or any HxW mask of the image's size
     mask_out = cv2.remap(mask, mapx, mapy, cv2.INTER_NEAREST)
+
+A multicage made for another image size is scaled to the image (poses too), as the CLI does;
+Deformer follows the multicage's coordinates (a cage file's `coordinates:`) unless given
+coordinates=; propose_multicage takes the CLI's options as keywords and raises
+NoObjectFoundError where the CLI says "no object found". gpu_available() says whether
+backend='gpu' works, auto_backend() what backend='auto' takes. Multicage, Pose, Binding and
+Deformer pickle (multiprocessing, Dask).
 
 Errors reported by the library raise multicage.Error (a ValueError) with the library's
 message; wrong array types raise TypeError, wrong shapes ValueError. The GIL is released
 while the library binds, deforms, proposes or computes coordinates.
 """
+
+
+import functools as _functools
+
+from . import _multicage
+
+
+def _short(value):
+    """An argument as a message shows it: arrays by shape and dtype, never their pixels."""
+    shape, dtype = getattr(value, "shape", None), getattr(value, "dtype", None)
+    if shape is not None and dtype is not None:
+        return f"{type(value).__module__}.{type(value).__name__}(shape={tuple(shape)}, dtype={dtype})"
+    try:
+        text = repr(value)
+    except Exception:  # an object whose repr fails still gets a message
+        text = f"<{type(value).__module__}.{type(value).__name__}>"
+    return text if len(text) <= 80 else text[:77] + "..."
+
+
+def _rewrite(message, args, kwargs):
+    """pybind11's 'incompatible function arguments' message with the arguments shown short.
+    pybind11 prints the repr of every argument, which for an image is hundreds of lines."""
+    head = message.split("\nInvoked with:", 1)[0].rstrip().replace("multicage._multicage.", "multicage.")
+    shown = [_short(a) for a in args] + [f"{k}={_short(v)}" for k, v in kwargs.items()]
+    text = f"{head}\n\nInvoked with: {', '.join(shown)}"
+    if ", *," in head or "(*, " in head or "**kwargs" in head:
+        text += "\n(the parameters after '*' and the **kwargs options are keyword-only: pass them as name=value)"
+    return text
+
+
+def _wrap(function, constructor=False):
+    @_functools.wraps(function)
+    def call(*args, **kwargs):
+        try:
+            return function(*args, **kwargs)
+        except TypeError as e:
+            if "Invoked with:" not in str(e):
+                raise
+            # pybind11 leaves the (not yet constructed) self out of a constructor's arguments
+            raise TypeError(_rewrite(str(e), args[1:] if constructor else args, kwargs)) from None
+    return call
+
+
+def _wrap_module():
+    # Every function and method of the extension, so that a misuse anywhere gets a short
+    # message; properties convert their values themselves, pickling is left alone.
+    for name in dir(_multicage):
+        obj = getattr(_multicage, name)
+        if type(obj).__name__ == "builtin_function_or_method":
+            setattr(_multicage, name, _wrap(obj))
+        elif isinstance(obj, type) and obj.__module__.startswith("multicage"):
+            for attr, member in list(vars(obj).items()):
+                if attr in ("__getstate__", "__setstate__", "__repr__", "__eq__", "__copy__", "__deepcopy__"):
+                    continue
+                if attr != "__init__" and attr.startswith("__"):
+                    continue
+                if isinstance(member, staticmethod):
+                    setattr(obj, attr, staticmethod(_wrap(member.__func__)))
+                elif type(member).__name__ == "instancemethod":
+                    setattr(obj, attr, _wrap(member.__func__, constructor=attr == "__init__"))
+
+
+_wrap_module()
 
 from ._multicage import (
     CONDITIONING_WARNING,
@@ -26,14 +97,17 @@ from ._multicage import (
     CoordinateType,
     Deformer,
     Error,
+    NoObjectFoundError,
     Multicage,
     Pose,
     ProposeMethod,
     __version__,
+    auto_backend,
     bind,
     deform_image,
     gpu_available,
     mean_value_coordinates,
+    propose_defaults,
     propose_multicage,
     propose_segmentation,
     protect_features,
@@ -46,13 +120,16 @@ __all__ = [
     "CoordinateType",
     "Deformer",
     "Error",
+    "NoObjectFoundError",
     "Multicage",
     "Pose",
     "ProposeMethod",
+    "auto_backend",
     "bind",
     "deform_image",
     "gpu_available",
     "mean_value_coordinates",
+    "propose_defaults",
     "propose_multicage",
     "propose_segmentation",
     "protect_features",

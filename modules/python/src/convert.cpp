@@ -31,6 +31,9 @@ std::string typeName(const py::handle& obj) {
 }
 
 cv::Mat imageFromArray(const py::handle& obj, const char* what, py::object& keep, bool allowInt32) {
+    if (obj.is_none())
+        throw py::type_error(std::string(what) + ": expected a numpy array, got None (cv2.imread returns None "
+                             "when it cannot read the file: check the path)");
     if (!py::isinstance<py::array>(obj))
         throw py::type_error(std::string(what) + ": expected a numpy array (as cv2.imread returns), got " +
                              typeName(obj));
