@@ -130,7 +130,8 @@ DeformParams deformParams(const py::object& coordinates, const py::object& gridS
     p.backend = parseBackend(backend);
     p.borderValue = scalarFromObject(borderValue, "border_value");
     p.halfFloat = boolArg(halfFloat, "half_float");
-    p.gpuBinding = boolArg(gpuBinding, "gpu_binding");
+    // None: the library's default (on the GPU where it is a hardware one); True/False force it.
+    p.gpuBinding = gpuBinding.is_none() ? -1 : boolArg(gpuBinding, "gpu_binding") ? 1 : 0;
     if (!memoryBudget.is_none()) {
         const double budget = numberArg(memoryBudget, "memory_budget");
         if (!(budget >= 0) || budget > 9.0e18 || budget != std::floor(budget))
@@ -141,32 +142,14 @@ DeformParams deformParams(const py::object& coordinates, const py::object& gridS
     return p;
 }
 
-// ProposeParams gains a `protect` field in the library (issue 13 item 5: protection by
-// default). Until it has one, the binding protects as `multicage propose --protect` does, and
-// the default is the library's current behaviour (no protection); once it has, the field's
-// default and the library's own protection are used, so Python never hard-codes either.
-template <class P, class = void>
-struct HasProtect : std::false_type {};
-template <class P>
-struct HasProtect<P, std::void_t<decltype(std::declval<P&>().protect)>> : std::true_type {};
-
-template <class P>
-bool defaultProtect() {
-    if constexpr (HasProtect<P>::value) return static_cast<bool>(P().protect);
-    else return false;
-}
-
-template <class P>
-void setProtect(P& p, bool protect) {
-    if constexpr (HasProtect<P>::value) p.protect = protect;
-}
-
 /** The keywords of propose_multicage and friends. They are the CLI's options with '-' as
 '_' (`--min-region-area` is min_region_area); min_area is accepted too, as the CLI's older
 `--min-area`. */
 struct ProposeOptions {
     ProposeParams params;
-    bool protect = defaultProtect<ProposeParams>();
+    /** As `multicage propose`: inner polygons protect the features inside each outline
+    (proposeProtectedMulticage) unless protect=False. */
+    bool protect = true;
 };
 
 const char* kProposeKeywords =
@@ -222,21 +205,19 @@ ProposeOptions proposeOptions(const py::kwargs& kwargs, const char* function, bo
     }
     if (!std::isfinite(p.margin)) throw py::value_error("margin: must be finite");
     if (!std::isfinite(p.minRegionArea)) throw py::value_error("min_region_area: must be finite");
-    setProtect(p, o.protect);
     return o;
 }
 
-/** proposeMulticage with the protection `multicage propose` applies (see HasProtect). */
-Multicage proposeProtected(const cv::Mat& image, const ProposeOptions& o) {
+/** The multicage `multicage propose` gives for the same options: protected by default, and a
+mask or label input (no photo to find features in) only when protect=True is explicit. */
+Multicage proposeProtected(const cv::Mat& image, const ProposeOptions& o, bool protectGiven) {
+    const bool maskInput = o.params.method == PROPOSE_MASK || o.params.method == PROPOSE_LABELS;
+    if (!o.protect || (maskInput && !protectGiven)) return proposeMulticage(image, o.params);
+    if (!maskInput) return proposeProtectedMulticage(image, o.params);
     Multicage cage = proposeMulticage(image, o.params);
-    if constexpr (!HasProtect<ProposeParams>::value) {
-        if (o.protect) {
-            // As the CLI: features inside every top-level polygon, in polygon order.
-            const int top = cage.polygonCount();
-            for (int p = 0; p < top; ++p)
-                if (cage.depth(p) == 1) cage = protectFeatures(image, cage, p, o.params);
-        }
-    }
+    const int top = cage.polygonCount();
+    for (int p = 0; p < top; ++p)
+        if (cage.depth(p) == 1) cage = protectFeatures(image, cage, p, o.params);
     return cage;
 }
 
@@ -519,7 +500,7 @@ std::unique_ptr<PyDeformer> makeDeformer(const py::handle& imageObj, const py::h
 const char* kDeformerDoc = R"doc(Binds an image to a multicage once, then deforms it for any number of poses.
 
 Deformer(image, rest, *, coordinates=None, grid_step=1, backend='auto', border_value=None,
-         half_float=False, gpu_binding=False, memory_budget=None)
+         half_float=False, gpu_binding=None, memory_budget=None)
 
 image         numpy array as cv2 gives it: uint8, uint16 or float32; HxW, HxWx3 or HxWx4
 rest          a Multicage, or a Binding made by multicage.bind() for an image of this size.
@@ -536,7 +517,8 @@ backend       'auto', 'cpu' or 'gpu', or a Backend. 'auto' takes the GPU when a 
 border_value  output pixels no deformed triangle covers: a number (every channel) or up to 4
                                                                              [--border]
 half_float    GPU: store coefficients as 16-bit floats
-gpu_binding   GPU: compute the mean value binding in a compute shader
+gpu_binding   GPU: compute the mean value binding in a compute shader (None: where the GPU
+              is a hardware one; True: always with the GPU backend; False: never)
 memory_budget most bytes the coefficients may take (None: the library's 1 GiB; 0: no limit);
               above it the grid step is raised (deformer.grid_step says the step used)
 [--name]: the `multicage deform` option that sets the same thing.
@@ -905,11 +887,11 @@ by polygon, then the 4 frame corners.)doc")
     py::class_<PyDeformer>(m, "Deformer", kDeformerDoc)
         .def(py::init(create), py::arg("image"), py::arg("rest"), py::kw_only(), py::arg("coordinates") = py::none(),
              py::arg("grid_step") = 1, py::arg("backend") = "auto", py::arg("border_value") = py::none(),
-             py::arg("half_float") = false, py::arg("gpu_binding") = false, py::arg("memory_budget") = py::none())
+             py::arg("half_float") = false, py::arg("gpu_binding") = py::none(), py::arg("memory_budget") = py::none())
         .def_static("create", create, py::arg("image"), py::arg("rest"), py::kw_only(),
                     py::arg("coordinates") = py::none(), py::arg("grid_step") = 1, py::arg("backend") = "auto",
                     py::arg("border_value") = py::none(), py::arg("half_float") = false,
-                    py::arg("gpu_binding") = false, py::arg("memory_budget") = py::none(), "Same as Deformer(...).")
+                    py::arg("gpu_binding") = py::none(), py::arg("memory_budget") = py::none(), "Same as Deformer(...).")
         .def(
             "deform",
             [](PyDeformer& d, const py::object& pose) {
@@ -979,7 +961,8 @@ by polygon, then the 4 frame corners.)doc")
                 params["border_value"] =
                     py::make_tuple(p.borderValue[0], p.borderValue[1], p.borderValue[2], p.borderValue[3]);
                 params["half_float"] = p.halfFloat;
-                params["gpu_binding"] = p.gpuBinding;
+                params["gpu_binding"] =
+                    p.gpuBinding < 0 ? py::object(py::none()) : py::object(py::bool_(p.gpuBinding > 0));
                 params["memory_budget"] = p.memoryBudget;
                 return py::make_tuple(kPickleVersion, d.image, py::cast(std::move(binding)), params,
                                       sizeTuple(d.cageSize));
@@ -1041,7 +1024,7 @@ by polygon, then the 4 frame corners.)doc")
         },
         py::arg("image"), py::arg("rest"), py::arg("pose"), py::kw_only(), py::arg("coordinates") = py::none(),
         py::arg("grid_step") = 1, py::arg("backend") = "auto", py::arg("border_value") = py::none(),
-        py::arg("half_float") = false, py::arg("gpu_binding") = false, py::arg("memory_budget") = py::none(),
+        py::arg("half_float") = false, py::arg("gpu_binding") = py::none(), py::arg("memory_budget") = py::none(),
         "One shot: binds, deforms once, returns the image. Same keywords and scaling as Deformer; "
         "prefer a Deformer for several poses.");
 
@@ -1071,12 +1054,13 @@ by polygon, then the 4 frame corners.)doc")
         "propose_multicage",
         [](const py::object& image, const py::kwargs& kwargs) {
             const ProposeOptions options = proposeOptions(kwargs, "propose_multicage", true);
+            const bool protectGiven = kwargs.contains("protect");
             py::object keep;
             const cv::Mat src = imageFromArray(image, "image", keep, true);
             Multicage cage;
             {
                 py::gil_scoped_release release;
-                cage = proposeProtected(src, options);
+                cage = proposeProtected(src, options, protectGiven);
             }
             if (cage.polygonCount() == 0) {
                 std::ostringstream s;
