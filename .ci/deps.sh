@@ -8,7 +8,7 @@ export DEBIAN_FRONTEND=noninteractive
 $SUDO apt-get update -qq
 $SUDO apt-get install -y -qq --no-install-recommends \
     ca-certificates cmake ninja-build g++ pkg-config \
-    libopencv-dev libopencv-contrib-dev \
+    libopencv-dev libopencv-contrib-dev opencv-data \
     libglm-dev libepoxy-dev libegl-dev libgl-dev libopengl-dev libegl-mesa0 libgl1-mesa-dri \
     libeigen3-dev libcli11-dev \
     libgif-dev \

@@ -15,7 +15,8 @@ struct ProposeOptions {
     float margin = -1.f;
     double minArea = 0.004;
     std::vector<int> rect;
-    bool protect = false, noProtect = false;
+    std::string protect, cascadeDir;  // protect: "" (not given: all), saliency, faces, all
+    bool noProtect = false;
 };
 
 void checkCageOutput(const std::string& path) {
@@ -70,16 +71,37 @@ void runPropose(const ProposeOptions& o) {
         cv::cvtColor(image, input,
                      image.channels() == 4 ? cv::COLOR_BGRA2GRAY : cv::COLOR_BGR2GRAY);
     }
+    params.protect = parseProtectDetector(o.protect.empty() ? "all" : o.protect);
+    params.cascadeDir = o.cascadeDir;
     Multicage cage;
+    std::vector<cv::Rect> faces;
+    std::string note;
     try {
-        // The multicage is the product: inner polygons protect the features inside each
-        // outline unless --no-protect; a mask or label input is no photo to find features in.
+        // The multicage is the product: inner polygons protect the features (faces, salient
+        // blobs) inside each outline unless --no-protect; a mask or label input is no photo to
+        // find features in (--protect still protects its regions).
         const bool maskInput = params.method == PROPOSE_MASK || params.method == PROPOSE_LABELS;
-        cage = proposeMulticage(input, params);
-        if (!o.noProtect && (o.protect || !maskInput)) {
-            const int top = cage.polygonCount();
-            for (int p = 0; p < top; ++p)
-                if (cage.depth(p) == 1) cage = protectFeatures(image, cage, p, params);
+        if (o.noProtect) {
+            cage = proposeMulticage(input, params);
+        } else if (maskInput) {
+            cage = proposeMulticage(input, params);
+            if (!o.protect.empty()) {
+                const int top = cage.polygonCount();
+                for (int p = 0; p < top; ++p)
+                    if (cage.depth(p) == 1) cage = protectFeatures(image, cage, p, params);
+            }
+        } else {
+            cage = proposeProtectedMulticage(image, params, &faces);
+            const bool faceSearch = params.protect != PROTECT_SALIENCY;
+            if (faceSearch && params.protect == PROTECT_ALL && faceCascadeFile(params).empty())
+                note = "note: no face cascade installed (Debian package opencv-data): protected "
+                       "salient features only";
+            else if (faceSearch && faces.empty())
+                note = params.protect == PROTECT_FACES
+                           ? "note: no face found: the outlines have no inner polygon"
+                           : "note: no face found: protected salient features only";
+            else if (faceSearch)
+                note = "protected " + plural(static_cast<int>(faces.size()), "face");
         }
     } catch (const cv::Exception& e) {
         throw Failure(o.image + ": " + reason(e));
@@ -115,6 +137,7 @@ void runPropose(const ProposeOptions& o) {
               << cvRound(msSince(t0)) << " ms)";
     if (!o.overlay.empty()) std::cout << " and " << o.overlay;
     std::cout << std::endl;
+    if (!note.empty()) std::cout << note << std::endl;
 }
 }  // namespace
 
@@ -133,8 +156,11 @@ void addProposeCommand(CLI::App& app) {
         "(spectral residual saliency, coarse and fast), mask (IMAGE is a mask: non-zero is "
         "object), labels (IMAGE is a label image: each label its own polygon).\n"
         "By default the result is a multicage: an outline around each object, plus inner polygons "
-        "around the salient features inside it (moving the outline then leaves them almost "
-        "rigid); --no-protect gives the outlines only.\n"
+        "around the faces and salient features inside it (moving the outline then leaves them "
+        "almost rigid); --protect DETECTOR picks what is protected: all (the default: faces, "
+        "then salient blobs), faces (frontal and profile faces, OpenCV's Haar cascades from "
+        "the Debian package opencv-data), saliency (salient blobs only); --no-protect gives the "
+        "outlines only.\n"
         "The cage file gets a pose named `rest` (every vertex at rest): edit it, or add poses, "
         "and `multicage deform` applies them.\n"
         "Examples:\n"
@@ -182,9 +208,16 @@ void addProposeCommand(CLI::App& app) {
         ->check(CLI::Range(0, 100000));
     cmd->add_option("--rect", o->rect, "GrabCut's starting rectangle: X Y WIDTH HEIGHT in pixels")
         ->expected(4);
-    cmd->add_flag("--protect", o->protect,
-                  "Add inner polygons around the salient features inside each outline (the default, "
-                  "except with --method mask or labels)");
+    cmd->add_option("--protect", o->protect,
+                    "[DETECTOR] What the inner polygons protect: all (faces, then salient blobs; "
+                    "the default, also for a bare --protect), faces, saliency. On by default except "
+                    "with --method mask or labels. Put it after IMAGE.")
+        ->expected(0, 1)
+        ->default_str("all")
+        ->check(CLI::IsMember({"all", "faces", "saliency"}));
+    cmd->add_option("--cascade-dir", o->cascadeDir,
+                    "Folder of the Haar face cascades (default: /usr/share/opencv4/haarcascades, "
+                    "from the Debian package opencv-data)");
     cmd->add_flag("--no-protect", o->noProtect,
                   "Outlines only: one polygon per object, no inner polygons")
         ->excludes("--protect");

@@ -37,7 +37,31 @@ void segmentOnly(benchmark::State& state, const char* image, int method) {
     for (auto _ : state) cv::multicage::proposeSegmentation(img, mask, params);
 }
 
+// Issue 16: faces on messi5.jpg scaled to 1024x768 (cascades loaded before timing).
+void detectFacesOnly(benchmark::State& state) {
+    const cv::Mat img = sample1024("messi5.jpg");
+    cv::multicage::detectFaces(img);
+    for (auto _ : state) benchmark::DoNotOptimize(cv::multicage::detectFaces(img).size());
+}
+
+void proposeProtected(benchmark::State& state, int detector) {
+    const cv::Mat img = sample1024("messi5.jpg");
+    cv::multicage::ProposeParams params;
+    params.protect = detector;
+    if (detector != cv::multicage::PROTECT_SALIENCY) cv::multicage::detectFaces(img);
+    int vertices = 0;
+    for (auto _ : state) {
+        vertices = cv::multicage::proposeProtectedMulticage(img, params).vertexCount();
+        benchmark::DoNotOptimize(vertices);
+    }
+    state.counters["vertices"] = vertices;
+}
+
 using namespace cv::multicage;
+BENCHMARK(detectFacesOnly)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(proposeProtected, faces_messi, PROTECT_FACES)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(proposeProtected, all_messi, PROTECT_ALL)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(proposeProtected, saliency_messi, PROTECT_SALIENCY)->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(propose, threshold_smarties, "smarties.png", PROPOSE_THRESHOLD)
     ->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(propose, adaptive_smarties, "smarties.png", PROPOSE_ADAPTIVE)

@@ -44,6 +44,22 @@ void checkParams(const ProposeParams& p) {
     if (p.workingSize != 0 && p.workingSize < 32) bad("workingSize", p.workingSize, "0 or >= 32");
     if (p.grabCutIterations < 1) bad("grabCutIterations", p.grabCutIterations, ">= 1");
     if (p.grabCutMaxSide < 32) bad("grabCutMaxSide", p.grabCutMaxSide, ">= 32");
+    if (p.protect < PROTECT_SALIENCY || p.protect > PROTECT_ALL)
+        bad("protect", p.protect, "a ProtectDetector");
+    if (p.faceWorkingSize != 0 && p.faceWorkingSize < 48)
+        bad("faceWorkingSize", p.faceWorkingSize, "0 or >= 48");
+}
+
+// A face's protected zone in work pixels: the ellipse through the corners of its box (same
+// aspect), grown by `grow`.
+void fillFace(Mat& mask, const Rect& face, const Size full, float grow) {
+    const double sx = mask.cols / static_cast<double>(full.width);
+    const double sy = mask.rows / static_cast<double>(full.height);
+    const Point2d c((face.x + 0.5 * face.width - 0.5) * sx + 0.5 * (sx - 1),
+                    (face.y + 0.5 * face.height - 0.5) * sy + 0.5 * (sy - 1));
+    const double k = 0.5 * 1.45;  // > 1/sqrt(2): the box's corners are inside
+    const Size axes(cvCeil(k * face.width * sx + grow), cvCeil(k * face.height * sy + grow));
+    ellipse(mask, Point(cvRound(c.x), cvRound(c.y)), axes, 0, 0, 360, Scalar(255), FILLED);
 }
 
 // The parameters in pixels of the working copy.
@@ -517,12 +533,22 @@ void proposeSegmentation(InputArray image, OutputArray mask, const ProposeParams
     fromWork(segmentForProposal(img, w, params).objects, w).copyTo(mask);
 }
 
-Multicage proposeMulticage(InputArray image, const ProposeParams& params) {
+namespace {
+// proposeMulticage; the outlines also enclose every face in `faces` with room (two bands) for
+// the face's own protective polygon inside.
+Multicage proposeOutlines(InputArray image, const ProposeParams& params,
+                          const std::vector<Rect>& faces) {
     checkParams(params);
     const Mat img = image.getMat();
     if (img.empty()) CV_Error(Error::StsBadArg, "multicage: proposeMulticage: the image is empty");
     const Work w = resolve(img.size(), params);
-    const Segmentation s = segmentForProposal(img, w, params);
+    Segmentation s = segmentForProposal(img, w, params);
+    // Room around a face: a wider band between the face's polygon and the outline lets less
+    // of the outline's motion through to the face (mean value coordinates are global).
+    for (const Rect& f : faces) {
+        const float size = 0.5f * (f.width + f.height) / static_cast<float>(w.scale);
+        fillFace(s.objects, f, w.full, std::max(4 * w.margin + 2 * w.gap, 0.6f * size));
+    }
     const Mat cage = params.method == PROPOSE_LABELS ? cageMaskFromLabels(s.labels, w)
                                                      : cageMaskFromObjects(s.objects, w);
     std::vector<Region> regions = selectRegions(nestedRegions(cage, params.maxDepth, w.minArea),
@@ -541,17 +567,50 @@ Multicage proposeMulticage(InputArray image, const ProposeParams& params) {
     return out;
 }
 
+Multicage protectImpl(InputArray image, const Multicage& cage, int polygon,
+                      const ProposeParams& params, const std::vector<Rect>* knownFaces);
+}  // namespace
+
+Multicage proposeMulticage(InputArray image, const ProposeParams& params) {
+    return proposeOutlines(image, params, {});
+}
+
 Multicage proposeProtectedMulticage(InputArray image, const ProposeParams& params) {
-    Multicage cage = proposeMulticage(image, params);
-    if (params.method == PROPOSE_MASK || params.method == PROPOSE_LABELS) return cage;
+    return proposeProtectedMulticage(image, params, nullptr);
+}
+
+Multicage proposeProtectedMulticage(InputArray image, const ProposeParams& params,
+                                    std::vector<Rect>* facesOut) {
+    checkParams(params);
+    if (facesOut) facesOut->clear();
+    const bool maskInput = params.method == PROPOSE_MASK || params.method == PROPOSE_LABELS;
+    std::vector<Rect> faces;
+    if (!maskInput && params.protect != PROTECT_SALIENCY &&
+        (params.protect == PROTECT_FACES || !faceCascadeFile(params).empty()))
+        faces = detectFaces(image, params);
+    if (facesOut) *facesOut = faces;
+    ProposeParams outlineParams = params;
+    if (!faces.empty())  // leave the faces a share of the budget
+        outlineParams.maxVertices = std::max(
+            kMinPolygonVertices,
+            params.maxVertices - std::min(params.maxVertices / 2,
+                                          static_cast<int>(faces.size()) * 12));
+    Multicage cage = proposeOutlines(image, outlineParams, faces);
+    if (maskInput) return cage;
     const int top = cage.polygonCount();  // protectFeatures appends; only the outlines get it
     for (int p = 0; p < top; ++p)
-        if (cage.depth(p) == 1) cage = protectFeatures(image, cage, p, params);
+        if (cage.depth(p) == 1) cage = protectImpl(image, cage, p, params, &faces);
     return cage;
 }
 
 Multicage protectFeatures(InputArray image, const Multicage& cage, int polygon,
                           const ProposeParams& params) {
+    return protectImpl(image, cage, polygon, params, nullptr);
+}
+
+namespace {
+Multicage protectImpl(InputArray image, const Multicage& cage, int polygon,
+                      const ProposeParams& params, const std::vector<Rect>* knownFaces) {
     checkParams(params);
     const Mat img = image.getMat();
     if (img.empty()) CV_Error(Error::StsBadArg, "multicage: protectFeatures: the image is empty");
@@ -600,9 +659,36 @@ Multicage protectFeatures(InputArray image, const Multicage& cage, int polygon,
     const Mat allowed = insideDistance > (band + w.margin);
     if (countNonZero(allowed) == 0) return out;
 
+    const bool maskInput = params.method == PROPOSE_MASK || params.method == PROPOSE_LABELS;
+    // Faces inside the polygon (centre in the free area): a thinner band than for salient
+    // blobs, so that a face near the outline is still enclosed whole.
+    std::vector<Rect> faces;
+    if (!maskInput && params.protect != PROTECT_SALIENCY) {
+        if (knownFaces)
+            faces = *knownFaces;
+        else if (params.protect == PROTECT_FACES || !faceCascadeFile(params).empty())
+            faces = detectFaces(img, params);
+    }
+    const float faceBand = w.margin + 2 * w.gap;
+    Mat faceMask(w.size, CV_8U, Scalar(0)), faceZone(w.size, CV_8U, Scalar(0));
+    std::vector<Point2f> faceCentres;
+    for (const Rect& f : faces) {
+        const Point2f c((f.x + 0.5f * f.width) * w.size.width / w.full.width,
+                        (f.y + 0.5f * f.height) * w.size.height / w.full.height);
+        const Point ci(std::min(w.size.width - 1, std::max(0, cvFloor(c.x))),
+                       std::min(w.size.height - 1, std::max(0, cvFloor(c.y))));
+        if (!inside.at<uchar>(ci)) continue;
+        fillFace(faceMask, f, w.full, 0.f);
+        fillFace(faceZone, f, w.full, w.margin + 3 * w.gap);
+        faceCentres.push_back(c);
+    }
+    faceMask &= insideDistance > (faceBand + w.margin);
+
     Mat objects;
-    if (params.method == PROPOSE_MASK || params.method == PROPOSE_LABELS) {
+    if (maskInput) {
         objects = toWork(img != 0, w, INTER_NEAREST);
+    } else if (params.protect == PROTECT_FACES) {
+        objects = Mat::zeros(w.size, CV_8U);
     } else {
         const Mat img8 = to8Bit(img);
         if (isConstant(img8)) return out;
@@ -616,12 +702,21 @@ Multicage protectFeatures(InputArray image, const Multicage& cage, int polygon,
     }
     objects &= allowed;
     objects = cleanMask(objects, w.radius, w.minArea);
+    objects |= faceMask;
     if (countNonZero(objects) == 0) return out;
     Mat cageMask = cageMaskFromObjects(objects, w);
-    const Mat limit = insideDistance > band;
+    const Mat limit = (insideDistance > band) | (faceZone & (insideDistance > faceBand));
     cageMask &= limit;
-    std::vector<Region> regions =
-        selectRegions(nestedRegions(cageMask, 1, w.minArea), slots, budget);
+    double minArea = w.minArea;
+    if (!faceCentres.empty()) minArea = std::min(minArea, 0.5 * countNonZero(faceMask) / faceCentres.size());
+    std::vector<Region> found = nestedRegions(cageMask, 1, minArea);
+    // Regions with a face come first: they get the polygon slots and the budget first.
+    std::stable_partition(found.begin(), found.end(), [&](const Region& r) {
+        for (const Point2f& c : faceCentres)
+            if (pointPolygonTest(r.contour, c, false) >= 0) return true;
+        return false;
+    });
+    std::vector<Region> regions = selectRegions(found, slots, budget);
     for (Region& r : regions) r.limit = limit;
     std::vector<Candidate> cs = simplifyAll(regions, w, budget, params.maxPolygonVertices);
     std::vector<Polygon> fixed;
@@ -635,6 +730,7 @@ Multicage protectFeatures(InputArray image, const Multicage& cage, int polygon,
                   ("multicage: protectFeatures made an invalid multicage: %s", why.c_str()));
     return out;
 }
+}  // namespace
 
 }  // namespace multicage
 }  // namespace cv

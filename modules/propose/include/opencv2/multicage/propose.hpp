@@ -36,6 +36,25 @@ enum ProposeMethod {
     PROPOSE_LABELS = 7
 };
 
+/** What protectFeatures() protects inside a polygon. */
+enum ProtectDetector {
+    /** Salient blobs (ProposeParams::method inside the polygon; PROPOSE_AUTO: fine-grained
+    saliency). */
+    PROTECT_SALIENCY = 0,
+    /** Faces: frontal and profile (both directions) faces found by cv::CascadeClassifier with
+    OpenCV's Haar cascades (Debian package opencv-data), optionally confirmed by an eye inside
+    (ProposeParams::faceEyes). Each face becomes an ellipse-like polygon a margin around it;
+    overlapping detections merge. No cascade file: cv::Exception (StsObjectNotFound) naming
+    the package. No face found: nothing added. */
+    PROTECT_FACES = 1,
+    /** Faces first (they get the budget first), then salient blobs. No cascade installed:
+    salient blobs only, no error (faceCascadeFile() tells). */
+    PROTECT_ALL = 2
+};
+
+/** Folder of OpenCV's Haar cascades on Debian (package opencv-data). */
+#define MULTICAGE_DEBIAN_CASCADE_DIR "/usr/share/opencv4/haarcascades"
+
 /** Parameters of proposeMulticage() and protectFeatures(). Every field has a default that
 works on photographs; lengths are in pixels of the input image. */
 struct CV_EXPORTS ProposeParams {
@@ -58,6 +77,17 @@ struct CV_EXPORTS ProposeParams {
     Rect rect;  //!< GrabCut's initial rectangle (empty: found automatically)
     int grabCutIterations = 4;
     int grabCutMaxSide = 240;  //!< GrabCut's own working size (its cost is per pixel)
+    int protect = PROTECT_SALIENCY;  //!< ProtectDetector: what protectFeatures() protects
+    /** Folder holding haarcascade_frontalface_alt2.xml, haarcascade_profileface.xml and
+    haarcascade_eye.xml (only there when given); empty: MULTICAGE_DEBIAN_CASCADE_DIR, then
+    /usr/share/opencv/haarcascades. */
+    String cascadeDir;
+    /** Keep only the faces in which haarcascade_eye.xml finds an eye (fewer false faces,
+    misses faces with closed or hidden eyes). */
+    bool faceEyes = false;
+    /** Faces are searched on a copy whose longer side is at most this (0: full size): the
+    cascades' cost grows with area; the smallest face found is 24 pixels of the copy. */
+    int faceWorkingSize = 640;
 };
 
 /** Proposes a valid, oriented multicage that encloses the objects of an image.
@@ -111,6 +141,30 @@ Outputs:
   No feature found or no budget left: the cage is returned unchanged. */
 CV_EXPORTS Multicage protectFeatures(InputArray image, const Multicage& cage, int polygon,
                                      const ProposeParams& params = ProposeParams());
+
+/** Faces in an image, as protectFeatures() with PROTECT_FACES finds them: frontal and
+profile (both directions) detections on a copy at most params.faceWorkingSize wide or high,
+histogram-equalised, optionally confirmed by an eye (params.faceEyes); overlapping detections
+merged into their bounding box. Rectangles in input pixels, largest first. Throws
+cv::Exception (StsObjectNotFound) when the frontal cascade is not installed: "... install
+the Debian package opencv-data, or set ProposeParams::cascadeDir". */
+CV_EXPORTS std::vector<Rect> detectFaces(InputArray image,
+                                         const ProposeParams& params = ProposeParams());
+
+/** Path of the frontal face cascade protectFeatures() would use (params.cascadeDir, else
+the Debian folders), or an empty string when none is installed. */
+CV_EXPORTS String faceCascadeFile(const ProposeParams& params = ProposeParams());
+
+/** proposeProtectedMulticage() that also returns the faces it found (with PROTECT_FACES or
+PROTECT_ALL; empty otherwise). With faces, the outlines are made to enclose every face with
+room for its protective polygon, and each face gets an inner polygon in the outline around
+it. */
+CV_EXPORTS Multicage proposeProtectedMulticage(InputArray image, const ProposeParams& params,
+                                               std::vector<Rect>* faces);
+
+/** Name of a ProtectDetector ("saliency", "faces", "all"), and back (-1: unknown). */
+CV_EXPORTS const char* protectDetectorName(int detector);
+CV_EXPORTS int parseProtectDetector(const String& name);
 
 /** Name of a ProposeMethod ("auto", "threshold", "adaptive", "grabcut", "saliency",
 "spectral", "mask", "labels"), and back; parseProposeMethod returns -1 for an unknown name. */
