@@ -154,7 +154,7 @@ struct ProposeOptions {
 
 const char* kProposeKeywords =
     "method, max_vertices, max_polygon_vertices, max_polygons, max_depth, margin, min_region_area, "
-    "working_size, rect, protect, morphology_radius, grabcut_iterations, grabcut_max_side";
+    "working_size, rect, protect, cascade_dir, morphology_radius, grabcut_iterations, grabcut_max_side";
 
 ProposeOptions proposeOptions(const py::kwargs& kwargs, const char* function, bool takesProtect) {
     ProposeOptions o;
@@ -188,7 +188,23 @@ ProposeOptions proposeOptions(const py::kwargs& kwargs, const char* function, bo
         else if (key == "working_size") p.workingSize = intArg(v, key);
         else if (key == "grabcut_iterations") p.grabCutIterations = intArg(v, key);
         else if (key == "grabcut_max_side") p.grabCutMaxSide = intArg(v, key);
-        else if (key == "protect" && takesProtect) o.protect = boolArg(v, key);
+        else if (key == "protect" && takesProtect) {
+            // True/False as --protect/--no-protect, or a detector name as --protect DETECTOR.
+            if (py::isinstance<py::str>(v)) {
+                const std::string name = v.cast<std::string>();
+                const int detector = parseProtectDetector(name);
+                if (detector < 0)
+                    throw py::value_error("protect: '" + name + "' is not one of saliency, faces, all");
+                o.protect = true;
+                p.protect = detector;
+            } else {
+                o.protect = boolArg(v, key);
+            }
+        } else if (key == "cascade_dir") {
+            if (!py::isinstance<py::str>(v))
+                throw py::type_error("cascade_dir: expected a folder name (str), got " + shortValue(v));
+            p.cascadeDir = v.cast<std::string>();
+        }
         else if (key == "rect") {
             if (py::isinstance<py::str>(v) || !py::isinstance<py::sequence>(v))
                 throw py::type_error("rect: expected (x, y, width, height), got " + shortValue(v));
@@ -236,6 +252,7 @@ py::dict proposeDefaults() {
     d["working_size"] = p.workingSize;
     d["rect"] = py::make_tuple(p.rect.x, p.rect.y, p.rect.width, p.rect.height);
     d["protect"] = o.protect;
+    d["cascade_dir"] = std::string(p.cascadeDir);
     d["morphology_radius"] = p.morphologyRadius;
     d["grabcut_iterations"] = p.grabCutIterations;
     d["grabcut_max_side"] = p.grabCutMaxSide;
