@@ -62,6 +62,45 @@ std::vector<Point2f> Binding::completePose(InputArray poseIn) const {
     return pose;
 }
 
+namespace {
+
+// px[k] += CC_q[k] dx_q, py[k] += CC_q[k] dy_q for the moved vertices q in order, nodes
+// [begin, begin + count). Four planes per pass over px, py (each sum still adds the terms one
+// by one in vertex order, so the result does not depend on the grouping); a product and a sum
+// are two roundings, never contracted to one fused multiply-add, so every instruction set
+// gives the same bits.
+#pragma GCC push_options
+#pragma GCC optimize("fp-contract=off")
+MULTICAGE_TARGET_CLONES
+void accumulateDisplacements(const Mat& coefficients, const int* moved, const Point2f* delta, int count_q,
+                             size_t begin, int count, float* __restrict px, float* __restrict py) {
+    int q = 0;
+    for (; q + 4 <= count_q; q += 4) {
+        const float* __restrict c0 = coefficients.ptr<float>(moved[q]) + begin;
+        const float* __restrict c1 = coefficients.ptr<float>(moved[q + 1]) + begin;
+        const float* __restrict c2 = coefficients.ptr<float>(moved[q + 2]) + begin;
+        const float* __restrict c3 = coefficients.ptr<float>(moved[q + 3]) + begin;
+        const float x0 = delta[q].x, x1 = delta[q + 1].x, x2 = delta[q + 2].x, x3 = delta[q + 3].x;
+        const float y0 = delta[q].y, y1 = delta[q + 1].y, y2 = delta[q + 2].y, y3 = delta[q + 3].y;
+        for (int k = 0; k < count; ++k) {
+            float x = px[k], y = py[k];
+            x += c0[k] * x0, y += c0[k] * y0;
+            x += c1[k] * x1, y += c1[k] * y1;
+            x += c2[k] * x2, y += c2[k] * y2;
+            x += c3[k] * x3, y += c3[k] * y3;
+            px[k] = x, py[k] = y;
+        }
+    }
+    for (; q < count_q; ++q) {
+        const float* __restrict c = coefficients.ptr<float>(moved[q]) + begin;
+        const float dx = delta[q].x, dy = delta[q].y;
+        for (int k = 0; k < count; ++k) px[k] += c[k] * dx, py[k] += c[k] * dy;
+    }
+}
+#pragma GCC pop_options
+
+}  // namespace
+
 void Binding::apply(InputArray poseIn, OutputArray positionsOut) const {
     CV_Assert(!empty());
     const std::vector<Point2f> pose = completePose(poseIn);
@@ -74,24 +113,32 @@ void Binding::apply(InputArray poseIn, OutputArray positionsOut) const {
         if (d.x != 0.f || d.y != 0.f) moved.push_back(j), delta.push_back(d);
     }
     positionsOut.create(gridSize, CV_32FC2);
-    Mat positions = positionsOut.getMat();
-    const int N = nodeCount(), m = gridSize.width;
-    constexpr int kChunk = 4096;
-    parallel_for_(Range(0, (N + kChunk - 1) / kChunk), [&](const Range& r) {
-        std::vector<float> px(kChunk), py(kChunk);
-        for (int chunk = r.start; chunk < r.end; ++chunk) {
-            const int begin = chunk * kChunk, count = std::min(kChunk, N - begin);
-            for (int k = 0; k < count; ++k) {
-                const Point2f x = node((begin + k) % m, (begin + k) / m);
-                px[k] = x.x, py[k] = x.y;
+    Mat positions = positionsOut.getMat();  // may be a view into a larger mesh (not continuous)
+    const int m = gridSize.width, n = gridSize.height;
+    // Blocks of whole rows, about 2048 nodes each: the running sums stay in L1 while the
+    // coefficient planes stream through, several planes per pass.
+    const int rowsPerBlock = std::max(1, 2048 / m);
+    const int blocks = (n + rowsPerBlock - 1) / rowsPerBlock;
+    parallel_for_(Range(0, blocks), [&](const Range& r) {
+        const int cap = rowsPerBlock * m;
+        std::vector<float> px(cap), py(cap);
+        for (int block = r.start; block < r.end; ++block) {
+            const int gy0 = block * rowsPerBlock, gy1 = std::min(n, gy0 + rowsPerBlock);
+            const size_t begin = static_cast<size_t>(gy0) * m;
+            const int count = (gy1 - gy0) * m;
+            for (int gy = gy0; gy < gy1; ++gy)
+                for (int gx = 0; gx < m; ++gx) {
+                    const Point2f x = node(gx, gy);
+                    px[(gy - gy0) * m + gx] = x.x, py[(gy - gy0) * m + gx] = x.y;
+                }
+            accumulateDisplacements(coefficients, moved.data(), delta.data(), static_cast<int>(moved.size()),
+                                    begin, count, px.data(), py.data());
+            for (int gy = gy0; gy < gy1; ++gy) {
+                Point2f* out = positions.ptr<Point2f>(gy);
+                const float* qx = px.data() + (gy - gy0) * m;
+                const float* qy = py.data() + (gy - gy0) * m;
+                for (int gx = 0; gx < m; ++gx) out[gx] = Point2f(qx[gx], qy[gx]);
             }
-            for (size_t q = 0; q < moved.size(); ++q) {
-                const float* cc = coefficients.ptr<float>(moved[q]) + begin;
-                const float dx = delta[q].x, dy = delta[q].y;
-                for (int k = 0; k < count; ++k) px[k] += cc[k] * dx, py[k] += cc[k] * dy;
-            }
-            Point2f* out = positions.ptr<Point2f>() + begin;
-            for (int k = 0; k < count; ++k) out[k] = Point2f(px[k], py[k]);
         }
     });
 }

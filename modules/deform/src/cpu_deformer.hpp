@@ -4,6 +4,8 @@
 
 #include <opencv2/multicage/deformer.hpp>
 
+#include <vector>
+
 namespace cv {
 namespace multicage {
 
@@ -11,6 +13,29 @@ Ptr<Deformer> createCpuDeformer(const Mat& image, const Binding& binding, const 
 
 /** Throws a cv::Exception unless image is a non-empty 8U/16U/32F image with 1, 3 or 4 channels. */
 void checkImage(InputArray image);
+
+/** The node mesh the CPU backend rasterises (mesh_raster.cpp): the node grid with a ring of
+nodes on the image frame around it, (n+2) x (m+2). It is made once per Deformer and reused by
+every pose, so a pose allocates nothing and touches no fresh memory. */
+class RasterMesh {
+public:
+    /** Allocates (and touches) the mesh for these rest nodes (gridSize CV_32FC2) and output size. */
+    void reset(const Mat& restNodes, Size outputSize);
+    /** The deformed grid nodes: a gridSize CV_32FC2 view inside the mesh, to write a pose into. */
+    Mat nodes() { return P_(Rect(1, 1, P_.cols - 2, P_.rows - 2)); }
+    /** Places the ring on the frame with these 4 corners (TL, TR, BR, BL); null: the rest frame. */
+    void setFrame(const Point2f* frame);
+    /** Inverse maps (outputSize CV_32F, every pixel written) for the current nodes and frame. */
+    void draw(Mat& mapx, Mat& mapy);
+
+private:
+    template <typename F>
+    void forEachRingNode(F&& f) const;
+    Mat P_, R_;  // deformed and rest nodes, ring included
+    Point2f lo_, hi_;
+    Size out_;
+    std::vector<float> rowMin_, rowMax_;
+};
 
 }  // namespace multicage
 }  // namespace cv

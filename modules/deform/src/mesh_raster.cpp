@@ -2,6 +2,8 @@
 #include <opencv2/core/utility.hpp>
 #include <opencv2/multicage/deformer.hpp>
 
+#include "cpu_deformer.hpp"
+
 #include <cmath>
 
 namespace cv {
@@ -78,70 +80,83 @@ void drawTriangle(const Point2f q[3], const Point2f p[3], int y0, int y1, Point2
 
 }  // namespace
 
-void rasterizeMaps(InputArray positionsIn, InputArray restIn, Size outputSize, OutputArray mapxOut,
-                   OutputArray mapyOut, InputArray frameIn) {
-    Mat P = positionsIn.getMat(), R = restIn.getMat();
-    CV_Assert(P.type() == CV_32FC2 && R.type() == CV_32FC2 && P.size() == R.size());
-    CV_Assert(P.rows >= 2 && P.cols >= 2 && outputSize.area() > 0);
+void RasterMesh::reset(const Mat& rest, Size outputSize) {
+    CV_Assert(rest.type() == CV_32FC2 && rest.rows >= 2 && rest.cols >= 2 && outputSize.area() > 0);
+    const int m = rest.cols, n = rest.rows;
+    out_ = outputSize;
+    lo_ = rest.at<Point2f>(0, 0), hi_ = rest.at<Point2f>(n - 1, m - 1);
+    P_.create(n + 2, m + 2, CV_32FC2);
+    R_.create(n + 2, m + 2, CV_32FC2);
+    // Touched here, once: a first pose does not pay for the page faults of a fresh buffer.
+    P_.setTo(Scalar::all(0));
+    rest.copyTo(R_(Rect(1, 1, m, n)));
+    forEachRingNode([&](int ex, int ey) {
+        R_.at<Point2f>(ey, ex) = rest.at<Point2f>(std::min(std::max(ey - 1, 0), n - 1),
+                                                  std::min(std::max(ex - 1, 0), m - 1));
+    });
+    rowMin_.resize(n + 1), rowMax_.resize(n + 1);
+}
+
+template <typename F>
+void RasterMesh::forEachRingNode(F&& f) const {
+    const int m = R_.cols - 2, n = R_.rows - 2;
+    for (int ex = 0; ex < m + 2; ++ex) f(ex, 0);
+    for (int ey = 1; ey < n + 1; ++ey) f(0, ey), f(m + 1, ey);
+    for (int ex = 0; ex < m + 2; ++ex) f(ex, n + 1);
+}
+
+void RasterMesh::setFrame(const Point2f* frame) {
     // The mesh gets a ring of nodes on the image frame, around the node grid (whose outer nodes
     // sit on the border pixel centres, half a pixel inside the frame). A ring node follows the
     // frame as mean value coordinates do on a polygon edge (the frame corners interpolated
     // linearly) and samples the border pixel next to it. So the half-pixel band between the
     // frame and the border nodes is always covered: when border nodes move inwards the border
     // pixels stretch instead of leaving a line of border colour. deform.vert builds the same ring.
-    const Point2f lo = R.at<Point2f>(0, 0), hi = R.at<Point2f>(R.rows - 1, R.cols - 1);
-    std::vector<Point2f> corners;
-    if (!frameIn.empty()) {
-        Mat f = frameIn.getMat();
-        CV_Assert(f.total() == 4 && f.type() == CV_32FC2);
-        corners.assign(f.ptr<Point2f>(), f.ptr<Point2f>() + 4);
-    } else {
-        const float W = outputSize.width - 0.5f, H = outputSize.height - 0.5f;
-        corners = {{-0.5f, -0.5f}, {W, -0.5f}, {W, H}, {-0.5f, H}};
-    }
-    {
-        const int m = P.cols, n = P.rows;
-        Mat Pe(n + 2, m + 2, CV_32FC2), Re(n + 2, m + 2, CV_32FC2);
-        P.copyTo(Pe(Rect(1, 1, m, n)));
-        R.copyTo(Re(Rect(1, 1, m, n)));
-        const float W = static_cast<float>(outputSize.width), H = static_cast<float>(outputSize.height);
-        for (int ey = 0; ey < n + 2; ++ey)
-            for (int ex = 0; ex < m + 2; ++ex) {
-                if (ex > 0 && ex < m + 1 && ey > 0 && ey < n + 1) continue;
-                const Point2f source = R.at<Point2f>(std::min(std::max(ey - 1, 0), n - 1),
-                                                     std::min(std::max(ex - 1, 0), m - 1));
-                const float rx = ex == 0 ? -0.5f : ex == m + 1 ? W - 0.5f : source.x;
-                const float ry = ey == 0 ? -0.5f : ey == n + 1 ? H - 0.5f : source.y;
-                const float u = (rx + 0.5f) / W, v = (ry + 0.5f) / H;
-                Pe.at<Point2f>(ey, ex) = (1 - u) * (1 - v) * corners[0] + u * (1 - v) * corners[1] +
-                                         u * v * corners[2] + (1 - u) * v * corners[3];
-                Re.at<Point2f>(ey, ex) = source;
-            }
-        P = Pe, R = Re;
-    }
-    mapxOut.create(outputSize, CV_32F);
-    mapyOut.create(outputSize, CV_32F);
-    Mat mapx = mapxOut.getMat(), mapy = mapyOut.getMat();
-    mapx.setTo(kUncovered);
-    mapy.setTo(kUncovered);
+    const float W = static_cast<float>(out_.width), H = static_cast<float>(out_.height);
+    Point2f corners[4] = {{-0.5f, -0.5f}, {W - 0.5f, -0.5f}, {W - 0.5f, H - 0.5f}, {-0.5f, H - 0.5f}};
+    if (frame) std::copy(frame, frame + 4, corners);
+    const int m = R_.cols - 2, n = R_.rows - 2;
+    forEachRingNode([&](int ex, int ey) {
+        const Point2f source = R_.at<Point2f>(ey, ex);
+        const float rx = ex == 0 ? -0.5f : ex == m + 1 ? W - 0.5f : source.x;
+        const float ry = ey == 0 ? -0.5f : ey == n + 1 ? H - 0.5f : source.y;
+        const float u = (rx + 0.5f) / W, v = (ry + 0.5f) / H;
+        P_.at<Point2f>(ey, ex) = (1 - u) * (1 - v) * corners[0] + u * (1 - v) * corners[1] +
+                                 u * v * corners[2] + (1 - u) * v * corners[3];
+    });
+}
 
-    // Vertical extent of each row of cells, so that a band of output rows skips whole cell rows.
-    std::vector<float> rowMin(P.rows - 1), rowMax(P.rows - 1);
-    for (int gy = 0; gy + 1 < P.rows; ++gy) {
-        float lo = INFINITY, hi = -INFINITY;
-        for (int r = gy; r <= gy + 1; ++r)
-            for (int gx = 0; gx < P.cols; ++gx) {
-                const float y = P.at<Point2f>(r, gx).y;
-                lo = std::min(lo, y), hi = std::max(hi, y);
-            }
-        rowMin[gy] = lo, rowMax[gy] = hi;
-    }
-    // Bands of output rows in parallel; each walks the cells in the same order, so where the
-    // mesh folds over, the later triangle wins exactly as in a GPU draw call.
+void RasterMesh::draw(Mat& mapx, Mat& mapy) {
+    CV_Assert(mapx.type() == CV_32F && mapy.type() == CV_32F && mapx.size() == out_ && mapy.size() == out_);
+    const Mat& P = P_;
+    const Mat& R = R_;
+    // Vertical extent of each row of cells, so that a band of output rows skips whole cell
+    // rows: each node row's extent first (in parallel), then pairs of rows.
+    std::vector<float> nodeMin(P.rows), nodeMax(P.rows);
+    parallel_for_(Range(0, P.rows), [&](const Range& r) {
+        for (int gy = r.start; gy < r.end; ++gy) {
+            const Point2f* p = P.ptr<Point2f>(gy);
+            float lo = INFINITY, hi = -INFINITY;
+            for (int gx = 0; gx < P.cols; ++gx) lo = std::min(lo, p[gx].y), hi = std::max(hi, p[gx].y);
+            nodeMin[gy] = lo, nodeMax[gy] = hi;
+        }
+    }, std::max(1.0, P.rows / 64.0));
+    for (int gy = 0; gy + 1 < P.rows; ++gy)
+        rowMin_[gy] = std::min(nodeMin[gy], nodeMin[gy + 1]), rowMax_[gy] = std::max(nodeMax[gy], nodeMax[gy + 1]);
+    const std::vector<float>& rowMin = rowMin_;
+    const std::vector<float>& rowMax = rowMax_;
+    const Point2f lo = lo_, hi = hi_;
+    const Size outputSize = out_;
+    // Bands of output rows in parallel; each clears its rows, then walks the cells in the same
+    // order, so where the mesh folds over, the later triangle wins exactly as in a GPU draw call.
     const int bands = std::max(1, std::min(outputSize.height, getNumThreads() * 4));
     parallel_for_(Range(0, bands), [&](const Range& range) {
         for (int band = range.start; band < range.end; ++band) {
             const int y0 = outputSize.height * band / bands, y1 = outputSize.height * (band + 1) / bands;
+            for (int y = y0; y < y1; ++y) {
+                std::fill_n(mapx.ptr<float>(y), outputSize.width, kUncovered);
+                std::fill_n(mapy.ptr<float>(y), outputSize.width, kUncovered);
+            }
             for (int gy = 0; gy + 1 < P.rows; ++gy) {
                 if (rowMax[gy] < y0 - 1 || rowMin[gy] > y1 + 1) continue;
                 const Point2f* p0 = P.ptr<Point2f>(gy);
@@ -159,6 +174,28 @@ void rasterizeMaps(InputArray positionsIn, InputArray restIn, Size outputSize, O
             }
         }
     });
+}
+
+void rasterizeMaps(InputArray positionsIn, InputArray restIn, Size outputSize, OutputArray mapxOut,
+                   OutputArray mapyOut, InputArray frameIn) {
+    Mat P = positionsIn.getMat(), R = restIn.getMat();
+    CV_Assert(P.type() == CV_32FC2 && R.type() == CV_32FC2 && P.size() == R.size());
+    CV_Assert(P.rows >= 2 && P.cols >= 2 && outputSize.area() > 0);
+    Point2f corners[4];
+    if (!frameIn.empty()) {
+        Mat f = frameIn.getMat();
+        CV_Assert(f.total() == 4 && f.type() == CV_32FC2);
+        if (!f.isContinuous()) f = f.clone();
+        std::copy(f.ptr<Point2f>(), f.ptr<Point2f>() + 4, corners);
+    }
+    RasterMesh mesh;
+    mesh.reset(R, outputSize);
+    P.copyTo(mesh.nodes());
+    mesh.setFrame(frameIn.empty() ? nullptr : corners);
+    mapxOut.create(outputSize, CV_32F);
+    mapyOut.create(outputSize, CV_32F);
+    Mat mapx = mapxOut.getMat(), mapy = mapyOut.getMat();
+    mesh.draw(mapx, mapy);
 }
 
 int countFoldedTriangles(InputArray positionsIn, InputArray restIn) {
