@@ -1,4 +1,12 @@
 // Rasterising the deformed node mesh into inverse maps (the CPU backend's "draw call").
+
+// For the whole file (before any header, so that every function here, inlined ones included,
+// has the same options): no fused multiply-adds, so the AVX2 clone of the triangle kernel gives
+// the same bits as the baseline one; and no floating-point traps assumed (nothing here enables
+// them), so that the selects of the triangle set-up vectorise.
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC optimize("fp-contract=off", "no-trapping-math")
+#endif
 #include <opencv2/core/utility.hpp>
 #include <opencv2/multicage/deformer.hpp>
 
@@ -140,8 +148,6 @@ inline void drawTriangle(const TriangleSetup& s, int t, int y0, int y1, Point2f 
 
 // Draws the cells of one row of the mesh (nodes rows p0/p1 deformed, r0/r1 rest, `cells`
 // cells) into output rows [y0, y1), in order: cell by cell, (a,b,c) then (b,d,c).
-#pragma GCC push_options
-#pragma GCC optimize("fp-contract=off")
 MULTICAGE_TARGET_CLONES
 void drawCellRow(const Point2f* p0, const Point2f* p1, const Point2f* r0, const Point2f* r1, int cells,
                  int y0, int y1, Point2f lo, Point2f hi, Mat& mapx, Mat& mapy, TriangleSetup& s) {
@@ -160,7 +166,6 @@ void drawCellRow(const Point2f* p0, const Point2f* p1, const Point2f* r0, const 
         for (int t = 0; t < 2 * n; ++t) drawTriangle(s, t, y0, y1, lo, hi, mapx, mapy);
     }
 }
-#pragma GCC pop_options
 
 }  // namespace
 
