@@ -2,6 +2,7 @@
 #include <opencv2/core/utility.hpp>
 #include <opencv2/multicage/coordinates.hpp>
 
+#include <cstring>
 #include <mutex>
 #if defined(__linux__)
 #include <sys/mman.h>
@@ -156,6 +157,21 @@ void adviseHugePages(Mat& m) {
 #endif
 }
 
+// 4 doubles / 4 floats as GCC vector types (unaligned loads and stores through memcpy). Only
+// used inside inlined code, so the ABI note about passing AVX types without AVX does not apply.
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wpsabi"
+typedef double v4d __attribute__((vector_size(32)));
+typedef float v4f __attribute__((vector_size(16)));
+typedef long long v4i __attribute__((vector_size(32)));
+inline v4d load4d(const double* p) { v4d r; std::memcpy(&r, p, sizeof r); return r; }
+inline v4f load4f(const float* p) { v4f r; std::memcpy(&r, p, sizeof r); return r; }
+inline void store4d(double* p, v4d v) { std::memcpy(p, &v, sizeof v); }
+inline v4d absd(v4d v) {  // std::abs: the sign bit cleared
+    return reinterpret_cast<v4d>(reinterpret_cast<v4i>(v) & (v4i{} + 0x7fffffffffffffffLL));
+}
+#pragma GCC diagnostic pop
+
 struct BoundPolygon {
     std::vector<Point2f> v;
     int first;    // coefficient index of vertex 0
@@ -172,13 +188,21 @@ struct RowSums {
     }
 };
 
+// The sums of nodes [k0, k0 + K) of a row.
+struct SumsAt {
+    double *xs, *W, *absW, *sx, *sy;
+    SumsAt(RowSums& s, int k0)
+        : xs(s.xs.data() + k0), W(s.W.data() + k0), absW(s.absW.data() + k0), sx(s.sx.data() + k0),
+          sy(s.sy.data() + k0) {}
+};
+
 // Raw mean value weights, times `sign`, of polygon v[0..n) for the nodes (xs[k], y), k < m.
 // Hormann & Floater 2006: t_i = tan(alpha_i / 2), w_i = (t_{i-1} + t_i) / r_i. The float
 // kernel flags nodes on or near a vertex or an edge; those are redone in double by the caller.
 // out[i] receives vertex i's row; tbuf is n*m scratch.
 MULTICAGE_TARGET_CLONES
 void rawWeightsRow(const Point2f* v, int n, float sign, const float* xs, int m, float y,
-                   float* const* out, float* tbuf, uchar* nearSingular, RowSums& sums) {
+                   float* const* out, float* tbuf, uchar* nearSingular, const SumsAt& sums) {
     for (int i = 0; i < n; ++i) {  // r_i, kept in the output row until pass 3
         const float vx = v[i].x, dy = v[i].y - y;
         float* r = out[i];
@@ -209,25 +233,45 @@ void rawWeightsRow(const Point2f* v, int n, float sign, const float* xs, int m, 
             nearSingular[k] |= static_cast<uchar>(bad);
         }
     }
-    // Raw pointers marked __restrict: without them GCC cannot rule out aliasing between the
-    // five arrays and leaves this loop scalar (two thirds of the kernel's time).
-    double* __restrict W = sums.W.data();
-    double* __restrict absW = sums.absW.data();
-    double* __restrict sx = sums.sx.data();
-    double* __restrict sy = sums.sy.data();
-    const double* __restrict xd = sums.xs.data();
-    for (int i = 0; i < n; ++i) {  // w_i, and the sums Algorithm 1 and the projection need
+    for (int i = 0; i < n; ++i) {  // w_i
         const float* __restrict tprev = tbuf + static_cast<size_t>(i == 0 ? n - 1 : i - 1) * m;
         const float* __restrict t = tbuf + static_cast<size_t>(i) * m;
-        const double vx = v[i].x, dy = v[i].y - y;
         float* __restrict w = out[i];
         for (int k = 0; k < m; ++k) w[k] = (tprev[k] + t[k]) / w[k];
-        for (int k = 0; k < m; ++k) {
-            const double wd = w[k];
+    }
+    // The sums Algorithm 1 and the projection need, in double: for 8 nodes at a time, all n
+    // vertices in order with the 8 nodes' sums kept in registers (GCC vector extensions: AVX
+    // registers in the AVX2 clone, SSE pairs in the default one). Each node adds its terms in
+    // the same order as a vertex-by-vertex loop would.
+    double* W = sums.W;
+    double* absW = sums.absW;
+    double* sx = sums.sx;
+    double* sy = sums.sy;
+    const double* xd = sums.xs;
+    int k = 0;
+    for (; k + 8 <= m; k += 8) {
+        v4d W0 = load4d(W + k), W1 = load4d(W + k + 4), A0 = load4d(absW + k), A1 = load4d(absW + k + 4);
+        v4d X0 = load4d(sx + k), X1 = load4d(sx + k + 4), Y0 = load4d(sy + k), Y1 = load4d(sy + k + 4);
+        const v4d x0 = load4d(xd + k), x1 = load4d(xd + k + 4);
+        for (int i = 0; i < n; ++i) {
+            const double vx = v[i].x, dy = v[i].y - y;
+            const v4d w0 = __builtin_convertvector(load4f(out[i] + k), v4d);
+            const v4d w1 = __builtin_convertvector(load4f(out[i] + k + 4), v4d);
+            W0 += w0, W1 += w1;
+            A0 += absd(w0), A1 += absd(w1);
+            X0 += w0 * (vx - x0), X1 += w1 * (vx - x1);
+            Y0 += w0 * dy, Y1 += w1 * dy;
+        }
+        store4d(W + k, W0), store4d(W + k + 4, W1), store4d(absW + k, A0), store4d(absW + k + 4, A1);
+        store4d(sx + k, X0), store4d(sx + k + 4, X1), store4d(sy + k, Y0), store4d(sy + k + 4, Y1);
+    }
+    for (; k < m; ++k)
+        for (int i = 0; i < n; ++i) {
+            const double vx = v[i].x, dy = v[i].y - y;
+            const double wd = out[i][k];
             W[k] += wd, absW[k] += std::abs(wd);
             sx[k] += wd * (vx - xd[k]), sy[k] += wd * dy;
         }
-    }
 }
 
 // Sums of the rest vertices' coordinates, for the Gram matrix of the linear-precision projection.
@@ -251,7 +295,7 @@ struct VertexMoments {
 // totals in nearSingular (the caller redoes those nodes exactly).
 MULTICAGE_TARGET_CLONES
 void normalizeAndProject(float* const* out, int c, const Point2f* v, const VertexMoments& M,
-                         double y, int m, RowSums& s, uchar* nearSingular, double* kappa,
+                         double y, int m, const SumsAt& s, uchar* nearSingular, double* kappa,
                          float* inv, float* l0, float* l1, float* l2) {
     for (int k = 0; k < m; ++k) {
         const double x = s.xs[k], invW = 1.0 / s.W[k];
@@ -345,13 +389,15 @@ Binding bind(const Multicage& multicage, int coordinates, int gridStep) {
     adviseHugePages(b.coefficients);
     std::mutex worstLock;
     double worst = 2.0;
+    constexpr int kChunk = 256;
     Point2f worstAt;
     parallel_for_(Range(0, b.gridSize.height), [&](const Range& rows) {
-        std::vector<float> xs(m), tbuf(static_cast<size_t>(maxN) * m), inv(m), l0(m), l1(m), l2(m);
+        std::vector<float> xs(m), tbuf(static_cast<size_t>(maxN) * kChunk), inv(kChunk), l0(kChunk),
+            l1(kChunk), l2(kChunk);
         std::vector<double> kappa(m);
         RowSums sums(m);
         std::vector<uchar> nearSingular(m);
-        std::vector<float*> out(c);
+        std::vector<float*> out(c), chunkOut(c);
         std::vector<double> exact(c);
         double localWorst = 2.0;
         Point2f localAt;
@@ -361,12 +407,20 @@ Binding bind(const Multicage& multicage, int coordinates, int gridStep) {
             for (int j = 0; j < c; ++j) out[j] = b.coefficients.ptr<float>(j) + static_cast<size_t>(gy) * m;
             std::fill(nearSingular.begin(), nearSingular.end(), 0);
             sums.clear();
-            for (const BoundPolygon& p : polygons)
-                rawWeightsRow(p.v.data(), static_cast<int>(p.v.size()), p.sign, xs.data(), m, float(y),
-                              out.data() + p.first, tbuf.data(), nearSingular.data(), sums);
-            normalizeAndProject(out.data(), c, b.restVertices.data(), moments, y, m, sums,
-                                nearSingular.data(), kappa.data(), inv.data(), l0.data(), l1.data(),
-                                l2.data());
+            // The row in chunks of nodes small enough that every pass over a chunk (distances,
+            // half-angle tangents, weights and sums, normalisation) stays in the L1/L2 cache.
+            // Each node's arithmetic is the same whatever the chunk.
+            for (int k0 = 0; k0 < m; k0 += kChunk) {
+                const int K = std::min(kChunk, m - k0);
+                for (int j = 0; j < c; ++j) chunkOut[j] = out[j] + k0;
+                const SumsAt at(sums, k0);
+                for (const BoundPolygon& p : polygons)
+                    rawWeightsRow(p.v.data(), static_cast<int>(p.v.size()), p.sign, xs.data() + k0, K,
+                                  float(y), chunkOut.data() + p.first, tbuf.data(), nearSingular.data() + k0, at);
+                normalizeAndProject(chunkOut.data(), c, b.restVertices.data(), moments, y, K, at,
+                                    nearSingular.data() + k0, kappa.data() + k0, inv.data(), l0.data(),
+                                    l1.data(), l2.data());
+            }
             for (int k = 0; k < m; ++k) {
                 if (nearSingular[k]) {
                     kappa[k] = bindNodeExact(polygons, Point2d(xs[k], y), exact.data(), c);
