@@ -158,8 +158,8 @@ void adviseHugePages(Mat& m) {
 }
 
 // 4 doubles / 4 floats as GCC vector types (unaligned loads and stores through memcpy). Only
-// used inside inlined code, so the ABI note about passing AVX types without AVX does not apply.
-#pragma GCC diagnostic push
+// used inside this file's inlined code, so GCC's note that passing AVX-sized types without AVX
+// changes the ABI does not concern us (-Wpsabi is off for this file).
 #pragma GCC diagnostic ignored "-Wpsabi"
 typedef double v4d __attribute__((vector_size(32)));
 typedef float v4f __attribute__((vector_size(16)));
@@ -170,7 +170,6 @@ inline void store4d(double* p, v4d v) { std::memcpy(p, &v, sizeof v); }
 inline v4d absd(v4d v) {  // std::abs: the sign bit cleared
     return reinterpret_cast<v4d>(reinterpret_cast<v4i>(v) & (v4i{} + 0x7fffffffffffffffLL));
 }
-#pragma GCC diagnostic pop
 
 struct BoundPolygon {
     std::vector<Point2f> v;
