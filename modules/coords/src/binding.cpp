@@ -201,7 +201,7 @@ struct SumsAt {
 // out[i] receives vertex i's row; tbuf is n*m scratch.
 MULTICAGE_TARGET_CLONES
 void rawWeightsRow(const Point2f* v, int n, float sign, const float* xs, int m, float y,
-                   float* const* out, float* tbuf, uchar* nearSingular, const SumsAt& sums) {
+                   float* const* out, float* tbuf, int* nearSingular, const SumsAt& sums) {
     for (int i = 0; i < n; ++i) {  // r_i, kept in the output row until pass 3
         const float vx = v[i].x, dy = v[i].y - y;
         float* r = out[i];
@@ -229,7 +229,7 @@ void rawWeightsRow(const Point2f* v, int n, float sign, const float* xs, int m, 
             t[k] = sign * num / den;
             // near a vertex (r small) or an edge (A small while the edge is seen at > 90 deg)
             const bool bad = ri[k] < 1e-3f || (D <= 0.f && std::abs(A) < 1e-4f * rr);
-            nearSingular[k] |= static_cast<uchar>(bad);
+            nearSingular[k] |= static_cast<int>(bad);
         }
     }
     for (int i = 0; i < n; ++i) {  // w_i
@@ -294,7 +294,7 @@ struct VertexMoments {
 // totals in nearSingular (the caller redoes those nodes exactly).
 MULTICAGE_TARGET_CLONES
 void normalizeAndProject(float* const* out, int c, const Point2f* v, const VertexMoments& M,
-                         double y, int m, const SumsAt& s, uchar* nearSingular, double* kappa,
+                         double y, int m, const SumsAt& s, int* nearSingular, double* kappa,
                          float* inv, float* l0, float* l1, float* l2) {
     for (int k = 0; k < m; ++k) {
         const double x = s.xs[k], invW = 1.0 / s.W[k];
@@ -395,7 +395,7 @@ Binding bind(const Multicage& multicage, int coordinates, int gridStep) {
             l1(kChunk), l2(kChunk);
         std::vector<double> kappa(m);
         RowSums sums(m);
-        std::vector<uchar> nearSingular(m);
+        std::vector<int> nearSingular(m);  // int, not uchar: the AVX2 kernel needs no packing
         std::vector<float*> out(c), chunkOut(c);
         std::vector<double> exact(c);
         double localWorst = 2.0;
