@@ -16,7 +16,7 @@
 // The row kernel is compiled twice, for AVX2+FMA and for the baseline, and the loader picks
 // the one this CPU runs (GCC function multiversioning): 8 nodes per instruction where possible.
 #if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && !defined(__SANITIZE_ADDRESS__)
-#define MULTICAGE_TARGET_CLONES __attribute__((target_clones("arch=x86-64-v3", "default")))
+#define MULTICAGE_TARGET_CLONES __attribute__((target_clones("arch=x86-64-v4", "arch=x86-64-v3", "default")))
 #else
 #define MULTICAGE_TARGET_CLONES
 #endif
