@@ -284,6 +284,35 @@ struct VertexMoments {
     }
 };
 
+// Per node: 1 / W, the conditioning, and the projection's (l0, l1, l2) (see below). The moments
+// by value and __restrict arrays: otherwise GCC must assume a store may change them, and leaves
+// the loop scalar.
+inline void projectionTerms(const VertexMoments mo, double y, int m, const double* __restrict xs,
+                            const double* __restrict Ws, const double* __restrict absW,
+                            const double* __restrict sx, const double* __restrict sy,
+                            int* __restrict flags, double* __restrict kap, float* __restrict invOut,
+                            float* __restrict l0Out, float* __restrict l1Out, float* __restrict l2Out) {
+    for (int k = 0; k < m; ++k) {
+        const double x = xs[k], invW = 1.0 / Ws[k];
+        const double kk = std::abs(Ws[k]) / absW[k];
+        kap[k] = kk;
+        flags[k] |= static_cast<int>(!(kk >= 1e-6));  // also catches NaN; no branch: vectorises
+        const double a = mo.n, b = mo.sx - mo.n * x, cc = mo.sy - mo.n * y;
+        const double d = mo.sxx - 2 * x * mo.sx + mo.n * x * x;
+        const double e = mo.sxy - x * mo.sy - y * mo.sx + mo.n * x * y;
+        const double f = mo.syy - 2 * y * mo.sy + mo.n * y * y;
+        const double r1 = -sx[k] * invW, r2 = -sy[k] * invW;  // the sum is 1 by construction
+        // Cramer's rule on the symmetric positive definite [[a b c] [b d e] [c e f]] (the frame
+        // alone spans the plane), right-hand side (0, r1, r2).
+        const double A = d * f - e * e, B = cc * e - b * f, C = b * e - cc * d;
+        const double invDet = 1.0 / (a * A + b * B + cc * C);
+        l0Out[k] = static_cast<float>((B * r1 + C * r2) * invDet);
+        l1Out[k] = static_cast<float>(((a * f - cc * cc) * r1 + (b * cc - a * e) * r2) * invDet);
+        l2Out[k] = static_cast<float>(((b * cc - a * e) * r1 + (a * d - b * b) * r2) * invDet);
+        invOut[k] = static_cast<float>(invW);
+    }
+}
+
 // Algorithm 1's division by the total, fused with a correction of the float kernel's rounding.
 // That rounding leaves ~1e-7 relative noise in each raw weight, which at image coordinates of
 // ~1000 px is up to 1e-3 px of linear-precision error. True mean value coordinates satisfy
@@ -296,24 +325,7 @@ MULTICAGE_TARGET_CLONES
 void normalizeAndProject(float* const* out, int c, const Point2f* v, const VertexMoments& M,
                          double y, int m, const SumsAt& s, int* nearSingular, double* kappa,
                          float* inv, float* l0, float* l1, float* l2) {
-    for (int k = 0; k < m; ++k) {
-        const double x = s.xs[k], invW = 1.0 / s.W[k];
-        kappa[k] = std::abs(s.W[k]) / s.absW[k];
-        if (!(kappa[k] >= 1e-6)) nearSingular[k] = 1;  // also catches NaN
-        const double a = M.n, b = M.sx - M.n * x, cc = M.sy - M.n * y;
-        const double d = M.sxx - 2 * x * M.sx + M.n * x * x;
-        const double e = M.sxy - x * M.sy - y * M.sx + M.n * x * y;
-        const double f = M.syy - 2 * y * M.sy + M.n * y * y;
-        const double r1 = -s.sx[k] * invW, r2 = -s.sy[k] * invW;  // the sum is 1 by construction
-        // Cramer's rule on the symmetric positive definite [[a b c] [b d e] [c e f]] (the frame
-        // alone spans the plane), right-hand side (0, r1, r2).
-        const double A = d * f - e * e, B = cc * e - b * f, C = b * e - cc * d;
-        const double invDet = 1.0 / (a * A + b * B + cc * C);
-        l0[k] = static_cast<float>((B * r1 + C * r2) * invDet);
-        l1[k] = static_cast<float>(((a * f - cc * cc) * r1 + (b * cc - a * e) * r2) * invDet);
-        l2[k] = static_cast<float>(((b * cc - a * e) * r1 + (a * d - b * b) * r2) * invDet);
-        inv[k] = static_cast<float>(invW);
-    }
+    projectionTerms(M, y, m, s.xs, s.W, s.absW, s.sx, s.sy, nearSingular, kappa, inv, l0, l1, l2);
     for (int j = 0; j < c; ++j) {
         const float vx = v[j].x, dy = static_cast<float>(v[j].y - y);
         float* w = out[j];
