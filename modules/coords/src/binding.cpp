@@ -127,11 +127,12 @@ void Binding::apply(InputArray poseIn, OutputArray positionsOut) const {
             const int gy0 = block * rowsPerBlock, gy1 = std::min(n, gy0 + rowsPerBlock);
             const size_t begin = static_cast<size_t>(gy0) * m;
             const int count = (gy1 - gy0) * m;
-            for (int gy = gy0; gy < gy1; ++gy)
-                for (int gx = 0; gx < m; ++gx) {
-                    const Point2f x = node(gx, gy);
-                    px[(gy - gy0) * m + gx] = x.x, py[(gy - gy0) * m + gx] = x.y;
-                }
+            for (int gy = gy0; gy < gy1; ++gy) {  // the rest positions, as node(gx, gy) gives them
+                const float y = nodeCoordinate(gy, gridStep, imageSize.height);
+                float* qx = px.data() + (gy - gy0) * m;
+                float* qy = py.data() + (gy - gy0) * m;
+                for (int gx = 0; gx < m; ++gx) qx[gx] = nodeCoordinate(gx, gridStep, imageSize.width), qy[gx] = y;
+            }
             accumulateDisplacements(coefficients, moved.data(), delta.data(), static_cast<int>(moved.size()),
                                     begin, count, px.data(), py.data());
             for (int gy = gy0; gy < gy1; ++gy) {
