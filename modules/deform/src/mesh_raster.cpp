@@ -238,7 +238,7 @@ void RasterMesh::draw(Mat& mapx, Mat& mapy) {
     const Size outputSize = out_;
     // Bands of output rows in parallel; each clears its rows, then walks the cells in the same
     // order, so where the mesh folds over, the later triangle wins exactly as in a GPU draw call.
-    const int bands = std::max(1, std::min(outputSize.height, getNumThreads() * 4));
+    const int bands = std::max(1, std::min(outputSize.height, std::max(getNumThreads() * 4, outputSize.height / 32)));
     parallel_for_(Range(0, bands), [&](const Range& range) {
         std::unique_ptr<TriangleSetup> setup(new TriangleSetup);
         for (int band = range.start; band < range.end; ++band) {
