@@ -158,18 +158,18 @@ void adviseHugePages(Mat& m) {
 #endif
 }
 
-// 4 doubles / 4 floats as GCC vector types (unaligned loads and stores through memcpy). Only
+// 8 doubles / 8 floats as GCC vector types (unaligned loads and stores through memcpy). Only
 // used inside this file's inlined code, so GCC's note that passing AVX-sized types without AVX
 // changes the ABI does not concern us (-Wpsabi is off for this file).
 #pragma GCC diagnostic ignored "-Wpsabi"
-typedef double v4d __attribute__((vector_size(32)));
-typedef float v4f __attribute__((vector_size(16)));
-typedef long long v4i __attribute__((vector_size(32)));
-inline v4d load4d(const double* p) { v4d r; std::memcpy(&r, p, sizeof r); return r; }
-inline v4f load4f(const float* p) { v4f r; std::memcpy(&r, p, sizeof r); return r; }
-inline void store4d(double* p, v4d v) { std::memcpy(p, &v, sizeof v); }
-inline v4d absd(v4d v) {  // std::abs: the sign bit cleared
-    return reinterpret_cast<v4d>(reinterpret_cast<v4i>(v) & (v4i{} + 0x7fffffffffffffffLL));
+typedef double v8d __attribute__((vector_size(64)));
+typedef float v8f __attribute__((vector_size(32)));
+typedef long long v8i __attribute__((vector_size(64)));
+inline v8d load8d(const double* p) { v8d r; std::memcpy(&r, p, sizeof r); return r; }
+inline v8f load8f(const float* p) { v8f r; std::memcpy(&r, p, sizeof r); return r; }
+inline void store8d(double* p, v8d v) { std::memcpy(p, &v, sizeof v); }
+inline v8d absd(v8d v) {  // std::abs: the sign bit cleared
+    return reinterpret_cast<v8d>(reinterpret_cast<v8i>(v) & (v8i{} + 0x7fffffffffffffffLL));
 }
 
 struct BoundPolygon {
@@ -240,9 +240,9 @@ void rawWeightsRow(const Point2f* v, int n, float sign, const float* xs, int m, 
         for (int k = 0; k < m; ++k) w[k] = (tprev[k] + t[k]) / w[k];
     }
     // The sums Algorithm 1 and the projection need, in double: for 8 nodes at a time, all n
-    // vertices in order with the 8 nodes' sums kept in registers (GCC vector extensions: AVX
-    // registers in the AVX2 clone, SSE pairs in the default one). Each node adds its terms in
-    // the same order as a vertex-by-vertex loop would.
+    // vertices in order with the 8 nodes' sums kept in registers (GCC vector extensions: one
+    // AVX-512 register per sum in that clone, two AVX ones in the AVX2 clone, four SSE ones in
+    // the default one). Each node adds its terms in the same order as a vertex-by-vertex loop.
     double* W = sums.W;
     double* absW = sums.absW;
     double* sx = sums.sx;
@@ -250,20 +250,17 @@ void rawWeightsRow(const Point2f* v, int n, float sign, const float* xs, int m, 
     const double* xd = sums.xs;
     int k = 0;
     for (; k + 8 <= m; k += 8) {
-        v4d W0 = load4d(W + k), W1 = load4d(W + k + 4), A0 = load4d(absW + k), A1 = load4d(absW + k + 4);
-        v4d X0 = load4d(sx + k), X1 = load4d(sx + k + 4), Y0 = load4d(sy + k), Y1 = load4d(sy + k + 4);
-        const v4d x0 = load4d(xd + k), x1 = load4d(xd + k + 4);
+        v8d Ws = load8d(W + k), As = load8d(absW + k), Xs = load8d(sx + k), Ys = load8d(sy + k);
+        const v8d xk = load8d(xd + k);
         for (int i = 0; i < n; ++i) {
             const double vx = v[i].x, dy = v[i].y - y;
-            const v4d w0 = __builtin_convertvector(load4f(out[i] + k), v4d);
-            const v4d w1 = __builtin_convertvector(load4f(out[i] + k + 4), v4d);
-            W0 += w0, W1 += w1;
-            A0 += absd(w0), A1 += absd(w1);
-            X0 += w0 * (vx - x0), X1 += w1 * (vx - x1);
-            Y0 += w0 * dy, Y1 += w1 * dy;
+            const v8d wd = __builtin_convertvector(load8f(out[i] + k), v8d);
+            Ws += wd;
+            As += absd(wd);
+            Xs += wd * (vx - xk);
+            Ys += wd * dy;
         }
-        store4d(W + k, W0), store4d(W + k + 4, W1), store4d(absW + k, A0), store4d(absW + k + 4, A1);
-        store4d(sx + k, X0), store4d(sx + k + 4, X1), store4d(sy + k, Y0), store4d(sy + k + 4, Y1);
+        store8d(W + k, Ws), store8d(absW + k, As), store8d(sx + k, Xs), store8d(sy + k, Ys);
     }
     for (; k < m; ++k)
         for (int i = 0; i < n; ++i) {
