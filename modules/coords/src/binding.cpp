@@ -43,8 +43,12 @@ Point2f Binding::node(int gx, int gy) const {
 
 Mat Binding::nodes() const {
     Mat out(gridSize, CV_32FC2);
-    for (int gy = 0; gy < gridSize.height; ++gy)
-        for (int gx = 0; gx < gridSize.width; ++gx) out.at<Point2f>(gy, gx) = node(gx, gy);
+    for (int gy = 0; gy < gridSize.height; ++gy) {  // node(gx, gy), a row at a time
+        Point2f* row = out.ptr<Point2f>(gy);
+        const float y = nodeCoordinate(gy, gridStep, imageSize.height);
+        for (int gx = 0; gx < gridSize.width; ++gx)
+            row[gx] = Point2f(nodeCoordinate(gx, gridStep, imageSize.width), y);
+    }
     return out;
 }
 
