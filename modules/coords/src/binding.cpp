@@ -74,8 +74,12 @@ namespace {
 // by one in vertex order, so the result does not depend on the grouping); a product and a sum
 // are two roundings, never contracted to one fused multiply-add, so every instruction set
 // gives the same bits.
+#if defined(__GNUC__) && !defined(__clang__)
 #pragma GCC push_options
 #pragma GCC optimize("fp-contract=off")
+#elif defined(__clang__)
+#pragma clang fp contract(off)
+#endif
 MULTICAGE_TARGET_CLONES
 void accumulateDisplacements(const Mat& coefficients, const int* moved, const Point2f* delta, int count_q,
                              size_t begin, int count, float* __restrict px, float* __restrict py) {
@@ -102,7 +106,11 @@ void accumulateDisplacements(const Mat& coefficients, const int* moved, const Po
         for (int k = 0; k < count; ++k) px[k] += c[k] * dx, py[k] += c[k] * dy;
     }
 }
+#if defined(__GNUC__) && !defined(__clang__)
 #pragma GCC pop_options
+#elif defined(__clang__)
+#pragma clang fp contract(on)
+#endif
 
 }  // namespace
 
@@ -165,7 +173,9 @@ void adviseHugePages(Mat& m) {
 // 8 doubles / 8 floats as GCC vector types (unaligned loads and stores through memcpy). Only
 // used inside this file's inlined code, so GCC's note that passing AVX-sized types without AVX
 // changes the ABI does not concern us (-Wpsabi is off for this file).
+#if defined(__GNUC__) && !defined(__clang__)
 #pragma GCC diagnostic ignored "-Wpsabi"
+#endif
 typedef double v8d __attribute__((vector_size(64)));
 typedef float v8f __attribute__((vector_size(32)));
 typedef long long v8i __attribute__((vector_size(64)));

@@ -6,6 +6,8 @@
 // them), so that the selects of the triangle set-up vectorise.
 #if defined(__GNUC__) && !defined(__clang__)
 #pragma GCC optimize("fp-contract=off", "no-trapping-math")
+#elif defined(__clang__)
+#pragma clang fp contract(off)
 #endif
 #include <opencv2/core/utility.hpp>
 #include <opencv2/multicage/deformer.hpp>
