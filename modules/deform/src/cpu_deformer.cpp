@@ -10,12 +10,15 @@ namespace {
 class CpuDeformer final : public Deformer {
 public:
     CpuDeformer(const Mat& image, const Binding& binding, const DeformParams& params)
-        : image_(image.clone()), binding_(binding), border_(params.borderValue) {
-        // Everything a pose writes is allocated and touched here, once: the first pose then
-        // costs what every later one does (no page faults of fresh buffers, no allocations).
-        mesh_.reset(binding.nodes(), image_.size());
-        mapx_.create(image_.size(), CV_32F);
-        mapy_.create(image_.size(), CV_32F);
+        : binding_(binding), border_(params.borderValue) {
+        // Everything a pose writes is allocated and touched here, once, in 2 MB pages where
+        // the kernel offers them: the first pose then costs what every later one does (no page
+        // faults of fresh buffers, no allocations), and creation few page faults.
+        image_ = hugePageMat(image.size(), image.type(), owners_);
+        image.copyTo(image_);
+        mesh_.reset(binding);
+        mapx_ = hugePageMat(image.size(), CV_32F, owners_);
+        mapy_ = hugePageMat(image.size(), CV_32F, owners_);
         mapx_.setTo(Scalar::all(0));
         mapy_.setTo(Scalar::all(0));
     }
@@ -47,6 +50,7 @@ private:
         mesh_.setFrame(&vertices[vertices.size() - 4]);
     }
 
+    std::vector<Mat> owners_;  // the memory of image_, mapx_, mapy_
     Mat image_;
     Binding binding_;
     RasterMesh mesh_;

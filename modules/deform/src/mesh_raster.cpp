@@ -14,8 +14,12 @@
 
 #include "cpu_deformer.hpp"
 
+#include <climits>
 #include <cmath>
 #include <memory>
+#if defined(__linux__)
+#include <sys/mman.h>
+#endif
 
 namespace cv {
 namespace multicage {
@@ -171,21 +175,56 @@ void drawCellRow(const Point2f* p0, const Point2f* p1, const Point2f* r0, const 
 
 }  // namespace
 
-void RasterMesh::reset(const Mat& rest, Size outputSize) {
-    CV_Assert(rest.type() == CV_32FC2 && rest.rows >= 2 && rest.cols >= 2 && outputSize.area() > 0);
-    const int m = rest.cols, n = rest.rows;
+Mat hugePageMat(Size size, int type, std::vector<Mat>& owners) {
+    const size_t bytes = size_t(size.area()) * CV_ELEM_SIZE(type);
+#if defined(__linux__) && defined(MADV_HUGEPAGE)
+    constexpr size_t kHuge = size_t(2) << 20;
+    if (bytes >= kHuge) {
+        const size_t span = (bytes + kHuge - 1) & ~(kHuge - 1);
+        Mat block(1, static_cast<int>(std::min<size_t>(span + kHuge, INT_MAX)), CV_8U);
+        if (block.total() == span + kHuge) {
+            uchar* aligned = alignPtr(block.data, static_cast<int>(kHuge));
+            madvise(aligned, span, MADV_HUGEPAGE);
+            owners.push_back(block);
+            return Mat(size, type, aligned);
+        }
+    }
+#endif
+    (void)owners;
+    return Mat(size, type);
+}
+
+template <typename RestNode>
+void RasterMesh::resetWith(Size grid, Size outputSize, RestNode&& rest) {
+    CV_Assert(grid.width >= 2 && grid.height >= 2 && outputSize.area() > 0);
+    const int m = grid.width, n = grid.height;
     out_ = outputSize;
-    lo_ = rest.at<Point2f>(0, 0), hi_ = rest.at<Point2f>(n - 1, m - 1);
-    P_.create(n + 2, m + 2, CV_32FC2);
-    R_.create(n + 2, m + 2, CV_32FC2);
+    lo_ = rest(0, 0), hi_ = rest(m - 1, n - 1);
+    owners_.clear();
+    P_ = hugePageMat(Size(m + 2, n + 2), CV_32FC2, owners_);
+    R_ = hugePageMat(Size(m + 2, n + 2), CV_32FC2, owners_);
     // Touched here, once: a first pose does not pay for the page faults of a fresh buffer.
     P_.setTo(Scalar::all(0));
-    rest.copyTo(R_(Rect(1, 1, m, n)));
-    forEachRingNode([&](int ex, int ey) {
-        R_.at<Point2f>(ey, ex) = rest.at<Point2f>(std::min(std::max(ey - 1, 0), n - 1),
-                                                  std::min(std::max(ex - 1, 0), m - 1));
-    });
+    for (int ey = 0; ey < n + 2; ++ey) {  // interior: the rest nodes; ring: the nearest one
+        Point2f* row = R_.ptr<Point2f>(ey);
+        const int gy = std::min(std::max(ey - 1, 0), n - 1);
+        for (int ex = 0; ex < m + 2; ++ex) row[ex] = rest(std::min(std::max(ex - 1, 0), m - 1), gy);
+    }
     rowMin_.resize(n + 1), rowMax_.resize(n + 1);
+}
+
+void RasterMesh::reset(const Mat& rest, Size outputSize) {
+    CV_Assert(rest.type() == CV_32FC2 && rest.rows >= 2 && rest.cols >= 2);
+    resetWith(rest.size(), outputSize, [&](int gx, int gy) { return rest.at<Point2f>(gy, gx); });
+}
+
+void RasterMesh::reset(const Binding& binding) {
+    // Node (gx, gy) rests at (x of column gx, y of row gy): two short tables instead of the
+    // whole node grid.
+    std::vector<float> xs(binding.gridSize.width), ys(binding.gridSize.height);
+    for (int gx = 0; gx < binding.gridSize.width; ++gx) xs[gx] = binding.node(gx, 0).x;
+    for (int gy = 0; gy < binding.gridSize.height; ++gy) ys[gy] = binding.node(0, gy).y;
+    resetWith(binding.gridSize, binding.imageSize, [&](int gx, int gy) { return Point2f(xs[gx], ys[gy]); });
 }
 
 template <typename F>
