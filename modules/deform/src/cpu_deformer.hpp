@@ -40,9 +40,12 @@ private:
     template <typename F>
     void forEachRingNode(F&& f) const;
     template <typename RestNode>
-    void resetWith(Size grid, Size outputSize, RestNode&& rest);
+    void resetWith(Size grid, Size outputSize, bool separable, RestNode&& rest);
+    // Row ey of the rest mesh: R_'s, or made in `buffer` from restX_ and restY_.
+    const Point2f* restRow(int ey, std::vector<Point2f>& buffer) const;
     std::vector<Mat> owners_;  // the memory of P_ and R_
-    Mat P_, R_;  // deformed and rest nodes, ring included
+    Mat P_, R_;  // deformed and rest nodes, ring included; R_ empty for a regular grid
+    std::vector<float> restX_, restY_;  // a regular grid's rest x per column, y per row
     Point2f lo_, hi_;
     Size out_;
     std::vector<float> rowMin_, rowMax_;

@@ -195,27 +195,44 @@ Mat hugePageMat(Size size, int type, std::vector<Mat>& owners) {
 }
 
 template <typename RestNode>
-void RasterMesh::resetWith(Size grid, Size outputSize, RestNode&& rest) {
+void RasterMesh::resetWith(Size grid, Size outputSize, bool separable, RestNode&& rest) {
     CV_Assert(grid.width >= 2 && grid.height >= 2 && outputSize.area() > 0);
     const int m = grid.width, n = grid.height;
     out_ = outputSize;
     lo_ = rest(0, 0), hi_ = rest(m - 1, n - 1);
     owners_.clear();
     P_ = hugePageMat(Size(m + 2, n + 2), CV_32FC2, owners_);
-    R_ = hugePageMat(Size(m + 2, n + 2), CV_32FC2, owners_);
     // Touched here, once: a first pose does not pay for the page faults of a fresh buffer.
     P_.setTo(Scalar::all(0));
-    for (int ey = 0; ey < n + 2; ++ey) {  // interior: the rest nodes; ring: the nearest one
-        Point2f* row = R_.ptr<Point2f>(ey);
-        const int gy = std::min(std::max(ey - 1, 0), n - 1);
-        for (int ex = 0; ex < m + 2; ++ex) row[ex] = rest(std::min(std::max(ex - 1, 0), m - 1), gy);
+    // Rest mesh: interior the rest nodes, ring the nearest one. A regular grid needs only its
+    // column x and row y (the rows are made when drawn); any other rest mesh is stored whole.
+    restX_.assign(m + 2, 0.f), restY_.assign(n + 2, 0.f);
+    R_.release();
+    if (separable) {
+        for (int ex = 0; ex < m + 2; ++ex) restX_[ex] = rest(std::min(std::max(ex - 1, 0), m - 1), 0).x;
+        for (int ey = 0; ey < n + 2; ++ey) restY_[ey] = rest(0, std::min(std::max(ey - 1, 0), n - 1)).y;
+    } else {
+        R_ = hugePageMat(Size(m + 2, n + 2), CV_32FC2, owners_);
+        for (int ey = 0; ey < n + 2; ++ey) {
+            Point2f* row = R_.ptr<Point2f>(ey);
+            const int gy = std::min(std::max(ey - 1, 0), n - 1);
+            for (int ex = 0; ex < m + 2; ++ex) row[ex] = rest(std::min(std::max(ex - 1, 0), m - 1), gy);
+        }
     }
     rowMin_.resize(n + 1), rowMax_.resize(n + 1);
 }
 
+const Point2f* RasterMesh::restRow(int ey, std::vector<Point2f>& buffer) const {
+    if (!R_.empty()) return R_.ptr<Point2f>(ey);
+    buffer.resize(restX_.size());
+    const float y = restY_[ey];
+    for (size_t ex = 0; ex < restX_.size(); ++ex) buffer[ex] = Point2f(restX_[ex], y);
+    return buffer.data();
+}
+
 void RasterMesh::reset(const Mat& rest, Size outputSize) {
     CV_Assert(rest.type() == CV_32FC2 && rest.rows >= 2 && rest.cols >= 2);
-    resetWith(rest.size(), outputSize, [&](int gx, int gy) { return rest.at<Point2f>(gy, gx); });
+    resetWith(rest.size(), outputSize, false, [&](int gx, int gy) { return rest.at<Point2f>(gy, gx); });
 }
 
 void RasterMesh::reset(const Binding& binding) {
@@ -224,12 +241,12 @@ void RasterMesh::reset(const Binding& binding) {
     std::vector<float> xs(binding.gridSize.width), ys(binding.gridSize.height);
     for (int gx = 0; gx < binding.gridSize.width; ++gx) xs[gx] = binding.node(gx, 0).x;
     for (int gy = 0; gy < binding.gridSize.height; ++gy) ys[gy] = binding.node(0, gy).y;
-    resetWith(binding.gridSize, binding.imageSize, [&](int gx, int gy) { return Point2f(xs[gx], ys[gy]); });
+    resetWith(binding.gridSize, binding.imageSize, true, [&](int gx, int gy) { return Point2f(xs[gx], ys[gy]); });
 }
 
 template <typename F>
 void RasterMesh::forEachRingNode(F&& f) const {
-    const int m = R_.cols - 2, n = R_.rows - 2;
+    const int m = P_.cols - 2, n = P_.rows - 2;
     for (int ex = 0; ex < m + 2; ++ex) f(ex, 0);
     for (int ey = 1; ey < n + 1; ++ey) f(0, ey), f(m + 1, ey);
     for (int ex = 0; ex < m + 2; ++ex) f(ex, n + 1);
@@ -245,9 +262,9 @@ void RasterMesh::setFrame(const Point2f* frame) {
     const float W = static_cast<float>(out_.width), H = static_cast<float>(out_.height);
     Point2f corners[4] = {{-0.5f, -0.5f}, {W - 0.5f, -0.5f}, {W - 0.5f, H - 0.5f}, {-0.5f, H - 0.5f}};
     if (frame) std::copy(frame, frame + 4, corners);
-    const int m = R_.cols - 2, n = R_.rows - 2;
+    const int m = P_.cols - 2, n = P_.rows - 2;
     forEachRingNode([&](int ex, int ey) {
-        const Point2f source = R_.at<Point2f>(ey, ex);
+        const Point2f source = R_.empty() ? Point2f(restX_[ex], restY_[ey]) : R_.at<Point2f>(ey, ex);
         const float rx = ex == 0 ? -0.5f : ex == m + 1 ? W - 0.5f : source.x;
         const float ry = ey == 0 ? -0.5f : ey == n + 1 ? H - 0.5f : source.y;
         const float u = (rx + 0.5f) / W, v = (ry + 0.5f) / H;
@@ -259,7 +276,6 @@ void RasterMesh::setFrame(const Point2f* frame) {
 void RasterMesh::draw(Mat& mapx, Mat& mapy) {
     CV_Assert(mapx.type() == CV_32F && mapy.type() == CV_32F && mapx.size() == out_ && mapy.size() == out_);
     const Mat& P = P_;
-    const Mat& R = R_;
     // Vertical extent of each row of cells, so that a band of output rows skips whole cell
     // rows: each node row's extent first (in parallel), then pairs of rows.
     std::vector<float> nodeMin(P.rows), nodeMax(P.rows);
@@ -282,6 +298,7 @@ void RasterMesh::draw(Mat& mapx, Mat& mapy) {
     const int bands = std::max(1, std::min(outputSize.height, std::max(getNumThreads() * 4, outputSize.height / 32)));
     parallel_for_(Range(0, bands), [&](const Range& range) {
         std::unique_ptr<TriangleSetup> setup(new TriangleSetup);
+        std::vector<Point2f> rest0, rest1;  // rest rows of a regular grid
         for (int band = range.start; band < range.end; ++band) {
             const int y0 = outputSize.height * band / bands, y1 = outputSize.height * (band + 1) / bands;
             for (int y = y0; y < y1; ++y) {
@@ -292,8 +309,8 @@ void RasterMesh::draw(Mat& mapx, Mat& mapy) {
                 if (rowMax[gy] < y0 - 1 || rowMin[gy] > y1 + 1) continue;
                 const Point2f* p0 = P.ptr<Point2f>(gy);
                 const Point2f* p1 = P.ptr<Point2f>(gy + 1);
-                const Point2f* r0 = R.ptr<Point2f>(gy);
-                const Point2f* r1 = R.ptr<Point2f>(gy + 1);
+                const Point2f* r0 = restRow(gy, rest0);
+                const Point2f* r1 = restRow(gy + 1, rest1);
                 drawCellRow(p0, p1, r0, r1, P.cols - 1, y0, y1, lo, hi, mapx, mapy, *setup);
             }
         }
