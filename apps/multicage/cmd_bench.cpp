@@ -30,6 +30,7 @@ const BenchCase kPaperCases[] = {{{1024, 768}, 68, 9.034}, {{800, 600}, 44, -1},
 
 struct BenchOptions {
     int repeats = 7;
+    int threads = 0;  // 0: OpenCV's default
     bool paperOnly = false, noPeer = false, noGpu = false, gpuOnly = false, half = false;
     std::string image, json, size;
     int vertices = 68;
@@ -252,6 +253,69 @@ cv::Size parseSize(const std::string& text) {
     return {w, h};
 }
 
+// --- CPU backend figures (printed after the table) ---
+
+// The first pose after Deformer::create, what the CLI and deformImage pay, next to a warm one:
+// each of `repeats` fresh Deformers (made from one binding) is timed on its first deform.
+void printCpuFirstCall(const BenchOptions& o, const cv::Mat& image, const cv::multicage::Binding& binding,
+                       const std::vector<cv::Point2f>& pose) {
+    using namespace cv::multicage;
+    DeformParams cpu;
+    cpu.backend = BACKEND_CPU;
+    std::vector<double> createMs, firstMs, oneShotMs;
+    cv::Mat out;
+    for (int i = 0; i < o.repeats; ++i) {
+        cv::Mat fresh;  // a new output, as a first call has
+        auto t = std::chrono::steady_clock::now();
+        cv::Ptr<Deformer> d = Deformer::create(image, binding, cpu);
+        createMs.push_back(msSince(t));
+        t = std::chrono::steady_clock::now();
+        d->deform(pose, fresh);
+        firstMs.push_back(msSince(t));
+    }
+    cv::Ptr<Deformer> d = Deformer::create(image, binding, cpu);
+    const double warm = medianMs(o.repeats, [&] { d->deform(pose, out); });
+    std::printf("CPU backend, %dx%d, %d vertices, grid step 1, %d threads: Deformer::create from a "
+                "binding %.1f ms, first deform %.1f ms, warm deform %.1f ms\n",
+                image.cols, image.rows, binding.coefficientCount() - 4, cv::getNumThreads(),
+                median(createMs), median(firstMs), warm);
+}
+
+// Bind and pose times for 1, 2, 4, ... threads up to the current count, with the speed-up.
+void printCpuScaling(const BenchOptions& o, const cv::Mat& image, const cv::multicage::Multicage& cage,
+                     const std::vector<cv::Point2f>& pose) {
+    using namespace cv::multicage;
+    const int maxThreads = cv::getNumThreads();
+    std::vector<int> counts;
+    for (int t = 1; t < maxThreads; t *= 2) counts.push_back(t);
+    counts.push_back(maxThreads);
+    std::printf("CPU scaling, %dx%d, %d vertices (medians of %d runs):\n", image.cols, image.rows,
+                cage.vertexCount(), o.repeats);
+    std::printf("%8s %9s %9s %9s %9s %9s %9s\n", "threads", "bind ms", "pose ms", "s=4 ms", "bind x",
+                "pose x", "s=4 x");
+    double base[3] = {0, 0, 0};
+    for (int t : counts) {
+        cv::setNumThreads(t);
+        DeformParams cpu;
+        cpu.backend = BACKEND_CPU;
+        Binding binding;
+        const double bindMs = medianMs(o.repeats, [&] { binding = bind(cage, MEAN_VALUE, 1); });
+        cv::Mat out;
+        cv::Ptr<Deformer> d1 = Deformer::create(image, binding, cpu);
+        const double poseMs = medianMs(o.repeats, [&] { d1->deform(pose, out); });
+        d1.release();
+        binding = Binding();
+        cpu.gridStep = 4;
+        cv::Ptr<Deformer> d4 = Deformer::create(image, cage, cpu);
+        const double pose4Ms = medianMs(o.repeats, [&] { d4->deform(pose, out); });
+        if (t == counts.front()) base[0] = bindMs, base[1] = poseMs, base[2] = pose4Ms;
+        std::printf("%8d %9.1f %9.1f %9.2f %9.2f %9.2f %9.2f\n", t, bindMs, poseMs, pose4Ms,
+                    base[0] / bindMs, base[1] / poseMs, base[2] / pose4Ms);
+        std::fflush(stdout);
+    }
+    cv::setNumThreads(maxThreads);
+}
+
 void runBench(const BenchOptions& o) {
     using namespace cv::multicage;
     // Everything that can fail on bad input fails before the first line of output.
@@ -259,6 +323,7 @@ void runBench(const BenchOptions& o) {
     if (!o.size.empty()) cases = {{parseSize(o.size), o.vertices, -1}};
     if (o.paperOnly) cases.resize(1);
     if (!o.image.empty()) readImage(o.image);
+    if (o.threads > 0) cv::setNumThreads(o.threads);
     std::printf("multicage bench: medians of %d runs, %d threads, OpenCV %s%s\n", o.repeats,
                 cv::getNumThreads(), CV_VERSION, o.half ? ", half-float coefficients on the GPU" : "");
     std::unique_ptr<HeadlessGLContext> gl;
@@ -289,6 +354,12 @@ void runBench(const BenchOptions& o) {
             std::snprintf(b, 32, fmt, v);
         return b;
     };
+    struct {
+        cv::Mat image;
+        Multicage cage;
+        Binding binding;
+        std::vector<cv::Point2f> pose;
+    } firstCase;  // the CPU sections below use the first case
     std::vector<CaseRecord> records;
     for (const BenchCase& c : cases) {
         CaseRecord r;
@@ -341,6 +412,7 @@ void runBench(const BenchOptions& o) {
                     cell(r.tps > 0 && g.poseRead > 0 ? r.tps / g.poseRead : -1, "%.1f"),
                     cell(coefMB, "%.1f"), cell(g.coefMB, "%.1f"));
         std::fflush(stdout);
+        if (records.empty()) firstCase = {image, cage, binding, pose};
         records.push_back(r);
     }
     std::printf(
@@ -357,6 +429,11 @@ void runBench(const BenchOptions& o) {
     if (!o.json.empty()) {
         writeJson(o.json, device, o, records);
         std::printf("figures written to %s\n", o.json.c_str());
+    }
+    if (!o.gpuOnly) {
+        printCpuFirstCall(o, firstCase.image, firstCase.binding, firstCase.pose);
+        firstCase.binding = Binding();
+        printCpuScaling(o, firstCase.image, firstCase.cage, firstCase.pose);
     }
 }
 }  // namespace
@@ -376,6 +453,10 @@ void addBenchCommand(CLI::App& app) {
     cmd->add_flag("--first", o->paperOnly, "Only the first case (1024x768, 68 vertices)");
     cmd->add_flag("--no-peer", o->noPeer, "Skip the thin-plate spline peer");
     cmd->add_flag("--no-gpu", o->noGpu, "Skip the GPU columns");
+    cmd->add_option("--threads", o->threads,
+                    "CPU threads (cv::setNumThreads) for the whole bench; the scaling table goes up "
+                    "to this count (default: OpenCV's, all cores)")
+        ->check(CLI::Range(1, 1024));
     cmd->add_option("--image", o->image, "Photograph to resize for every case (default: a pattern)");
     cmd->add_option("--size", o->size,
                     "One case of this size (WIDTHxHEIGHT, e.g. 4096x3072) instead of Table 1's");

@@ -2,6 +2,7 @@
 #include <opencv2/core/utility.hpp>
 #include <opencv2/multicage/coordinates.hpp>
 
+#include <cstring>
 #include <mutex>
 #if defined(__linux__)
 #include <sys/mman.h>
@@ -15,7 +16,7 @@
 // The row kernel is compiled twice, for AVX2+FMA and for the baseline, and the loader picks
 // the one this CPU runs (GCC function multiversioning): 8 nodes per instruction where possible.
 #if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && !defined(__SANITIZE_ADDRESS__)
-#define MULTICAGE_TARGET_CLONES __attribute__((target_clones("arch=x86-64-v3", "default")))
+#define MULTICAGE_TARGET_CLONES __attribute__((target_clones("arch=x86-64-v4", "arch=x86-64-v3", "default")))
 #else
 #define MULTICAGE_TARGET_CLONES
 #endif
@@ -42,8 +43,12 @@ Point2f Binding::node(int gx, int gy) const {
 
 Mat Binding::nodes() const {
     Mat out(gridSize, CV_32FC2);
-    for (int gy = 0; gy < gridSize.height; ++gy)
-        for (int gx = 0; gx < gridSize.width; ++gx) out.at<Point2f>(gy, gx) = node(gx, gy);
+    for (int gy = 0; gy < gridSize.height; ++gy) {  // node(gx, gy), a row at a time
+        Point2f* row = out.ptr<Point2f>(gy);
+        const float y = nodeCoordinate(gy, gridStep, imageSize.height);
+        for (int gx = 0; gx < gridSize.width; ++gx)
+            row[gx] = Point2f(nodeCoordinate(gx, gridStep, imageSize.width), y);
+    }
     return out;
 }
 
@@ -62,6 +67,53 @@ std::vector<Point2f> Binding::completePose(InputArray poseIn) const {
     return pose;
 }
 
+namespace {
+
+// px[k] += CC_q[k] dx_q, py[k] += CC_q[k] dy_q for the moved vertices q in order, nodes
+// [begin, begin + count). Four planes per pass over px, py (each sum still adds the terms one
+// by one in vertex order, so the result does not depend on the grouping); a product and a sum
+// are two roundings, never contracted to one fused multiply-add, so every instruction set
+// gives the same bits.
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC push_options
+#pragma GCC optimize("fp-contract=off")
+#elif defined(__clang__)
+#pragma clang fp contract(off)
+#endif
+MULTICAGE_TARGET_CLONES
+void accumulateDisplacements(const Mat& coefficients, const int* moved, const Point2f* delta, int count_q,
+                             size_t begin, int count, float* __restrict px, float* __restrict py) {
+    int q = 0;
+    for (; q + 4 <= count_q; q += 4) {
+        const float* __restrict c0 = coefficients.ptr<float>(moved[q]) + begin;
+        const float* __restrict c1 = coefficients.ptr<float>(moved[q + 1]) + begin;
+        const float* __restrict c2 = coefficients.ptr<float>(moved[q + 2]) + begin;
+        const float* __restrict c3 = coefficients.ptr<float>(moved[q + 3]) + begin;
+        const float x0 = delta[q].x, x1 = delta[q + 1].x, x2 = delta[q + 2].x, x3 = delta[q + 3].x;
+        const float y0 = delta[q].y, y1 = delta[q + 1].y, y2 = delta[q + 2].y, y3 = delta[q + 3].y;
+        for (int k = 0; k < count; ++k) {
+            float x = px[k], y = py[k];
+            x += c0[k] * x0, y += c0[k] * y0;
+            x += c1[k] * x1, y += c1[k] * y1;
+            x += c2[k] * x2, y += c2[k] * y2;
+            x += c3[k] * x3, y += c3[k] * y3;
+            px[k] = x, py[k] = y;
+        }
+    }
+    for (; q < count_q; ++q) {
+        const float* __restrict c = coefficients.ptr<float>(moved[q]) + begin;
+        const float dx = delta[q].x, dy = delta[q].y;
+        for (int k = 0; k < count; ++k) px[k] += c[k] * dx, py[k] += c[k] * dy;
+    }
+}
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC pop_options
+#elif defined(__clang__)
+#pragma clang fp contract(on)
+#endif
+
+}  // namespace
+
 void Binding::apply(InputArray poseIn, OutputArray positionsOut) const {
     CV_Assert(!empty());
     const std::vector<Point2f> pose = completePose(poseIn);
@@ -74,24 +126,33 @@ void Binding::apply(InputArray poseIn, OutputArray positionsOut) const {
         if (d.x != 0.f || d.y != 0.f) moved.push_back(j), delta.push_back(d);
     }
     positionsOut.create(gridSize, CV_32FC2);
-    Mat positions = positionsOut.getMat();
-    const int N = nodeCount(), m = gridSize.width;
-    constexpr int kChunk = 4096;
-    parallel_for_(Range(0, (N + kChunk - 1) / kChunk), [&](const Range& r) {
-        std::vector<float> px(kChunk), py(kChunk);
-        for (int chunk = r.start; chunk < r.end; ++chunk) {
-            const int begin = chunk * kChunk, count = std::min(kChunk, N - begin);
-            for (int k = 0; k < count; ++k) {
-                const Point2f x = node((begin + k) % m, (begin + k) / m);
-                px[k] = x.x, py[k] = x.y;
+    Mat positions = positionsOut.getMat();  // may be a view into a larger mesh (not continuous)
+    const int m = gridSize.width, n = gridSize.height;
+    // Blocks of whole rows, about 2048 nodes each: the running sums stay in L1 while the
+    // coefficient planes stream through, several planes per pass.
+    const int rowsPerBlock = std::max(1, 2048 / m);
+    const int blocks = (n + rowsPerBlock - 1) / rowsPerBlock;
+    parallel_for_(Range(0, blocks), [&](const Range& r) {
+        const int cap = rowsPerBlock * m;
+        std::vector<float> px(cap), py(cap);
+        for (int block = r.start; block < r.end; ++block) {
+            const int gy0 = block * rowsPerBlock, gy1 = std::min(n, gy0 + rowsPerBlock);
+            const size_t begin = static_cast<size_t>(gy0) * m;
+            const int count = (gy1 - gy0) * m;
+            for (int gy = gy0; gy < gy1; ++gy) {  // the rest positions, as node(gx, gy) gives them
+                const float y = nodeCoordinate(gy, gridStep, imageSize.height);
+                float* qx = px.data() + (gy - gy0) * m;
+                float* qy = py.data() + (gy - gy0) * m;
+                for (int gx = 0; gx < m; ++gx) qx[gx] = nodeCoordinate(gx, gridStep, imageSize.width), qy[gx] = y;
             }
-            for (size_t q = 0; q < moved.size(); ++q) {
-                const float* cc = coefficients.ptr<float>(moved[q]) + begin;
-                const float dx = delta[q].x, dy = delta[q].y;
-                for (int k = 0; k < count; ++k) px[k] += cc[k] * dx, py[k] += cc[k] * dy;
+            accumulateDisplacements(coefficients, moved.data(), delta.data(), static_cast<int>(moved.size()),
+                                    begin, count, px.data(), py.data());
+            for (int gy = gy0; gy < gy1; ++gy) {
+                Point2f* out = positions.ptr<Point2f>(gy);
+                const float* qx = px.data() + (gy - gy0) * m;
+                const float* qy = py.data() + (gy - gy0) * m;
+                for (int gx = 0; gx < m; ++gx) out[gx] = Point2f(qx[gx], qy[gx]);
             }
-            Point2f* out = positions.ptr<Point2f>() + begin;
-            for (int k = 0; k < count; ++k) out[k] = Point2f(px[k], py[k]);
         }
     });
 }
@@ -107,6 +168,22 @@ void adviseHugePages(Mat& m) {
     const uintptr_t end = (reinterpret_cast<uintptr_t>(m.data) + m.total() * m.elemSize()) & ~(kHuge - 1);
     if (end > begin) madvise(reinterpret_cast<void*>(begin), end - begin, MADV_HUGEPAGE);
 #endif
+}
+
+// 8 doubles / 8 floats as GCC vector types (unaligned loads and stores through memcpy). Only
+// used inside this file's inlined code, so GCC's note that passing AVX-sized types without AVX
+// changes the ABI does not concern us (-Wpsabi is off for this file).
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC diagnostic ignored "-Wpsabi"
+#endif
+typedef double v8d __attribute__((vector_size(64)));
+typedef float v8f __attribute__((vector_size(32)));
+typedef long long v8i __attribute__((vector_size(64)));
+inline v8d load8d(const double* p) { v8d r; std::memcpy(&r, p, sizeof r); return r; }
+inline v8f load8f(const float* p) { v8f r; std::memcpy(&r, p, sizeof r); return r; }
+inline void store8d(double* p, v8d v) { std::memcpy(p, &v, sizeof v); }
+inline v8d absd(v8d v) {  // std::abs: the sign bit cleared
+    return reinterpret_cast<v8d>(reinterpret_cast<v8i>(v) & (v8i{} + 0x7fffffffffffffffLL));
 }
 
 struct BoundPolygon {
@@ -125,13 +202,21 @@ struct RowSums {
     }
 };
 
+// The sums of nodes [k0, k0 + K) of a row.
+struct SumsAt {
+    double *xs, *W, *absW, *sx, *sy;
+    SumsAt(RowSums& s, int k0)
+        : xs(s.xs.data() + k0), W(s.W.data() + k0), absW(s.absW.data() + k0), sx(s.sx.data() + k0),
+          sy(s.sy.data() + k0) {}
+};
+
 // Raw mean value weights, times `sign`, of polygon v[0..n) for the nodes (xs[k], y), k < m.
 // Hormann & Floater 2006: t_i = tan(alpha_i / 2), w_i = (t_{i-1} + t_i) / r_i. The float
 // kernel flags nodes on or near a vertex or an edge; those are redone in double by the caller.
 // out[i] receives vertex i's row; tbuf is n*m scratch.
 MULTICAGE_TARGET_CLONES
 void rawWeightsRow(const Point2f* v, int n, float sign, const float* xs, int m, float y,
-                   float* const* out, float* tbuf, uchar* nearSingular, RowSums& sums) {
+                   float* const* out, float* tbuf, int* nearSingular, const SumsAt& sums) {
     for (int i = 0; i < n; ++i) {  // r_i, kept in the output row until pass 3
         const float vx = v[i].x, dy = v[i].y - y;
         float* r = out[i];
@@ -159,28 +244,45 @@ void rawWeightsRow(const Point2f* v, int n, float sign, const float* xs, int m, 
             t[k] = sign * num / den;
             // near a vertex (r small) or an edge (A small while the edge is seen at > 90 deg)
             const bool bad = ri[k] < 1e-3f || (D <= 0.f && std::abs(A) < 1e-4f * rr);
-            nearSingular[k] |= static_cast<uchar>(bad);
+            nearSingular[k] |= static_cast<int>(bad);
         }
     }
-    // Raw pointers marked __restrict: without them GCC cannot rule out aliasing between the
-    // five arrays and leaves this loop scalar (two thirds of the kernel's time).
-    double* __restrict W = sums.W.data();
-    double* __restrict absW = sums.absW.data();
-    double* __restrict sx = sums.sx.data();
-    double* __restrict sy = sums.sy.data();
-    const double* __restrict xd = sums.xs.data();
-    for (int i = 0; i < n; ++i) {  // w_i, and the sums Algorithm 1 and the projection need
+    for (int i = 0; i < n; ++i) {  // w_i
         const float* __restrict tprev = tbuf + static_cast<size_t>(i == 0 ? n - 1 : i - 1) * m;
         const float* __restrict t = tbuf + static_cast<size_t>(i) * m;
-        const double vx = v[i].x, dy = v[i].y - y;
         float* __restrict w = out[i];
         for (int k = 0; k < m; ++k) w[k] = (tprev[k] + t[k]) / w[k];
-        for (int k = 0; k < m; ++k) {
-            const double wd = w[k];
+    }
+    // The sums Algorithm 1 and the projection need, in double: for 8 nodes at a time, all n
+    // vertices in order with the 8 nodes' sums kept in registers (GCC vector extensions: one
+    // AVX-512 register per sum in that clone, two AVX ones in the AVX2 clone, four SSE ones in
+    // the default one). Each node adds its terms in the same order as a vertex-by-vertex loop.
+    double* W = sums.W;
+    double* absW = sums.absW;
+    double* sx = sums.sx;
+    double* sy = sums.sy;
+    const double* xd = sums.xs;
+    int k = 0;
+    for (; k + 8 <= m; k += 8) {
+        v8d Ws = load8d(W + k), As = load8d(absW + k), Xs = load8d(sx + k), Ys = load8d(sy + k);
+        const v8d xk = load8d(xd + k);
+        for (int i = 0; i < n; ++i) {
+            const double vx = v[i].x, dy = v[i].y - y;
+            const v8d wd = __builtin_convertvector(load8f(out[i] + k), v8d);
+            Ws += wd;
+            As += absd(wd);
+            Xs += wd * (vx - xk);
+            Ys += wd * dy;
+        }
+        store8d(W + k, Ws), store8d(absW + k, As), store8d(sx + k, Xs), store8d(sy + k, Ys);
+    }
+    for (; k < m; ++k)
+        for (int i = 0; i < n; ++i) {
+            const double vx = v[i].x, dy = v[i].y - y;
+            const double wd = out[i][k];
             W[k] += wd, absW[k] += std::abs(wd);
             sx[k] += wd * (vx - xd[k]), sy[k] += wd * dy;
         }
-    }
 }
 
 // Sums of the rest vertices' coordinates, for the Gram matrix of the linear-precision projection.
@@ -194,6 +296,35 @@ struct VertexMoments {
     }
 };
 
+// Per node: 1 / W, the conditioning, and the projection's (l0, l1, l2) (see below). The moments
+// by value and __restrict arrays: otherwise GCC must assume a store may change them, and leaves
+// the loop scalar.
+inline void projectionTerms(const VertexMoments mo, double y, int m, const double* __restrict xs,
+                            const double* __restrict Ws, const double* __restrict absW,
+                            const double* __restrict sx, const double* __restrict sy,
+                            int* __restrict flags, double* __restrict kap, float* __restrict invOut,
+                            float* __restrict l0Out, float* __restrict l1Out, float* __restrict l2Out) {
+    for (int k = 0; k < m; ++k) {
+        const double x = xs[k], invW = 1.0 / Ws[k];
+        const double kk = std::abs(Ws[k]) / absW[k];
+        kap[k] = kk;
+        flags[k] |= static_cast<int>(!(kk >= 1e-6));  // also catches NaN; no branch: vectorises
+        const double a = mo.n, b = mo.sx - mo.n * x, cc = mo.sy - mo.n * y;
+        const double d = mo.sxx - 2 * x * mo.sx + mo.n * x * x;
+        const double e = mo.sxy - x * mo.sy - y * mo.sx + mo.n * x * y;
+        const double f = mo.syy - 2 * y * mo.sy + mo.n * y * y;
+        const double r1 = -sx[k] * invW, r2 = -sy[k] * invW;  // the sum is 1 by construction
+        // Cramer's rule on the symmetric positive definite [[a b c] [b d e] [c e f]] (the frame
+        // alone spans the plane), right-hand side (0, r1, r2).
+        const double A = d * f - e * e, B = cc * e - b * f, C = b * e - cc * d;
+        const double invDet = 1.0 / (a * A + b * B + cc * C);
+        l0Out[k] = static_cast<float>((B * r1 + C * r2) * invDet);
+        l1Out[k] = static_cast<float>(((a * f - cc * cc) * r1 + (b * cc - a * e) * r2) * invDet);
+        l2Out[k] = static_cast<float>(((b * cc - a * e) * r1 + (a * d - b * b) * r2) * invDet);
+        invOut[k] = static_cast<float>(invW);
+    }
+}
+
 // Algorithm 1's division by the total, fused with a correction of the float kernel's rounding.
 // That rounding leaves ~1e-7 relative noise in each raw weight, which at image coordinates of
 // ~1000 px is up to 1e-3 px of linear-precision error. True mean value coordinates satisfy
@@ -204,26 +335,9 @@ struct VertexMoments {
 // totals in nearSingular (the caller redoes those nodes exactly).
 MULTICAGE_TARGET_CLONES
 void normalizeAndProject(float* const* out, int c, const Point2f* v, const VertexMoments& M,
-                         double y, int m, RowSums& s, uchar* nearSingular, double* kappa,
+                         double y, int m, const SumsAt& s, int* nearSingular, double* kappa,
                          float* inv, float* l0, float* l1, float* l2) {
-    for (int k = 0; k < m; ++k) {
-        const double x = s.xs[k], invW = 1.0 / s.W[k];
-        kappa[k] = std::abs(s.W[k]) / s.absW[k];
-        if (!(kappa[k] >= 1e-6)) nearSingular[k] = 1;  // also catches NaN
-        const double a = M.n, b = M.sx - M.n * x, cc = M.sy - M.n * y;
-        const double d = M.sxx - 2 * x * M.sx + M.n * x * x;
-        const double e = M.sxy - x * M.sy - y * M.sx + M.n * x * y;
-        const double f = M.syy - 2 * y * M.sy + M.n * y * y;
-        const double r1 = -s.sx[k] * invW, r2 = -s.sy[k] * invW;  // the sum is 1 by construction
-        // Cramer's rule on the symmetric positive definite [[a b c] [b d e] [c e f]] (the frame
-        // alone spans the plane), right-hand side (0, r1, r2).
-        const double A = d * f - e * e, B = cc * e - b * f, C = b * e - cc * d;
-        const double invDet = 1.0 / (a * A + b * B + cc * C);
-        l0[k] = static_cast<float>((B * r1 + C * r2) * invDet);
-        l1[k] = static_cast<float>(((a * f - cc * cc) * r1 + (b * cc - a * e) * r2) * invDet);
-        l2[k] = static_cast<float>(((b * cc - a * e) * r1 + (a * d - b * b) * r2) * invDet);
-        inv[k] = static_cast<float>(invW);
-    }
+    projectionTerms(M, y, m, s.xs, s.W, s.absW, s.sx, s.sy, nearSingular, kappa, inv, l0, l1, l2);
     for (int j = 0; j < c; ++j) {
         const float vx = v[j].x, dy = static_cast<float>(v[j].y - y);
         float* w = out[j];
@@ -299,13 +413,15 @@ Binding bind(const Multicage& multicage, int coordinates, int gridStep) {
     adviseHugePages(b.coefficients);
     std::mutex worstLock;
     double worst = 2.0;
+    constexpr int kChunk = 256;
     Point2f worstAt;
     parallel_for_(Range(0, b.gridSize.height), [&](const Range& rows) {
-        std::vector<float> xs(m), tbuf(static_cast<size_t>(maxN) * m), inv(m), l0(m), l1(m), l2(m);
+        std::vector<float> xs(m), tbuf(static_cast<size_t>(maxN) * kChunk), inv(kChunk), l0(kChunk),
+            l1(kChunk), l2(kChunk);
         std::vector<double> kappa(m);
         RowSums sums(m);
-        std::vector<uchar> nearSingular(m);
-        std::vector<float*> out(c);
+        std::vector<int> nearSingular(m);  // int, not uchar: the AVX2 kernel needs no packing
+        std::vector<float*> out(c), chunkOut(c);
         std::vector<double> exact(c);
         double localWorst = 2.0;
         Point2f localAt;
@@ -315,12 +431,20 @@ Binding bind(const Multicage& multicage, int coordinates, int gridStep) {
             for (int j = 0; j < c; ++j) out[j] = b.coefficients.ptr<float>(j) + static_cast<size_t>(gy) * m;
             std::fill(nearSingular.begin(), nearSingular.end(), 0);
             sums.clear();
-            for (const BoundPolygon& p : polygons)
-                rawWeightsRow(p.v.data(), static_cast<int>(p.v.size()), p.sign, xs.data(), m, float(y),
-                              out.data() + p.first, tbuf.data(), nearSingular.data(), sums);
-            normalizeAndProject(out.data(), c, b.restVertices.data(), moments, y, m, sums,
-                                nearSingular.data(), kappa.data(), inv.data(), l0.data(), l1.data(),
-                                l2.data());
+            // The row in chunks of nodes small enough that every pass over a chunk (distances,
+            // half-angle tangents, weights and sums, normalisation) stays in the L1/L2 cache.
+            // Each node's arithmetic is the same whatever the chunk.
+            for (int k0 = 0; k0 < m; k0 += kChunk) {
+                const int K = std::min(kChunk, m - k0);
+                for (int j = 0; j < c; ++j) chunkOut[j] = out[j] + k0;
+                const SumsAt at(sums, k0);
+                for (const BoundPolygon& p : polygons)
+                    rawWeightsRow(p.v.data(), static_cast<int>(p.v.size()), p.sign, xs.data() + k0, K,
+                                  float(y), chunkOut.data() + p.first, tbuf.data(), nearSingular.data() + k0, at);
+                normalizeAndProject(chunkOut.data(), c, b.restVertices.data(), moments, y, K, at,
+                                    nearSingular.data() + k0, kappa.data() + k0, inv.data(), l0.data(),
+                                    l1.data(), l2.data());
+            }
             for (int k = 0; k < m; ++k) {
                 if (nearSingular[k]) {
                     kappa[k] = bindNodeExact(polygons, Point2d(xs[k], y), exact.data(), c);

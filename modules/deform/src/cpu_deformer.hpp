@@ -4,6 +4,8 @@
 
 #include <opencv2/multicage/deformer.hpp>
 
+#include <vector>
+
 namespace cv {
 namespace multicage {
 
@@ -11,6 +13,43 @@ Ptr<Deformer> createCpuDeformer(const Mat& image, const Binding& binding, const 
 
 /** Throws a cv::Exception unless image is a non-empty 8U/16U/32F image with 1, 3 or 4 channels. */
 void checkImage(InputArray image);
+
+/** A matrix for a large buffer that stays with a Deformer. From 2 MB up it is backed by memory
+the kernel may give 2 MB pages (madvise MADV_HUGEPAGE; `owners` keeps the allocation alive):
+touching a fresh 4 KiB page costs about 12 us on a VM like this project's machine (3 ms per
+MB), a 2 MB page a small part of that. */
+Mat hugePageMat(Size size, int type, std::vector<Mat>& owners);
+
+/** The node mesh the CPU backend rasterises (mesh_raster.cpp): the node grid with a ring of
+nodes on the image frame around it, (n+2) x (m+2). It is made once per Deformer and reused by
+every pose, so a pose allocates nothing and touches no fresh memory. */
+class RasterMesh {
+public:
+    /** Allocates (and touches) the mesh for these rest nodes (gridSize CV_32FC2) and output size. */
+    void reset(const Mat& restNodes, Size outputSize);
+    /** The same for a binding's node grid and image size, without making its node matrix. */
+    void reset(const Binding& binding);
+    /** The deformed grid nodes: a gridSize CV_32FC2 view inside the mesh, to write a pose into. */
+    Mat nodes() { return P_(Rect(1, 1, P_.cols - 2, P_.rows - 2)); }
+    /** Places the ring on the frame with these 4 corners (TL, TR, BR, BL); null: the rest frame. */
+    void setFrame(const Point2f* frame);
+    /** Inverse maps (outputSize CV_32F, every pixel written) for the current nodes and frame. */
+    void draw(Mat& mapx, Mat& mapy);
+
+private:
+    template <typename F>
+    void forEachRingNode(F&& f) const;
+    template <typename RestNode>
+    void resetWith(Size grid, Size outputSize, bool separable, RestNode&& rest);
+    // Row ey of the rest mesh: R_'s, or made in `buffer` from restX_ and restY_.
+    const Point2f* restRow(int ey, std::vector<Point2f>& buffer) const;
+    std::vector<Mat> owners_;  // the memory of P_ and R_
+    Mat P_, R_;  // deformed and rest nodes, ring included; R_ empty for a regular grid
+    std::vector<float> restX_, restY_;  // a regular grid's rest x per column, y per row
+    Point2f lo_, hi_;
+    Size out_;
+    std::vector<float> rowMin_, rowMax_;
+};
 
 }  // namespace multicage
 }  // namespace cv

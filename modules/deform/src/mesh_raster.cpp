@@ -1,8 +1,25 @@
 // Rasterising the deformed node mesh into inverse maps (the CPU backend's "draw call").
+
+// For the whole file (before any header, so that every function here, inlined ones included,
+// has the same options): no fused multiply-adds, so the AVX2 clone of the triangle kernel gives
+// the same bits as the baseline one; and no floating-point traps assumed (nothing here enables
+// them), so that the selects of the triangle set-up vectorise.
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC optimize("fp-contract=off", "no-trapping-math")
+#elif defined(__clang__)
+#pragma clang fp contract(off)
+#endif
 #include <opencv2/core/utility.hpp>
 #include <opencv2/multicage/deformer.hpp>
 
+#include "cpu_deformer.hpp"
+
+#include <climits>
 #include <cmath>
+#include <memory>
+#if defined(__linux__)
+#include <sys/mman.h>
+#endif
 
 namespace cv {
 namespace multicage {
@@ -13,48 +30,107 @@ constexpr float kUncovered = -1e4f;  // far outside any image: cv::remap gives t
 
 inline double cross(Point2d a, Point2d b) { return a.x * b.y - a.y * b.x; }
 
-// Writes, for every pixel centre of rows [y0, y1) inside triangle q (deformed), the matching
-// point of triangle p (rest). Inside a triangle the inverse map is affine, so each row is a
+// The triangle kernel is compiled twice, for AVX2 and for the baseline (GCC function
+// multiversioning), without fused multiply-adds: both give the same bits.
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && !defined(__SANITIZE_ADDRESS__)
+#define MULTICAGE_TARGET_CLONES __attribute__((target_clones("arch=x86-64-v3", "default")))
+#else
+#define MULTICAGE_TARGET_CLONES
+#endif
+
+// std::min / std::max of three, with their exact comparisons (so NaN behaves as it always did),
+// written as selects so that a loop of them vectorises.
+inline double min3(double a, double b, double c) {
+    double r = a;
+    r = b < r ? b : r;
+    return c < r ? c : r;
+}
+inline double max3(double a, double b, double c) {
+    double r = a;
+    r = r < b ? b : r;
+    return r < c ? c : r;
+}
+
+// The triangles of a run of cells, two per cell ((a,b,c) then (b,d,c)), in drawing order.
+constexpr int kRunCells = 64, kRunTriangles = 2 * kRunCells;
+
+// Per triangle of a run, everything drawTriangle needs that does not depend on the output
+// rows: bounds, the barycentric edge functions, and the affine inverse map. One structure of
+// arrays, so the set-up of a run vectorises across triangles.
+struct TriangleSetup {
+    float qx[3][kRunTriangles], qy[3][kRunTriangles], px[3][kRunTriangles], py[3][kRunTriangles];
+    double minY[kRunTriangles], maxY[kRunTriangles], minX[kRunTriangles], maxX[kRunTriangles];
+    double area[kRunTriangles];
+    double ax[3][kRunTriangles], ay[3][kRunTriangles], a0[3][kRunTriangles], invAx[3][kRunTriangles];
+    double mxx[kRunTriangles], mxy[kRunTriangles], mx0[kRunTriangles];
+    double myx[kRunTriangles], myy[kRunTriangles], my0[kRunTriangles];
+};
+
+// Set-up of triangles [0, count) from their corners qx/qy (deformed) and px/py (rest). Every
+// value is computed with the same operations, in the same order, as for one triangle at a time.
+inline void setUpTriangles(TriangleSetup& s, int count) {
+    for (int t = 0; t < count; ++t) {
+        const double q0x = s.qx[0][t], q0y = s.qy[0][t], q1x = s.qx[1][t], q1y = s.qy[1][t];
+        const double q2x = s.qx[2][t], q2y = s.qy[2][t];
+        s.minY[t] = min3(q0y, q1y, q2y), s.maxY[t] = max3(q0y, q1y, q2y);
+        s.minX[t] = min3(q0x, q1x, q2x), s.maxX[t] = max3(q0x, q1x, q2x);
+        // area = cross(q1 - q0, q2 - q0)
+        const double area = (q1x - q0x) * (q2y - q0y) - (q1y - q0y) * (q2x - q0x);
+        s.area[t] = area;
+        const double inv = 1.0 / area;
+        // Barycentric l_i(x, y) = (cross(a, b) + x (a.y - b.y) + y (b.x - a.x)) / area for the
+        // edge (a, b) opposite vertex i: (q1, q2), (q2, q0), (q0, q1).
+        const double ex[3][2] = {{q1x, q2x}, {q2x, q0x}, {q0x, q1x}};
+        const double ey[3][2] = {{q1y, q2y}, {q2y, q0y}, {q0y, q1y}};
+        double ax[3], ay[3], a0[3];
+        for (int i = 0; i < 3; ++i) {
+            ax[i] = (ey[i][0] - ey[i][1]) * inv, ay[i] = (ex[i][1] - ex[i][0]) * inv;
+            a0[i] = (ex[i][0] * ey[i][1] - ey[i][0] * ex[i][1]) * inv;
+            const double r = 1.0 / ax[i];
+            s.ax[i][t] = ax[i], s.ay[i][t] = ay[i], s.a0[i][t] = a0[i];
+            s.invAx[i][t] = ax[i] != 0 ? r : 0.0;
+        }
+        // The rest position as an affine function of the output pixel: r = p2 + l0 (p0-p2) + l1 (p1-p2).
+        const double p2x = s.px[2][t], p2y = s.py[2][t];
+        const double d0x = double(s.px[0][t]) - p2x, d0y = double(s.py[0][t]) - p2y;
+        const double d1x = double(s.px[1][t]) - p2x, d1y = double(s.py[1][t]) - p2y;
+        s.mxx[t] = ax[0] * d0x + ax[1] * d1x, s.mxy[t] = ay[0] * d0x + ay[1] * d1x;
+        s.mx0[t] = p2x + a0[0] * d0x + a0[1] * d1x;
+        s.myx[t] = ax[0] * d0y + ax[1] * d1y, s.myy[t] = ay[0] * d0y + ay[1] * d1y;
+        s.my0[t] = p2y + a0[0] * d0y + a0[1] * d1y;
+    }
+}
+
+// Writes, for every pixel centre of rows [y0, y1) inside triangle t (deformed), the matching
+// point of its rest triangle. Inside a triangle the inverse map is affine, so each row is a
 // span [xl, xr] found from the three barycentric edge functions, filled by a straight loop.
 // Edges are inclusive with a small tolerance so that neighbouring triangles leave no crack;
 // on a shared edge both write almost the same value.
-void drawTriangle(const Point2f q[3], const Point2f p[3], int y0, int y1, Point2f lo, Point2f hi,
-                  Mat& mapx, Mat& mapy) {
-    const Point2d q0 = q[0], q1 = q[1], q2 = q[2];
+inline void drawTriangle(const TriangleSetup& s, int t, int y0, int y1, Point2f lo, Point2f hi,
+                         Mat& mapx, Mat& mapy) {
     // Bounds are clamped in double before they become ints: a pose may put nodes 1e30 px
     // away or at infinity, and converting such a value to int is undefined (fuzz_deform).
     // The negated tests also drop NaN coordinates.
-    const double minY = std::min({q0.y, q1.y, q2.y}), maxY = std::max({q0.y, q1.y, q2.y});
+    const double minY = s.minY[t], maxY = s.maxY[t];
     if (!(maxY >= y0 && minY <= y1 - 1)) return;
     const int ya = static_cast<int>(std::ceil(std::max(minY, double(y0))));
     const int yb = static_cast<int>(std::floor(std::min(maxY, double(y1 - 1))));
     if (ya > yb) return;
-    const double minX = std::min({q0.x, q1.x, q2.x}), maxX = std::max({q0.x, q1.x, q2.x});
+    const double minX = s.minX[t], maxX = s.maxX[t];
     if (!(maxX >= 0 && minX <= mapx.cols - 1)) return;
     const int xa = static_cast<int>(std::ceil(std::max(minX, 0.0)));
     const int xb = static_cast<int>(std::floor(std::min(maxX, double(mapx.cols - 1))));
     if (xa > xb) return;
-    const double area = cross(q1 - q0, q2 - q0);
+    const double area = s.area[t];
     // Degenerate, NaN, or infinite (a node at infinity: the affine map would be NaN).
     if (!(std::abs(area) > 1e-12) || !std::isfinite(area)) return;
-    const double inv = 1.0 / area;
-    // Barycentric l_i(x, y) = (cross(a, b) + x (a.y - b.y) + y (b.x - a.x)) / area for the
-    // edge (a, b) opposite vertex i.
-    const Point2d e[3][2] = {{q1, q2}, {q2, q0}, {q0, q1}};
-    double ax[3], ay[3], a0[3];
-    for (int i = 0; i < 3; ++i) {
-        const Point2d a = e[i][0], b = e[i][1];
-        ax[i] = (a.y - b.y) * inv, ay[i] = (b.x - a.x) * inv, a0[i] = cross(a, b) * inv;
-    }
-    // The rest position as an affine function of the output pixel: r = p2 + l0 (p0-p2) + l1 (p1-p2).
-    const Point2d d0 = Point2d(p[0]) - Point2d(p[2]), d1 = Point2d(p[1]) - Point2d(p[2]);
-    const double mxx = ax[0] * d0.x + ax[1] * d1.x, mxy = ay[0] * d0.x + ay[1] * d1.x;
-    const double mx0 = p[2].x + a0[0] * d0.x + a0[1] * d1.x;
-    const double myx = ax[0] * d0.y + ax[1] * d1.y, myy = ay[0] * d0.y + ay[1] * d1.y;
-    const double my0 = p[2].y + a0[0] * d0.y + a0[1] * d1.y;
+    const double ax[3] = {s.ax[0][t], s.ax[1][t], s.ax[2][t]};
+    const double ay[3] = {s.ay[0][t], s.ay[1][t], s.ay[2][t]};
+    const double a0[3] = {s.a0[0][t], s.a0[1][t], s.a0[2][t]};
+    const double invAx[3] = {s.invAx[0][t], s.invAx[1][t], s.invAx[2][t]};
+    const double mxx = s.mxx[t], mxy = s.mxy[t], mx0 = s.mx0[t];
+    const double myx = s.myx[t], myy = s.myy[t], my0 = s.my0[t];
     constexpr double eps = -1e-7;
-    double invAx[3];  // once per triangle, not per row
-    for (int i = 0; i < 3; ++i) invAx[i] = ax[i] != 0 ? 1.0 / ax[i] : 0.0;
     for (int y = ya; y <= yb; ++y) {
         double left = xa, right = xb;
         for (int i = 0; i < 3; ++i) {  // l_i(x) = ax x + c >= eps
@@ -76,89 +152,191 @@ void drawTriangle(const Point2f q[3], const Point2f p[3], int y0, int y1, Point2
     }
 }
 
+// Draws the cells of one row of the mesh (nodes rows p0/p1 deformed, r0/r1 rest, `cells`
+// cells) into output rows [y0, y1), in order: cell by cell, (a,b,c) then (b,d,c).
+MULTICAGE_TARGET_CLONES
+void drawCellRow(const Point2f* p0, const Point2f* p1, const Point2f* r0, const Point2f* r1, int cells,
+                 int y0, int y1, Point2f lo, Point2f hi, Mat& mapx, Mat& mapy, TriangleSetup& s) {
+    for (int first = 0; first < cells; first += kRunCells) {
+        const int n = std::min(kRunCells, cells - first);
+        for (int k = 0; k < n; ++k) {
+            const int gx = first + k, a = 2 * k, b = 2 * k + 1;
+            s.qx[0][a] = p0[gx].x, s.qy[0][a] = p0[gx].y, s.px[0][a] = r0[gx].x, s.py[0][a] = r0[gx].y;
+            s.qx[1][a] = p0[gx + 1].x, s.qy[1][a] = p0[gx + 1].y, s.px[1][a] = r0[gx + 1].x, s.py[1][a] = r0[gx + 1].y;
+            s.qx[2][a] = p1[gx].x, s.qy[2][a] = p1[gx].y, s.px[2][a] = r1[gx].x, s.py[2][a] = r1[gx].y;
+            s.qx[0][b] = p0[gx + 1].x, s.qy[0][b] = p0[gx + 1].y, s.px[0][b] = r0[gx + 1].x, s.py[0][b] = r0[gx + 1].y;
+            s.qx[1][b] = p1[gx + 1].x, s.qy[1][b] = p1[gx + 1].y, s.px[1][b] = r1[gx + 1].x, s.py[1][b] = r1[gx + 1].y;
+            s.qx[2][b] = p1[gx].x, s.qy[2][b] = p1[gx].y, s.px[2][b] = r1[gx].x, s.py[2][b] = r1[gx].y;
+        }
+        setUpTriangles(s, 2 * n);
+        for (int t = 0; t < 2 * n; ++t) drawTriangle(s, t, y0, y1, lo, hi, mapx, mapy);
+    }
+}
+
 }  // namespace
 
-void rasterizeMaps(InputArray positionsIn, InputArray restIn, Size outputSize, OutputArray mapxOut,
-                   OutputArray mapyOut, InputArray frameIn) {
-    Mat P = positionsIn.getMat(), R = restIn.getMat();
-    CV_Assert(P.type() == CV_32FC2 && R.type() == CV_32FC2 && P.size() == R.size());
-    CV_Assert(P.rows >= 2 && P.cols >= 2 && outputSize.area() > 0);
+Mat hugePageMat(Size size, int type, std::vector<Mat>& owners) {
+    const size_t bytes = size_t(size.area()) * CV_ELEM_SIZE(type);
+#if defined(__linux__) && defined(MADV_HUGEPAGE)
+    constexpr size_t kHuge = size_t(2) << 20;
+    if (bytes >= kHuge) {
+        const size_t span = (bytes + kHuge - 1) & ~(kHuge - 1);
+        Mat block(1, static_cast<int>(std::min<size_t>(span + kHuge, INT_MAX)), CV_8U);
+        if (block.total() == span + kHuge) {
+            uchar* aligned = alignPtr(block.data, static_cast<int>(kHuge));
+            madvise(aligned, span, MADV_HUGEPAGE);
+            owners.push_back(block);
+            return Mat(size, type, aligned);
+        }
+    }
+#endif
+    (void)owners;
+    return Mat(size, type);
+}
+
+template <typename RestNode>
+void RasterMesh::resetWith(Size grid, Size outputSize, bool separable, RestNode&& rest) {
+    CV_Assert(grid.width >= 2 && grid.height >= 2 && outputSize.area() > 0);
+    const int m = grid.width, n = grid.height;
+    out_ = outputSize;
+    lo_ = rest(0, 0), hi_ = rest(m - 1, n - 1);
+    owners_.clear();
+    P_ = hugePageMat(Size(m + 2, n + 2), CV_32FC2, owners_);
+    // Touched here, once: a first pose does not pay for the page faults of a fresh buffer.
+    P_.setTo(Scalar::all(0));
+    // Rest mesh: interior the rest nodes, ring the nearest one. A regular grid needs only its
+    // column x and row y (the rows are made when drawn); any other rest mesh is stored whole.
+    restX_.assign(m + 2, 0.f), restY_.assign(n + 2, 0.f);
+    R_.release();
+    if (separable) {
+        for (int ex = 0; ex < m + 2; ++ex) restX_[ex] = rest(std::min(std::max(ex - 1, 0), m - 1), 0).x;
+        for (int ey = 0; ey < n + 2; ++ey) restY_[ey] = rest(0, std::min(std::max(ey - 1, 0), n - 1)).y;
+    } else {
+        R_ = hugePageMat(Size(m + 2, n + 2), CV_32FC2, owners_);
+        for (int ey = 0; ey < n + 2; ++ey) {
+            Point2f* row = R_.ptr<Point2f>(ey);
+            const int gy = std::min(std::max(ey - 1, 0), n - 1);
+            for (int ex = 0; ex < m + 2; ++ex) row[ex] = rest(std::min(std::max(ex - 1, 0), m - 1), gy);
+        }
+    }
+    rowMin_.resize(n + 1), rowMax_.resize(n + 1);
+}
+
+const Point2f* RasterMesh::restRow(int ey, std::vector<Point2f>& buffer) const {
+    if (!R_.empty()) return R_.ptr<Point2f>(ey);
+    buffer.resize(restX_.size());
+    const float y = restY_[ey];
+    for (size_t ex = 0; ex < restX_.size(); ++ex) buffer[ex] = Point2f(restX_[ex], y);
+    return buffer.data();
+}
+
+void RasterMesh::reset(const Mat& rest, Size outputSize) {
+    CV_Assert(rest.type() == CV_32FC2 && rest.rows >= 2 && rest.cols >= 2);
+    resetWith(rest.size(), outputSize, false, [&](int gx, int gy) { return rest.at<Point2f>(gy, gx); });
+}
+
+void RasterMesh::reset(const Binding& binding) {
+    // Node (gx, gy) rests at (x of column gx, y of row gy): two short tables instead of the
+    // whole node grid.
+    std::vector<float> xs(binding.gridSize.width), ys(binding.gridSize.height);
+    for (int gx = 0; gx < binding.gridSize.width; ++gx) xs[gx] = binding.node(gx, 0).x;
+    for (int gy = 0; gy < binding.gridSize.height; ++gy) ys[gy] = binding.node(0, gy).y;
+    resetWith(binding.gridSize, binding.imageSize, true, [&](int gx, int gy) { return Point2f(xs[gx], ys[gy]); });
+}
+
+template <typename F>
+void RasterMesh::forEachRingNode(F&& f) const {
+    const int m = P_.cols - 2, n = P_.rows - 2;
+    for (int ex = 0; ex < m + 2; ++ex) f(ex, 0);
+    for (int ey = 1; ey < n + 1; ++ey) f(0, ey), f(m + 1, ey);
+    for (int ex = 0; ex < m + 2; ++ex) f(ex, n + 1);
+}
+
+void RasterMesh::setFrame(const Point2f* frame) {
     // The mesh gets a ring of nodes on the image frame, around the node grid (whose outer nodes
     // sit on the border pixel centres, half a pixel inside the frame). A ring node follows the
     // frame as mean value coordinates do on a polygon edge (the frame corners interpolated
     // linearly) and samples the border pixel next to it. So the half-pixel band between the
     // frame and the border nodes is always covered: when border nodes move inwards the border
     // pixels stretch instead of leaving a line of border colour. deform.vert builds the same ring.
-    const Point2f lo = R.at<Point2f>(0, 0), hi = R.at<Point2f>(R.rows - 1, R.cols - 1);
-    std::vector<Point2f> corners;
-    if (!frameIn.empty()) {
-        Mat f = frameIn.getMat();
-        CV_Assert(f.total() == 4 && f.type() == CV_32FC2);
-        corners.assign(f.ptr<Point2f>(), f.ptr<Point2f>() + 4);
-    } else {
-        const float W = outputSize.width - 0.5f, H = outputSize.height - 0.5f;
-        corners = {{-0.5f, -0.5f}, {W, -0.5f}, {W, H}, {-0.5f, H}};
-    }
-    {
-        const int m = P.cols, n = P.rows;
-        Mat Pe(n + 2, m + 2, CV_32FC2), Re(n + 2, m + 2, CV_32FC2);
-        P.copyTo(Pe(Rect(1, 1, m, n)));
-        R.copyTo(Re(Rect(1, 1, m, n)));
-        const float W = static_cast<float>(outputSize.width), H = static_cast<float>(outputSize.height);
-        for (int ey = 0; ey < n + 2; ++ey)
-            for (int ex = 0; ex < m + 2; ++ex) {
-                if (ex > 0 && ex < m + 1 && ey > 0 && ey < n + 1) continue;
-                const Point2f source = R.at<Point2f>(std::min(std::max(ey - 1, 0), n - 1),
-                                                     std::min(std::max(ex - 1, 0), m - 1));
-                const float rx = ex == 0 ? -0.5f : ex == m + 1 ? W - 0.5f : source.x;
-                const float ry = ey == 0 ? -0.5f : ey == n + 1 ? H - 0.5f : source.y;
-                const float u = (rx + 0.5f) / W, v = (ry + 0.5f) / H;
-                Pe.at<Point2f>(ey, ex) = (1 - u) * (1 - v) * corners[0] + u * (1 - v) * corners[1] +
-                                         u * v * corners[2] + (1 - u) * v * corners[3];
-                Re.at<Point2f>(ey, ex) = source;
-            }
-        P = Pe, R = Re;
-    }
-    mapxOut.create(outputSize, CV_32F);
-    mapyOut.create(outputSize, CV_32F);
-    Mat mapx = mapxOut.getMat(), mapy = mapyOut.getMat();
-    mapx.setTo(kUncovered);
-    mapy.setTo(kUncovered);
+    const float W = static_cast<float>(out_.width), H = static_cast<float>(out_.height);
+    Point2f corners[4] = {{-0.5f, -0.5f}, {W - 0.5f, -0.5f}, {W - 0.5f, H - 0.5f}, {-0.5f, H - 0.5f}};
+    if (frame) std::copy(frame, frame + 4, corners);
+    const int m = P_.cols - 2, n = P_.rows - 2;
+    forEachRingNode([&](int ex, int ey) {
+        const Point2f source = R_.empty() ? Point2f(restX_[ex], restY_[ey]) : R_.at<Point2f>(ey, ex);
+        const float rx = ex == 0 ? -0.5f : ex == m + 1 ? W - 0.5f : source.x;
+        const float ry = ey == 0 ? -0.5f : ey == n + 1 ? H - 0.5f : source.y;
+        const float u = (rx + 0.5f) / W, v = (ry + 0.5f) / H;
+        P_.at<Point2f>(ey, ex) = (1 - u) * (1 - v) * corners[0] + u * (1 - v) * corners[1] +
+                                 u * v * corners[2] + (1 - u) * v * corners[3];
+    });
+}
 
-    // Vertical extent of each row of cells, so that a band of output rows skips whole cell rows.
-    std::vector<float> rowMin(P.rows - 1), rowMax(P.rows - 1);
-    for (int gy = 0; gy + 1 < P.rows; ++gy) {
-        float lo = INFINITY, hi = -INFINITY;
-        for (int r = gy; r <= gy + 1; ++r)
-            for (int gx = 0; gx < P.cols; ++gx) {
-                const float y = P.at<Point2f>(r, gx).y;
-                lo = std::min(lo, y), hi = std::max(hi, y);
-            }
-        rowMin[gy] = lo, rowMax[gy] = hi;
-    }
-    // Bands of output rows in parallel; each walks the cells in the same order, so where the
-    // mesh folds over, the later triangle wins exactly as in a GPU draw call.
-    const int bands = std::max(1, std::min(outputSize.height, getNumThreads() * 4));
+void RasterMesh::draw(Mat& mapx, Mat& mapy) {
+    CV_Assert(mapx.type() == CV_32F && mapy.type() == CV_32F && mapx.size() == out_ && mapy.size() == out_);
+    const Mat& P = P_;
+    // Vertical extent of each row of cells, so that a band of output rows skips whole cell
+    // rows: each node row's extent first (in parallel), then pairs of rows.
+    std::vector<float> nodeMin(P.rows), nodeMax(P.rows);
+    parallel_for_(Range(0, P.rows), [&](const Range& r) {
+        for (int gy = r.start; gy < r.end; ++gy) {
+            const Point2f* p = P.ptr<Point2f>(gy);
+            float lo = INFINITY, hi = -INFINITY;
+            for (int gx = 0; gx < P.cols; ++gx) lo = std::min(lo, p[gx].y), hi = std::max(hi, p[gx].y);
+            nodeMin[gy] = lo, nodeMax[gy] = hi;
+        }
+    }, std::max(1.0, P.rows / 64.0));
+    for (int gy = 0; gy + 1 < P.rows; ++gy)
+        rowMin_[gy] = std::min(nodeMin[gy], nodeMin[gy + 1]), rowMax_[gy] = std::max(nodeMax[gy], nodeMax[gy + 1]);
+    const std::vector<float>& rowMin = rowMin_;
+    const std::vector<float>& rowMax = rowMax_;
+    const Point2f lo = lo_, hi = hi_;
+    const Size outputSize = out_;
+    // Bands of output rows in parallel; each clears its rows, then walks the cells in the same
+    // order, so where the mesh folds over, the later triangle wins exactly as in a GPU draw call.
+    const int bands = std::max(1, std::min(outputSize.height, std::max(getNumThreads() * 4, outputSize.height / 32)));
     parallel_for_(Range(0, bands), [&](const Range& range) {
+        std::unique_ptr<TriangleSetup> setup(new TriangleSetup);
+        std::vector<Point2f> rest0, rest1;  // rest rows of a regular grid
         for (int band = range.start; band < range.end; ++band) {
             const int y0 = outputSize.height * band / bands, y1 = outputSize.height * (band + 1) / bands;
+            for (int y = y0; y < y1; ++y) {
+                std::fill_n(mapx.ptr<float>(y), outputSize.width, kUncovered);
+                std::fill_n(mapy.ptr<float>(y), outputSize.width, kUncovered);
+            }
             for (int gy = 0; gy + 1 < P.rows; ++gy) {
                 if (rowMax[gy] < y0 - 1 || rowMin[gy] > y1 + 1) continue;
                 const Point2f* p0 = P.ptr<Point2f>(gy);
                 const Point2f* p1 = P.ptr<Point2f>(gy + 1);
-                const Point2f* r0 = R.ptr<Point2f>(gy);
-                const Point2f* r1 = R.ptr<Point2f>(gy + 1);
-                for (int gx = 0; gx + 1 < P.cols; ++gx) {
-                    const Point2f qa[3] = {p0[gx], p0[gx + 1], p1[gx]};
-                    const Point2f ra[3] = {r0[gx], r0[gx + 1], r1[gx]};
-                    drawTriangle(qa, ra, y0, y1, lo, hi, mapx, mapy);
-                    const Point2f qb[3] = {p0[gx + 1], p1[gx + 1], p1[gx]};
-                    const Point2f rb[3] = {r0[gx + 1], r1[gx + 1], r1[gx]};
-                    drawTriangle(qb, rb, y0, y1, lo, hi, mapx, mapy);
-                }
+                const Point2f* r0 = restRow(gy, rest0);
+                const Point2f* r1 = restRow(gy + 1, rest1);
+                drawCellRow(p0, p1, r0, r1, P.cols - 1, y0, y1, lo, hi, mapx, mapy, *setup);
             }
         }
     });
+}
+
+void rasterizeMaps(InputArray positionsIn, InputArray restIn, Size outputSize, OutputArray mapxOut,
+                   OutputArray mapyOut, InputArray frameIn) {
+    Mat P = positionsIn.getMat(), R = restIn.getMat();
+    CV_Assert(P.type() == CV_32FC2 && R.type() == CV_32FC2 && P.size() == R.size());
+    CV_Assert(P.rows >= 2 && P.cols >= 2 && outputSize.area() > 0);
+    Point2f corners[4];
+    if (!frameIn.empty()) {
+        Mat f = frameIn.getMat();
+        CV_Assert(f.total() == 4 && f.type() == CV_32FC2);
+        if (!f.isContinuous()) f = f.clone();
+        std::copy(f.ptr<Point2f>(), f.ptr<Point2f>() + 4, corners);
+    }
+    RasterMesh mesh;
+    mesh.reset(R, outputSize);
+    P.copyTo(mesh.nodes());
+    mesh.setFrame(frameIn.empty() ? nullptr : corners);
+    mapxOut.create(outputSize, CV_32F);
+    mapyOut.create(outputSize, CV_32F);
+    Mat mapx = mapxOut.getMat(), mapy = mapyOut.getMat();
+    mesh.draw(mapx, mapy);
 }
 
 int countFoldedTriangles(InputArray positionsIn, InputArray restIn) {
