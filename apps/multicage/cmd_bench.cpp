@@ -61,6 +61,19 @@ cv::Mat benchImage(const std::string& path, cv::Size size) {
     return img;
 }
 
+// A table cell: the figure in fmt, or "-" for one not measured (< 0). Each row's cells stay
+// valid until 24 more are made.
+const char* cell(double v, const char* fmt) {
+    static char buf[24][32];
+    static int next = 0;
+    char* b = buf[next++ % 24];
+    if (v < 0)
+        std::snprintf(b, 32, "-");
+    else
+        std::snprintf(b, 32, fmt, v);
+    return b;
+}
+
 // One GPU pipeline's figures: GPU time of each stage (timer queries, medians), and the
 // wall-clock time of Deformer::deform to a cv::Mat and of computeMaps.
 struct PipelineFigures {
@@ -69,7 +82,7 @@ struct PipelineFigures {
 };
 
 struct GpuFigures {
-    double bind = -1, packUpload = -1, shaders = -1, coefMB = -1;
+    double bind = -1, packUpload = -1, coefMB = -1;
     double createFirst = -1, createAgain = -1;  // Deformer::create, GPU binding, cold and warm
     double pose = -1, poseRead = -1;            // the default (compute) pipeline, for Table 1
     PipelineFigures pipelines[2];               // indexed by GpuPipeline
@@ -218,16 +231,10 @@ void printGpuTable(const std::vector<CaseRecord>& cases) {
             const PipelineFigures& f = c.gpu.pipelines[p];
             char size[16];
             std::snprintf(size, sizeof size, "%dx%d", c.size.width, c.size.height);
-            auto v = [](double x) {
-                static char buf[8][16];
-                static int next = 0;
-                char* b = buf[next++ % 8];
-                std::snprintf(b, 16, x < 0 ? "-" : "%.3f", x);
-                return b;
-            };
             std::printf("%-10s %4d %-13s | %9s %9s %9s %9s %9s | %9s %9s |", size, c.vertices,
-                        pipelineName(p), v(f.positions), v(f.raster), v(f.gather), v(f.gpuTotal),
-                        v(f.readback), v(f.deform), v(f.maps));
+                        pipelineName(p), cell(f.positions, "%.3f"), cell(f.raster, "%.3f"),
+                        cell(f.gather, "%.3f"), cell(f.gpuTotal, "%.3f"), cell(f.readback, "%.3f"),
+                        cell(f.deform, "%.3f"), cell(f.maps, "%.3f"));
             if (p == cv::multicage::GPU_PIPELINE_COMPUTE)
                 std::printf(" %10.1f %9.1f\n", c.gpu.createFirst, c.gpu.createAgain);
             else
@@ -344,16 +351,6 @@ void runBench(const BenchOptions& o) {
     std::printf("%-10s %4s | %8s %8s %8s | %8s %8s | %8s %8s %8s | %8s %8s %8s | %8s %7s | %7s %7s\n",
                 "", "", "CPU ms", "GPU ms", "bind ms", "GPU ms", "GPU ms", "GPU ms", "GPU ms",
                 "CPU ms", "CPU s=4", "CPU ms", "warp ms", "/CPU", "deform", "CPU", "texture");
-    auto cell = [](double v, const char* fmt) {
-        static char buf[24][32];  // one per cell of a row
-        static int next = 0;
-        char* b = buf[next++ % 24];
-        if (v < 0)
-            std::snprintf(b, 32, "-");
-        else
-            std::snprintf(b, 32, fmt, v);
-        return b;
-    };
     struct {
         cv::Mat image;
         Multicage cage;

@@ -149,21 +149,23 @@ HeadlessGLContext::Scope::Scope(const HeadlessGLContext& c)
 
 HeadlessGLContext::Scope::~Scope() = default;
 
-bool gpuAvailable(std::string* description) {
+namespace gpu {
+// Whether `pick` gives a context; *description: its device, or why there is none.
+static bool answer(EglContext* (*pick)(std::string*), std::string* description) {
     std::string why;
-    const gpu::EglContext* context = gpu::EglContext::shared(&why);
+    const EglContext* context = pick(&why);
     if (description) *description = context ? context->description() : why;
     return context != nullptr;
 }
 
-namespace gpu {
 bool hardwareGpu(std::string* description) {
-    std::string why;
-    const EglContext* context = acceleratedContext(&why);
-    if (description) *description = context ? context->description() : why;
-    return context != nullptr;
+    return answer(acceleratedContext, description);
 }
 }  // namespace gpu
+
+bool gpuAvailable(std::string* description) {
+    return gpu::answer(gpu::EglContext::shared, description);
+}
 
 }  // namespace multicage
 }  // namespace cv
