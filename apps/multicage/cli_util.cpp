@@ -160,21 +160,17 @@ CLI::Validator wholeNumber(int lo, int hi) {
         "INT in [" + std::to_string(lo) + " - " + std::to_string(hi) + "]");
 }
 
-int parseBackend(const std::string& name) {
-    if (name == "auto") return cv::multicage::BACKEND_AUTO;
-    if (name == "cpu") return cv::multicage::BACKEND_CPU;
-    if (name == "gpu") return cv::multicage::BACKEND_GPU;
-    throw Failure("unknown backend '" + name + "' (auto, cpu or gpu)");
+int backendArg(const std::string& name) {
+    int backend = 0;
+    if (!cv::multicage::parseBackend(name, backend)) throw Failure("unknown backend '" + name + "' (auto, cpu or gpu)");
+    return backend;
 }
 
-int parseCoordinates(const std::string& name) {
-    if (name == "mvc") return cv::multicage::MEAN_VALUE;
-    if (name == "harmonic") return cv::multicage::HARMONIC;
-    throw Failure("unknown coordinates '" + name + "' (mvc or harmonic)");
-}
-
-const char* backendName(int backend) {
-    return backend == cv::multicage::BACKEND_GPU ? "gpu" : backend == cv::multicage::BACKEND_CPU ? "cpu" : "auto";
+int coordinatesArg(const std::string& name) {
+    int type = 0;
+    if (!cv::multicage::parseCoordinateType(name, type))
+        throw Failure("unknown coordinates '" + name + "' (mvc or harmonic)");
+    return type;
 }
 
 std::string plural(long long n, const std::string& one, const std::string& many) {

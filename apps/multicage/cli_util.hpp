@@ -67,9 +67,9 @@ class BindProgressLine {
 whole number", "0 is out of range: 1 to 256"). */
 CLI::Validator wholeNumber(int lo, int hi);
 
-int parseBackend(const std::string& name);       // auto | cpu | gpu
-int parseCoordinates(const std::string& name);   // mvc | harmonic
-const char* backendName(int backend);
+// The library's names (cv::multicage::parseBackend, parseCoordinateType), as a Failure when unknown.
+int backendArg(const std::string& name);       // auto | cpu | gpu
+int coordinatesArg(const std::string& name);   // mvc | harmonic
 
 /** "1 polygon", "3 polygons" (many: the plural when it is not singular + "s"). */
 std::string plural(long long n, const std::string& one, const std::string& many = "");

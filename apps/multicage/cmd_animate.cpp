@@ -57,8 +57,8 @@ void runAnimate(const AnimateOptions& o) {
     params.loop = o.loop;
     params.interpolation = o.interpolation == "linear" ? INTERPOLATE_LINEAR : INTERPOLATE_CATMULL_ROM;
     DeformParams deformParams;
-    deformParams.backend = parseBackend(o.backend);
-    deformParams.coordinates = o.coords.empty() ? cage.coordinates() : parseCoordinates(o.coords);
+    deformParams.backend = backendArg(o.backend);
+    deformParams.coordinates = o.coords.empty() ? cage.coordinates() : coordinatesArg(o.coords);
     if (!o.memoryBudget.empty()) deformParams.memoryBudget = parseMemorySize(o.memoryBudget);
     std::string stepChange;
     deformParams.gridStep = chooseGridStep("animate", image.size(), cage.vertexCount(), o.gridStep, o.gridStepTyped,
@@ -82,7 +82,7 @@ void runAnimate(const AnimateOptions& o) {
                 "render: %.1f frames/s over %.0f ms (bind %.0f ms; per frame: pose %.2f ms, deform %.1f ms, "
                 "write %.1f ms)\n",
                 o.output.c_str(), s.frames, image.cols, image.rows, o.fps, s.frames / o.fps,
-                backendName(s.backend), deformParams.coordinates == HARMONIC ? "harmonic" : "mean value",
+                backendName(s.backend), coordinateTypeDescription(deformParams.coordinates),
                 deformParams.gridStep, stepChange.empty() ? "" : (" (" + stepChange + ")").c_str(), s.fps(), s.totalMs, s.bindMs, s.sampleMs / n,
                 s.deformMs / n, s.writeMs / n);
     if (!s.note.empty()) std::fprintf(stderr, "multicage animate: note: %s: %s\n", o.output.c_str(), s.note.c_str());

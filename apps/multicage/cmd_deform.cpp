@@ -33,8 +33,8 @@ void runDeform(const DeformOptions& o) {
         }
     }
     DeformParams params;
-    params.backend = parseBackend(o.backend);
-    params.coordinates = o.coords.empty() ? cage.coordinates() : parseCoordinates(o.coords);
+    params.backend = backendArg(o.backend);
+    params.coordinates = o.coords.empty() ? cage.coordinates() : coordinatesArg(o.coords);
     if (!o.memoryBudget.empty()) params.memoryBudget = parseMemorySize(o.memoryBudget);
     std::string stepChange;
     params.gridStep = chooseGridStep("deform", image.size(), cage.vertexCount(), o.gridStep, o.gridStepTyped,
@@ -72,7 +72,7 @@ void runDeform(const DeformOptions& o) {
     writeImage("deform", o.output, out);
     std::cout << "wrote " << o.output << " (" << out.cols << "x" << out.rows << ", pose '" << pose.name
               << "', " << backendName(deformer->backend()) << (o.backend == "auto" ? " (auto)" : "") << ", "
-              << (binding.coordinates == HARMONIC ? "harmonic" : "mean value") << " coordinates, grid step "
+              << coordinateTypeDescription(binding.coordinates) << " coordinates, grid step "
               << binding.gridStep << (stepChange.empty() ? "" : " (" + stepChange + ")") << ", bind " << cvRound(bindMs) << " ms, deform " << cvRound(deformMs) << " ms, total "
               << cvRound(msSince(t0)) << " ms)" << std::endl;
 }

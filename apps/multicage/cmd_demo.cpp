@@ -54,7 +54,7 @@ void runDemo(const DemoOptions& o) {
     }
     cage.addPose("stretch", stretch, 1.0);
     DeformParams params;
-    params.backend = parseBackend(o.backend);
+    params.backend = backendArg(o.backend);
     params.gridStep = o.gridStep;
     probeAutoBackend(params.backend);  // once, and not counted as bind time
     t = std::chrono::steady_clock::now();

@@ -87,7 +87,8 @@ void checkYamlLayout(const std::string& text, const std::string& where) {
 
 void Multicage::write(FileStorage& fs) const {
     fs << "image_size" << "[:" << imageSize_.width << imageSize_.height << "]";
-    fs << "coordinates" << (coordinates_ == 1 ? "harmonic" : "mean_value");
+    // The file spells mean value coordinates out (parseCoordinateType reads both spellings).
+    fs << "coordinates" << (coordinates_ == HARMONIC ? "harmonic" : "mean_value");
     fs << "polygons" << "[";
     for (const auto& polygon : polygons_) writeCoordinates(fs, polygon);
     fs << "]";
@@ -113,8 +114,7 @@ void Multicage::read(const FileNode& root) {
     const FileNode coordinates = root["coordinates"];  // optional, mean value by default
     if (!coordinates.empty()) {
         const std::string name = coordinates.isString() ? static_cast<std::string>(coordinates) : "";
-        if (name == "harmonic") cage.coordinates_ = 1;
-        else if (name != "mean_value") malformed("coordinates", "must be mean_value or harmonic");
+        if (!parseCoordinateType(name, cage.coordinates_)) malformed("coordinates", "must be mean_value or harmonic");
     }
 
     const FileNode polygons = root["polygons"];

@@ -228,8 +228,28 @@ int Multicage::findPose(const std::string& name) const {
 
 int Multicage::coordinates() const { return coordinates_; }
 
+const char* coordinateTypeName(int type) {
+    switch (type) {
+    case MEAN_VALUE: return "mvc";
+    case HARMONIC: return "harmonic";
+    case COORDINATES_FROM_CAGE: return "cage";
+    default: return nullptr;
+    }
+}
+
+const char* coordinateTypeDescription(int type) {
+    return type == HARMONIC ? "harmonic" : type == MEAN_VALUE ? "mean value" : "the cage's";
+}
+
+bool parseCoordinateType(const String& name, int& type) {
+    if (name == "mvc" || name == "mean_value") type = MEAN_VALUE;
+    else if (name == "harmonic") type = HARMONIC;
+    else return false;
+    return true;
+}
+
 void Multicage::setCoordinates(int coordinates) {
-    if (coordinates != 0 && coordinates != 1)
+    if (coordinates != MEAN_VALUE && coordinates != HARMONIC)
         CV_Error_(Error::StsOutOfRange, ("multicage: unknown coordinate type %d (0 mean value, 1 harmonic)", coordinates));
     coordinates_ = coordinates;
 }

@@ -8,6 +8,24 @@
 namespace cv {
 namespace multicage {
 
+const char* backendName(int backend) {
+    switch (backend) {
+    case BACKEND_AUTO: return "auto";
+    case BACKEND_CPU: return "cpu";
+    case BACKEND_GPU: return "gpu";
+    default: return nullptr;
+    }
+}
+
+bool parseBackend(const String& name, int& backend) {
+    for (int b : {BACKEND_AUTO, BACKEND_CPU, BACKEND_GPU})
+        if (name == backendName(b)) {
+            backend = b;
+            return true;
+        }
+    return false;
+}
+
 static std::string formatBytes(size_t bytes) {
     const double mib = bytes / (1024.0 * 1024.0);
     return mib >= 1024 ? format("%.1f GiB", mib / 1024) : format("%.0f MiB", mib);

@@ -115,7 +115,6 @@ int parseCoordinates(const py::handle& obj) {
                           {{"mvc", MEAN_VALUE}, {"mean_value", MEAN_VALUE}, {"harmonic", HARMONIC}}, 2);
 }
 
-const char* backendName(int b) { return b == BACKEND_GPU ? "gpu" : b == BACKEND_CPU ? "cpu" : "auto"; }
 const char* coordinatesName(int c) { return c == HARMONIC ? "harmonic" : "mvc"; }
 
 /** DeformParams from the Python keywords. coordinates None follows the multicage's own

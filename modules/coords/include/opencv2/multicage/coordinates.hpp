@@ -8,15 +8,6 @@
 namespace cv {
 namespace multicage {
 
-enum CoordinateType {
-    /** Whatever the multicage says (Multicage::coordinates(): a cage file's `coordinates:`,
-    mean value when it names none). The default of bind() and DeformParams, so that one rule
-    holds everywhere: the cage file's choice unless the caller names a type. */
-    COORDINATES_FROM_CAGE = -1,
-    MEAN_VALUE = 0,  //!< Hormann & Floater 2006; smooth, may be negative, global support
-    HARMONIC = 1     //!< DeRose & Meyer 2006; non-negative, each region sees only its polygons
-};
-
 /** coordinates, or multicage.coordinates() when it is COORDINATES_FROM_CAGE. */
 CV_EXPORTS int resolveCoordinates(const Multicage& multicage, int coordinates);
 

@@ -10,6 +10,24 @@
 namespace cv {
 namespace multicage {
 
+enum CoordinateType {
+    /** Whatever the multicage says (Multicage::coordinates(): a cage file's `coordinates:`,
+    mean value when it names none). The default of bind() and DeformParams, so that one rule
+    holds everywhere: the cage file's choice unless the caller names a type. */
+    COORDINATES_FROM_CAGE = -1,
+    MEAN_VALUE = 0,  //!< Hormann & Floater 2006; smooth, may be negative, global support
+    HARMONIC = 1     //!< DeRose & Meyer 2006; non-negative, each region sees only its polygons
+};
+
+/** The name of a CoordinateType in the CLI, Python and editor: "mvc", "harmonic", or "cage"
+for COORDINATES_FROM_CAGE; nullptr for any other value. */
+CV_EXPORTS const char* coordinateTypeName(int type);
+/** The words for a CoordinateType in sentences: "mean value", "harmonic". */
+CV_EXPORTS const char* coordinateTypeDescription(int type);
+/** The CoordinateType called name: "mvc" or "mean_value" (the cage file's spelling) for
+MEAN_VALUE, "harmonic" for HARMONIC. False, type untouched, for any other name. */
+CV_EXPORTS bool parseCoordinateType(const String& name, int& type);
+
 /** A pose: one position for every user vertex of a multicage, in vertex order.
 
 A pose may be named and timed (keyframes for animation). The frame corners are not part of
@@ -94,8 +112,8 @@ public:
     /** Index of the pose called name, or -1. */
     int findPose(const std::string& name) const;
 
-    /** The cage coordinates this multicage is meant to be bound with (a CoordinateType:
-    0 mean value, 1 harmonic), saved in the cage file as `coordinates: mean_value|harmonic`. */
+    /** The cage coordinates this multicage is meant to be bound with (MEAN_VALUE or
+    HARMONIC), saved in the cage file as `coordinates: mean_value|harmonic`. */
     int coordinates() const;
     void setCoordinates(int coordinates);
 
@@ -124,7 +142,7 @@ private:
     Size imageSize_;
     std::vector<std::vector<Point2f>> polygons_;
     std::vector<Pose> poses_;
-    int coordinates_ = 0;
+    int coordinates_ = MEAN_VALUE;
 };
 
 /** Writes an image through a temporary file in the same folder and a rename, so that the

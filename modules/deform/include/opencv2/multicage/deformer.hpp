@@ -30,6 +30,12 @@ EGL context, software included, can be made, i.e. whether BACKEND_GPU works. Wit
 gpuAvailable() is true and autoBackendUsesGpu() false. Thread-safe. */
 CV_EXPORTS bool autoBackendUsesGpu(std::string* description = nullptr);
 
+/** The name of a Backend in the CLI, Python and editor ("auto", "cpu", "gpu"); nullptr for
+any other value. */
+CV_EXPORTS const char* backendName(int backend);
+/** The Backend called name ("auto", "cpu", "gpu"). False, backend untouched, for any other. */
+CV_EXPORTS bool parseBackend(const String& name, int& backend);
+
 struct CV_EXPORTS DeformParams {
     /** CoordinateType. The default, COORDINATES_FROM_CAGE, binds with the multicage's own choice
     (Multicage::coordinates(): a cage file's `coordinates:`, mean value when it names none);
