@@ -8,10 +8,10 @@
 #include <sys/mman.h>
 #endif
 
-#include "geometry.hpp"
+#include <opencv2/multicage/internal/geometry.hpp>
 #include "harmonic.hpp"
 #include "mean_value.hpp"
-#include "point_input.hpp"
+#include <opencv2/multicage/internal/point_input.hpp>
 
 // The row kernel is compiled twice, for AVX2+FMA and for the baseline, and the loader picks
 // the one this CPU runs (GCC function multiversioning): 8 nodes per instruction where possible.

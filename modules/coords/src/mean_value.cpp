@@ -3,7 +3,7 @@
 #include <opencv2/multicage/coordinates.hpp>
 #include <vector>
 
-#include "point_input.hpp"
+#include <opencv2/multicage/internal/point_input.hpp>
 
 namespace cv {
 namespace multicage {

@@ -1,4 +1,4 @@
-#include "geometry.hpp"
+#include <opencv2/multicage/internal/geometry.hpp>
 
 #include <algorithm>
 #include <numeric>

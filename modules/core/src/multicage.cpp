@@ -4,8 +4,8 @@
 #include <algorithm>
 #include <cmath>
 
-#include "geometry.hpp"
-#include "point_input.hpp"
+#include <opencv2/multicage/internal/geometry.hpp>
+#include <opencv2/multicage/internal/point_input.hpp>
 
 namespace cv {
 namespace multicage {

@@ -3,7 +3,7 @@
 #include <opencv2/multicage/deformer.hpp>
 
 #include "cpu_deformer.hpp"
-#include "gpu_backend.hpp"
+#include "gpu_deformer.hpp"
 
 namespace cv {
 namespace multicage {
@@ -32,7 +32,10 @@ static std::string formatBytes(size_t bytes) {
 }
 
 bool autoBackendUsesGpu(std::string* description) {
-    return gpu::hardwareGpu(description);
+    std::string why;
+    const HeadlessGLContext* context = hardwareContext(&why);
+    if (description) *description = context ? context->description() : why;
+    return context != nullptr;
 }
 
 Ptr<Deformer> Deformer::create(InputArray image, const Multicage& rest, const DeformParams& params) {
@@ -60,7 +63,7 @@ Ptr<Deformer> Deformer::create(InputArray image, const Multicage& rest, const De
     }
     if (chosen.gpuBinding != 0 && chosen.coordinates == MEAN_VALUE && params.backend != BACKEND_CPU) {
         std::string why;
-        Ptr<Deformer> gpu = gpu::createDeformer(image.getMat(), rest, chosen, &why);
+        Ptr<Deformer> gpu = createGpuDeformer(image.getMat(), rest, chosen, &why);
         if (gpu) return gpu;
         if (chosen.gpuBinding > 0) {  // asked for explicitly: say why it did not happen
             if (params.backend == BACKEND_GPU)
@@ -103,7 +106,7 @@ Ptr<Deformer> Deformer::create(InputArray imageIn, const Binding& binding, const
                 CV_LOG_INFO(NULL, "multicage: BACKEND_AUTO uses the CPU backend: " << why);
                 return createCpuDeformer(image, binding, params);
             }
-            Ptr<Deformer> gpu = gpu::createDeformer(image, binding, params, &why);
+            Ptr<Deformer> gpu = createGpuDeformer(image, binding, params, &why);
             if (gpu) return gpu;
             if (params.backend == BACKEND_GPU)
                 CV_Error(Error::StsNotImplemented, "multicage: BACKEND_GPU requested but " + why);

@@ -13,7 +13,7 @@
 #include <opencv2/imgproc.hpp>
 #include <opencv2/multicage/propose.hpp>
 
-#include "geometry.hpp"
+#include <opencv2/multicage/internal/geometry.hpp>
 #include "segment.hpp"
 
 namespace cv {

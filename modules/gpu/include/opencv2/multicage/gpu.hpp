@@ -16,16 +16,27 @@ class EglContext;
 /** A headless OpenGL 4.5 (or 4.3) core context through EGL, with no window and no X: a
 hardware EGL device (EGL_EXT_platform_device, NVIDIA for instance) first, else Mesa's
 surfaceless platform (llvmpipe where there is no GPU). For running GLDeformer without a
-window. (The GPU Deformers of a process share one private context of this kind.) The constructor throws a cv::Exception
-saying why when no such context can be made. */
+window. The constructor makes a new context and throws a cv::Exception saying why when none
+can be made; shared() is the one the process's GPU Deformers share. */
 class CV_EXPORTS HeadlessGLContext {
   public:
     HeadlessGLContext();
     ~HeadlessGLContext();
     HeadlessGLContext(const HeadlessGLContext&) = delete;
     HeadlessGLContext& operator=(const HeadlessGLContext&) = delete;
+
+    /** The process's shared context: made on the first call (EGL probed once per process,
+    about 100 ms without a GPU), never destroyed, so creating a GPU Deformer costs no context
+    creation and its programs are compiled once per process. nullptr, with the reason in
+    *why, when no context can be made (the answer is kept too). Its Scope takes a lock:
+    threads using it take turns. */
+    static HeadlessGLContext* shared(std::string* why = nullptr);
+
     /** Vendor, renderer, GL version and EGL platform. */
     std::string description() const;
+    /** Whether the renderer is a software one (Mesa llvmpipe or softpipe): OpenGL on the CPU,
+    slower than the CPU backend, so BACKEND_AUTO does not count it as a GPU. */
+    bool software() const;
 
     /** Makes the context current on this thread for the scope's lifetime, then restores what
     was current before. A context can be current on only one thread at a time. */
@@ -42,7 +53,9 @@ class CV_EXPORTS HeadlessGLContext {
     };
 
   private:
-    std::unique_ptr<gpu::EglContext> context_;
+    explicit HeadlessGLContext(gpu::EglContext* shared);
+    std::unique_ptr<gpu::EglContext> owned_;  // empty for the shared context
+    gpu::EglContext* context_ = nullptr;
 };
 
 /** How the GPU turns a pose into pixels. Both give the same pictures: they cover the same
