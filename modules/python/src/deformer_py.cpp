@@ -15,7 +15,8 @@ size `to`. The user vertices go through Multicage::scaled itself, so that Python
 (which scales the cage file's poses with it) agree bit for bit. Frame corners, when the pose
 has them (vertexCount + 4 points), are mapped in double: in float the rest frame would land a
 rounding error off the new frame and move the border. */
-std::vector<cv::Point2f> scalePose(std::vector<cv::Point2f> pose, int vertexCount, cv::Size from, cv::Size to) {
+std::vector<cv::Point2f> scalePose(std::vector<cv::Point2f> pose, int vertexCount, cv::Size from,
+                                   cv::Size to) {
     if (from == to || pose.empty()) return pose;
     const int users = std::min<int>(vertexCount, static_cast<int>(pose.size()));
     if (users > 0) {
@@ -24,7 +25,8 @@ std::vector<cv::Point2f> scalePose(std::vector<cv::Point2f> pose, int vertexCoun
         const std::vector<cv::Point2f> scaled = m.scaled(to).polygon(0);
         std::copy(scaled.begin(), scaled.end(), pose.begin());
     }
-    const double sx = static_cast<double>(to.width) / from.width, sy = static_cast<double>(to.height) / from.height;
+    const double sx = static_cast<double>(to.width) / from.width,
+                 sy = static_cast<double>(to.height) / from.height;
     for (size_t i = static_cast<size_t>(users); i < pose.size(); ++i)
         pose[i] = cv::Point2f(static_cast<float>((pose[i].x + 0.5) * sx - 0.5),
                               static_cast<float>((pose[i].y + 0.5) * sy - 0.5));
@@ -35,8 +37,9 @@ std::vector<cv::Point2f> scalePose(std::vector<cv::Point2f> pose, int vertexCoun
 `multicage deform` scales a cage file (edit small, render big). */
 Multicage restForImage(const Multicage& cage, cv::Size imageSize) {
     if (cage.imageSize().area() <= 0)
-        throw py::value_error("rest: the multicage has no image size; make it with Multicage((width, height)) "
-                              "or Multicage.for_image(image)");
+        throw py::value_error(
+            "rest: the multicage has no image size; make it with Multicage((width, height)) "
+            "or Multicage.for_image(image)");
     return cage.imageSize() == imageSize ? cage : cage.scaled(imageSize);
 }
 
@@ -51,7 +54,8 @@ struct PyDeformer {
     DeformParams params;  // as asked for: backend may be BACKEND_AUTO
     cv::Size cageSize;    // the size the rest multicage was drawn for: poses are in its coordinates
     cv::Size imageSize;
-    int vertexCount = 0;  // user vertices (kept here: a GPU binding is read back only when asked for)
+    int vertexCount =
+        0;  // user vertices (kept here: a GPU binding is read back only when asked for)
 
     /** The binding, under the mutex and without the GIL: a GPU deformer reads it back from its
     texture on first use, in its own GL context. */
@@ -86,8 +90,8 @@ std::unique_ptr<PyDeformer> makeDeformer(const py::handle& imageObj, const py::h
     d->image = ownImage(imageObj, image);
     if (py::isinstance<Multicage>(rest)) {
         const Multicage& cage = rest.cast<const Multicage&>();
-        d->params = deformParams(coordinates, gridStep, backend, borderValue, halfFloat, gpuBinding, memoryBudget,
-                                 cage.coordinates());
+        d->params = deformParams(coordinates, gridStep, backend, borderValue, halfFloat, gpuBinding,
+                                 memoryBudget, cage.coordinates());
         const Multicage scaled = restForImage(cage, image.size());
         d->cageSize = cage.imageSize();
         d->vertexCount = cage.vertexCount();
@@ -96,24 +100,28 @@ std::unique_ptr<PyDeformer> makeDeformer(const py::handle& imageObj, const py::h
         d->deformer = Deformer::create(image, scaled, d->params);
     } else if (py::isinstance<Binding>(rest)) {
         const Binding& binding = rest.cast<const Binding&>();
-        d->params = deformParams(coordinates, gridStep, backend, borderValue, halfFloat, gpuBinding, memoryBudget,
-                                 binding.coordinates);
+        d->params = deformParams(coordinates, gridStep, backend, borderValue, halfFloat, gpuBinding,
+                                 memoryBudget, binding.coordinates);
         if (d->params.coordinates != binding.coordinates)
-            throw py::value_error(std::string("coordinates: the binding holds ") + coordinatesName(binding.coordinates) +
-                                  " coordinates, not " + coordinatesName(d->params.coordinates) +
+            throw py::value_error(std::string("coordinates: the binding holds ") +
+                                  coordinatesName(binding.coordinates) + " coordinates, not " +
+                                  coordinatesName(d->params.coordinates) +
                                   "; bind again with multicage.bind(cage, coordinates=...)");
         if (binding.imageSize != image.size())
-            throw py::value_error("image: the image is " + sizeString(image.size()) + " but the binding was made for " +
-                                  sizeString(binding.imageSize) + "; pass the Multicage instead (it is scaled to "
-                                  "the image) or bind cage.scaled((" + std::to_string(image.cols) + ", " +
-                                  std::to_string(image.rows) + "))");
+            throw py::value_error("image: the image is " + sizeString(image.size()) +
+                                  " but the binding was made for " + sizeString(binding.imageSize) +
+                                  "; pass the Multicage instead (it is scaled to "
+                                  "the image) or bind cage.scaled((" +
+                                  std::to_string(image.cols) + ", " + std::to_string(image.rows) +
+                                  "))");
         d->cageSize = binding.imageSize;
         d->vertexCount = binding.coefficientCount() - 4;
         d->imageSize = image.size();
         py::gil_scoped_release release;
         d->deformer = Deformer::create(image, binding, d->params);
     } else {
-        throw py::type_error("rest: expected a multicage.Multicage or a multicage.Binding, got " + shortValue(rest));
+        throw py::type_error("rest: expected a multicage.Multicage or a multicage.Binding, got " +
+                             shortValue(rest));
     }
     return d;
 }
@@ -127,11 +135,14 @@ py::tuple deformerState(PyDeformer& d) {
     params["coordinates"] = coordinatesName(p.coordinates);
     params["grid_step"] = p.gridStep;
     params["backend"] = backendName(p.backend);
-    params["border_value"] = py::make_tuple(p.borderValue[0], p.borderValue[1], p.borderValue[2], p.borderValue[3]);
+    params["border_value"] =
+        py::make_tuple(p.borderValue[0], p.borderValue[1], p.borderValue[2], p.borderValue[3]);
     params["half_float"] = p.halfFloat;
-    params["gpu_binding"] = p.gpuBinding < 0 ? py::object(py::none()) : py::object(py::bool_(p.gpuBinding > 0));
+    params["gpu_binding"] =
+        p.gpuBinding < 0 ? py::object(py::none()) : py::object(py::bool_(p.gpuBinding > 0));
     params["memory_budget"] = p.memoryBudget;
-    return py::make_tuple(kPickleVersion, d.image, py::cast(std::move(binding)), params, sizeTuple(d.cageSize));
+    return py::make_tuple(kPickleVersion, d.image, py::cast(std::move(binding)), params,
+                          sizeTuple(d.cageSize));
 }
 
 std::unique_ptr<PyDeformer> deformerFromState(const py::tuple& state) {
@@ -140,9 +151,9 @@ std::unique_ptr<PyDeformer> deformerFromState(const py::tuple& state) {
     const py::object binding = state[2];
     std::unique_ptr<PyDeformer> d;
     try {
-        d = makeDeformer(state[1], binding, params["coordinates"], params["grid_step"], params["backend"],
-                         params["border_value"], params["half_float"], params["gpu_binding"],
-                         params["memory_budget"]);
+        d = makeDeformer(state[1], binding, params["coordinates"], params["grid_step"],
+                         params["backend"], params["border_value"], params["half_float"],
+                         params["gpu_binding"], params["memory_budget"]);
     } catch (const cv::Exception& e) {
         // Say what failed and why: the usual case is a GPU deformer sent to a process
         // or machine without a GPU.
@@ -160,18 +171,21 @@ std::string deformerRepr(const py::handle& self) {
     // A failed __init__ leaves an instance that tracebacks (pytest's among them) still
     // show: its repr must not touch the PyDeformer it never got.
     auto* inst = reinterpret_cast<py::detail::instance*>(self.ptr());
-    if (!inst->get_value_and_holder(py::detail::get_type_info(typeid(PyDeformer))).holder_constructed())
+    if (!inst->get_value_and_holder(py::detail::get_type_info(typeid(PyDeformer)))
+             .holder_constructed())
         return std::string("<multicage.Deformer (not initialised)>");
     PyDeformer& d = self.cast<PyDeformer&>();
     const Binding& b = d.binding();
     return "<multicage.Deformer " + std::string(backendName(d.deformer->backend())) + ", " +
            std::to_string(b.imageSize.width) + "x" + std::to_string(b.imageSize.height) + ", " +
-           std::to_string(b.coefficientCount() - 4) + " vertices, grid step " + std::to_string(b.gridStep) + ">";
+           std::to_string(b.coefficientCount() - 4) + " vertices, grid step " +
+           std::to_string(b.gridStep) + ">";
 }
 
 // --- the Python class and deform_image ----------------------------------------------------
 
-const char* kDeformerDoc = R"doc(Binds an image to a multicage once, then deforms it for any number of poses.
+const char* kDeformerDoc =
+    R"doc(Binds an image to a multicage once, then deforms it for any number of poses.
 
 Deformer(image, rest, *, coordinates=None, grid_step=1, backend='auto', border_value=None,
          half_float=False, gpu_binding=None, memory_budget=None)
@@ -235,7 +249,8 @@ void defineDeformerCalls(DeformerClass& cls) {
                 return py::make_tuple(arrayFromMat(mapx), arrayFromMat(mapy));
             },
             py::arg("pose"),
-            "Inverse maps (mapx, mapy) for cv2.remap, HxW float32: for each output pixel its source "
+            "Inverse maps (mapx, mapy) for cv2.remap, HxW float32: for each output pixel its "
+            "source "
             "position; uncovered pixels get -1e4. Remap masks and labels with cv2.INTER_NEAREST.")
         .def(
             "folded_triangles",
@@ -253,13 +268,14 @@ void defineDeformerProperties(DeformerClass& cls) {
            "backend", [](const PyDeformer& d) { return backendName(d.deformer->backend()); },
            "'cpu' or 'gpu': the backend in use.")
         .def_property_readonly(
-            "binding",
-            [](PyDeformer& d) { return d.binding(); },
+            "binding", [](PyDeformer& d) { return d.binding(); },
             "The Binding in use (for the image's size: a scaled multicage's).")
-        .def_property_readonly("image_size", [](const PyDeformer& d) { return sizeTuple(d.imageSize); })
+        .def_property_readonly("image_size",
+                               [](const PyDeformer& d) { return sizeTuple(d.imageSize); })
         .def_property_readonly(
             "cage_size", [](const PyDeformer& d) { return sizeTuple(d.cageSize); },
-            "(width, height) the rest multicage was drawn for: poses are in its coordinates (equal to "
+            "(width, height) the rest multicage was drawn for: poses are in its coordinates (equal "
+            "to "
             "image_size unless the multicage was scaled to the image).")
         .def_property_readonly(
             "grid_step", [](PyDeformer& d) { return d.binding().gridStep; },
@@ -275,17 +291,19 @@ void defineDeformerProperties(DeformerClass& cls) {
 void defineDeformImage(py::module_& m) {
     m.def(
         "deform_image",
-        [](const py::object& image, const py::object& restObj, const py::object& pose, const py::object& coordinates,
-           const py::object& gridStep, const py::object& backend, const py::object& borderValue,
-           const py::object& halfFloat, const py::object& gpuBinding, const py::object& memoryBudget) {
+        [](const py::object& image, const py::object& restObj, const py::object& pose,
+           const py::object& coordinates, const py::object& gridStep, const py::object& backend,
+           const py::object& borderValue, const py::object& halfFloat, const py::object& gpuBinding,
+           const py::object& memoryBudget) {
             const Multicage& rest = multicageArg(restObj, "rest");
-            const DeformParams params = deformParams(coordinates, gridStep, backend, borderValue, halfFloat,
-                                                     gpuBinding, memoryBudget, rest.coordinates());
+            const DeformParams params =
+                deformParams(coordinates, gridStep, backend, borderValue, halfFloat, gpuBinding,
+                             memoryBudget, rest.coordinates());
             py::object keep;
             const cv::Mat src = imageFromArray(image, "image", keep);
             const Multicage scaled = restForImage(rest, src.size());
-            const std::vector<cv::Point2f> p =
-                scalePose(pointsFromArray(pose, "pose"), rest.vertexCount(), rest.imageSize(), src.size());
+            const std::vector<cv::Point2f> p = scalePose(
+                pointsFromArray(pose, "pose"), rest.vertexCount(), rest.imageSize(), src.size());
             cv::Mat out;
             {
                 py::gil_scoped_release release;
@@ -293,9 +311,10 @@ void defineDeformImage(py::module_& m) {
             }
             return arrayFromMat(out);
         },
-        py::arg("image"), py::arg("rest"), py::arg("pose"), py::kw_only(), py::arg("coordinates") = py::none(),
-        py::arg("grid_step") = 1, py::arg("backend") = "auto", py::arg("border_value") = py::none(),
-        py::arg("half_float") = false, py::arg("gpu_binding") = py::none(), py::arg("memory_budget") = py::none(),
+        py::arg("image"), py::arg("rest"), py::arg("pose"), py::kw_only(),
+        py::arg("coordinates") = py::none(), py::arg("grid_step") = 1, py::arg("backend") = "auto",
+        py::arg("border_value") = py::none(), py::arg("half_float") = false,
+        py::arg("gpu_binding") = py::none(), py::arg("memory_budget") = py::none(),
         "One shot: binds, deforms once, returns the image. Same keywords and scaling as Deformer; "
         "prefer a Deformer for several poses.");
 }
@@ -307,19 +326,23 @@ void defineDeformer(py::module_& m) {
     // TypeError naming the keyword (pybind11's own message would print every argument,
     // the whole image included).
     auto create = [](const py::object& image, const py::object& rest, const py::object& coordinates,
-                     const py::object& gridStep, const py::object& backend, const py::object& borderValue,
-                     const py::object& halfFloat, const py::object& gpuBinding, const py::object& memoryBudget) {
-        return makeDeformer(image, rest, coordinates, gridStep, backend, borderValue, halfFloat, gpuBinding,
-                            memoryBudget);
+                     const py::object& gridStep, const py::object& backend,
+                     const py::object& borderValue, const py::object& halfFloat,
+                     const py::object& gpuBinding, const py::object& memoryBudget) {
+        return makeDeformer(image, rest, coordinates, gridStep, backend, borderValue, halfFloat,
+                            gpuBinding, memoryBudget);
     };
     DeformerClass cls(m, "Deformer", kDeformerDoc);
-    cls.def(py::init(create), py::arg("image"), py::arg("rest"), py::kw_only(), py::arg("coordinates") = py::none(),
-            py::arg("grid_step") = 1, py::arg("backend") = "auto", py::arg("border_value") = py::none(),
-            py::arg("half_float") = false, py::arg("gpu_binding") = py::none(), py::arg("memory_budget") = py::none())
+    cls.def(py::init(create), py::arg("image"), py::arg("rest"), py::kw_only(),
+            py::arg("coordinates") = py::none(), py::arg("grid_step") = 1,
+            py::arg("backend") = "auto", py::arg("border_value") = py::none(),
+            py::arg("half_float") = false, py::arg("gpu_binding") = py::none(),
+            py::arg("memory_budget") = py::none())
         .def_static("create", create, py::arg("image"), py::arg("rest"), py::kw_only(),
-                    py::arg("coordinates") = py::none(), py::arg("grid_step") = 1, py::arg("backend") = "auto",
-                    py::arg("border_value") = py::none(), py::arg("half_float") = false,
-                    py::arg("gpu_binding") = py::none(), py::arg("memory_budget") = py::none(), "Same as Deformer(...).");
+                    py::arg("coordinates") = py::none(), py::arg("grid_step") = 1,
+                    py::arg("backend") = "auto", py::arg("border_value") = py::none(),
+                    py::arg("half_float") = false, py::arg("gpu_binding") = py::none(),
+                    py::arg("memory_budget") = py::none(), "Same as Deformer(...).");
     defineDeformerCalls(cls);
     defineDeformerProperties(cls);
     cls.def(py::pickle([](PyDeformer& d) { return deformerState(d); },

@@ -26,7 +26,8 @@ void defineErrors(py::module_& m) {
     noObjectErrorType = PyErr_NewExceptionWithDoc(
         "multicage.NoObjectFoundError",
         "propose_multicage found no object in the image (the CLI's \"no object found\"); a "
-        "multicage.Error, so a batch can skip such images with `except multicage.NoObjectFoundError`.",
+        "multicage.Error, so a batch can skip such images with `except "
+        "multicage.NoObjectFoundError`.",
         errorType, nullptr);
     m.attr("NoObjectFoundError") = py::handle(noObjectErrorType);
     py::register_exception_translator([](std::exception_ptr p) {

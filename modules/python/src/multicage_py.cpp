@@ -33,15 +33,16 @@ py::tuple multicageState(const Multicage& c) {
     py::list polygons, poses;
     for (int i = 0; i < c.polygonCount(); ++i) polygons.append(arrayFromPoints(c.polygon(i)));
     for (int i = 0; i < c.poseCount(); ++i) poses.append(poseState(c.pose(i)));
-    return py::make_tuple(kPickleVersion, py::make_tuple(c.imageSize().width, c.imageSize().height), polygons,
-                          poses, c.coordinates());
+    return py::make_tuple(kPickleVersion, py::make_tuple(c.imageSize().width, c.imageSize().height),
+                          polygons, poses, c.coordinates());
 }
 
 Multicage multicageFromState(const py::tuple& state) {
     checkState(state, 5, "Multicage");
     const auto size = state[1].cast<std::pair<int, int>>();
     Multicage c(cv::Size(size.first, size.second));
-    for (const py::handle polygon : state[2]) c.addPolygon(pointsFromArray(polygon, "Multicage state: polygon", -1, false));
+    for (const py::handle polygon : state[2])
+        c.addPolygon(pointsFromArray(polygon, "Multicage state: polygon", -1, false));
     for (const py::handle pose : state[3]) {
         const py::tuple t = pose.cast<py::tuple>();
         const Pose p = poseFromState(t[0], t[1], t[2]);
@@ -65,10 +66,13 @@ using MulticageClass = py::class_<Multicage>;
 /** The polygons: adding, changing and reading them. */
 void defineMulticagePolygons(MulticageClass& cls) {
     cls.def(
-         "add_polygon",
-         [](Multicage& c, const py::object& points) { return c.addPolygon(pointsFromArray(points, "points")); },
-         py::arg("points"),
-         "Adds a polygon (Nx2 points, N >= 3) and returns its index. Geometry is checked by validate().")
+           "add_polygon",
+           [](Multicage& c, const py::object& points) {
+               return c.addPolygon(pointsFromArray(points, "points"));
+           },
+           py::arg("points"),
+           "Adds a polygon (Nx2 points, N >= 3) and returns its index. Geometry is checked by "
+           "validate().")
         .def(
             "set_polygon",
             [](Multicage& c, int i, const py::object& points) {
@@ -93,7 +97,8 @@ void defineMulticagePolygons(MulticageClass& cls) {
         .def("polygons",
              [](const Multicage& c) {
                  py::list out;
-                 for (int i = 0; i < c.polygonCount(); ++i) out.append(arrayFromPoints(c.polygon(i)));
+                 for (int i = 0; i < c.polygonCount(); ++i)
+                     out.append(arrayFromPoints(c.polygon(i)));
                  return out;
              })
         .def(
@@ -122,8 +127,8 @@ void defineMulticagePolygons(MulticageClass& cls) {
 /** The vertices as arrays, and validation. */
 void defineMulticageVertices(MulticageClass& cls) {
     cls.def(
-         "vertices", [](const Multicage& c) { return arrayFromPoints(c.vertices()); },
-         "User vertices in order, then the 4 frame corners: (vertex_count + 4) x 2 float32.")
+           "vertices", [](const Multicage& c) { return arrayFromPoints(c.vertices()); },
+           "User vertices in order, then the 4 frame corners: (vertex_count + 4) x 2 float32.")
         .def(
             "rest_pose",
             [](const Multicage& c) {
@@ -156,12 +161,12 @@ void defineMulticageVertices(MulticageClass& cls) {
 
 void defineMulticagePoses(MulticageClass& cls) {
     cls.def(
-         "add_pose",
-         [](Multicage& c, const std::string& name, const py::object& vertices, double time) {
-             return c.addPose(name, pointsFromArray(vertices, "vertices"), time);
-         },
-         py::arg("name"), py::arg("vertices"), py::arg("time") = 0.0,
-         "Adds a named pose (vertex_count points, or vertex_count + 4); returns its index.")
+           "add_pose",
+           [](Multicage& c, const std::string& name, const py::object& vertices, double time) {
+               return c.addPose(name, pointsFromArray(vertices, "vertices"), time);
+           },
+           py::arg("name"), py::arg("vertices"), py::arg("time") = 0.0,
+           "Adds a named pose (vertex_count points, or vertex_count + 4); returns its index.")
         .def(
             "pose",
             [](const Multicage& c, const py::object& key) {
@@ -170,7 +175,8 @@ void defineMulticagePoses(MulticageClass& cls) {
                     const int i = c.findPose(name);
                     if (i < 0) {
                         std::string names;
-                        for (int j = 0; j < c.poseCount(); ++j) names += (j ? ", " : "") + c.pose(j).name;
+                        for (int j = 0; j < c.poseCount(); ++j)
+                            names += (j ? ", " : "") + c.pose(j).name;
                         throw py::key_error("no pose named '" + name + "' (the multicage has: " +
                                             (names.empty() ? "no poses" : names) + ")");
                     }
@@ -189,7 +195,8 @@ void defineMulticagePoses(MulticageClass& cls) {
                 return out;
             },
             "All poses (copies).")
-        .def("find_pose", &Multicage::findPose, py::arg("name"), "Index of the pose called name, or -1.")
+        .def("find_pose", &Multicage::findPose, py::arg("name"),
+             "Index of the pose called name, or -1.")
         .def(
             "set_pose",
             [](Multicage& c, int i, const Pose& p) {
@@ -209,10 +216,14 @@ void defineMulticagePoses(MulticageClass& cls) {
 /** Scaling, files, drawing, the coordinates, and the Python protocols (pickle, copy, repr). */
 void defineMulticageUses(MulticageClass& cls) {
     cls.def(
-         "scaled", [](const Multicage& c, const py::object& s) { return c.scaled(sizeFromObject(s, "size")); },
-         py::arg("size"), "The same multicage for an image of size (width, height).")
+           "scaled",
+           [](const Multicage& c, const py::object& s) {
+               return c.scaled(sizeFromObject(s, "size"));
+           },
+           py::arg("size"), "The same multicage for an image of size (width, height).")
         .def_static("load", &Multicage::load, py::arg("path"), "Loads a YAML or JSON cage file.")
-        .def("save", &Multicage::save, py::arg("path"), "Saves a YAML or JSON cage file (atomically).")
+        .def("save", &Multicage::save, py::arg("path"),
+             "Saves a YAML or JSON cage file (atomically).")
         .def(
             "draw",
             [](const Multicage& c, const py::object& image, int thickness, bool drawVertices) {
@@ -226,16 +237,20 @@ void defineMulticageUses(MulticageClass& cls) {
         .def_property(
             "coordinates", [](const Multicage& c) { return coordinatesName(c.coordinates()); },
             [](Multicage& c, const py::object& v) { c.setCoordinates(parseCoordinates(v)); },
-            "'mvc' or 'harmonic': the coordinates this multicage is meant to be bound with (a cage file's "
+            "'mvc' or 'harmonic': the coordinates this multicage is meant to be bound with (a cage "
+            "file's "
             "`coordinates:`). Deformer, deform_image and bind follow it unless given coordinates=.")
         .def(py::pickle([](const Multicage& c) { return multicageState(c); },
                         [](const py::tuple& state) { return multicageFromState(state); }))
         .def("__copy__", [](const Multicage& c) { return Multicage(c); })
-        .def("__deepcopy__", [](const Multicage& c, const py::object&) { return Multicage(c); }, py::arg("memo"))
+        .def(
+            "__deepcopy__", [](const Multicage& c, const py::object&) { return Multicage(c); },
+            py::arg("memo"))
         .def("__repr__", [](const Multicage& c) {
             return "<multicage.Multicage " + std::to_string(c.imageSize().width) + "x" +
-                   std::to_string(c.imageSize().height) + ", " + std::to_string(c.polygonCount()) + " polygons, " +
-                   std::to_string(c.vertexCount()) + " vertices, " + std::to_string(c.poseCount()) + " poses>";
+                   std::to_string(c.imageSize().height) + ", " + std::to_string(c.polygonCount()) +
+                   " polygons, " + std::to_string(c.vertexCount()) + " vertices, " +
+                   std::to_string(c.poseCount()) + " poses>";
         });
 }
 
@@ -265,11 +280,14 @@ void definePose(py::module_& m) {
             [](Pose& p, const py::object& v) { p.vertices = pointsFromArray(v, "vertices"); },
             "Nx2 float32 array, read-only: to change it, assign a whole array "
             "(v = pose.vertices.copy(); v[0] = ...; pose.vertices = v).")
-        .def(py::pickle([](const Pose& p) { return py::make_tuple(kPickleVersion, p.name, arrayFromPoints(p.vertices), p.time); },
-                        [](const py::tuple& state) {
-                            checkState(state, 4, "Pose");
-                            return poseFromState(state[1], state[2], state[3]);
-                        }))
+        .def(py::pickle(
+            [](const Pose& p) {
+                return py::make_tuple(kPickleVersion, p.name, arrayFromPoints(p.vertices), p.time);
+            },
+            [](const py::tuple& state) {
+                checkState(state, 4, "Pose");
+                return poseFromState(state[1], state[2], state[3]);
+            }))
         .def("__eq__",
              [](const Pose& a, const py::object& other) {
                  if (!py::isinstance<Pose>(other)) return false;
@@ -277,17 +295,18 @@ void definePose(py::module_& m) {
                  return a.name == b.name && a.time == b.time && a.vertices == b.vertices;
              })
         .def("__repr__", [](const Pose& p) {
-            return "<multicage.Pose '" + p.name + "' time=" + py::repr(py::float_(p.time)).cast<std::string>() +
-                   ", " + std::to_string(p.vertices.size()) + " vertices>";
+            return "<multicage.Pose '" + p.name +
+                   "' time=" + py::repr(py::float_(p.time)).cast<std::string>() + ", " +
+                   std::to_string(p.vertices.size()) + " vertices>";
         });
 }
 
 void defineMulticage(py::module_& m) {
     MulticageClass cls(m, "Multicage", kMulticageDoc);
     cls.def(py::init([](const py::object& size) {
-             return size.is_none() ? Multicage() : Multicage(sizeFromObject(size, "size"));
-         }),
-         py::arg("size") = py::none())
+                return size.is_none() ? Multicage() : Multicage(sizeFromObject(size, "size"));
+            }),
+            py::arg("size") = py::none())
         .def_static(
             "for_image",
             [](const py::object& image) {
@@ -297,10 +316,13 @@ void defineMulticage(py::module_& m) {
             py::arg("image"), "An empty multicage of the image's size.")
         .def_property(
             "image_size", [](const Multicage& c) { return sizeTuple(c.imageSize()); },
-            [](Multicage& c, const py::object& s) { c.setImageSize(sizeFromObject(s, "image_size")); },
+            [](Multicage& c, const py::object& s) {
+                c.setImageSize(sizeFromObject(s, "image_size"));
+            },
             "(width, height)")
         .def_property_readonly("polygon_count", &Multicage::polygonCount)
-        .def_property_readonly("vertex_count", &Multicage::vertexCount, "user vertices (frame excluded)")
+        .def_property_readonly("vertex_count", &Multicage::vertexCount,
+                               "user vertices (frame excluded)")
         .def_property_readonly("pose_count", &Multicage::poseCount);
     defineMulticagePolygons(cls);
     defineMulticageVertices(cls);

@@ -21,7 +21,8 @@ struct ProposeOptions {
 
 const char* kProposeKeywords =
     "method, max_vertices, max_polygon_vertices, max_polygons, max_depth, margin, min_region_area, "
-    "working_size, rect, protect, cascade_dir, morphology_radius, grabcut_iterations, grabcut_max_side";
+    "working_size, rect, protect, cascade_dir, morphology_radius, grabcut_iterations, "
+    "grabcut_max_side";
 
 ProposeOptions proposeOptions(const py::kwargs& kwargs, const char* function, bool takesProtect) {
     ProposeOptions o;
@@ -34,34 +35,46 @@ ProposeOptions proposeOptions(const py::kwargs& kwargs, const char* function, bo
             if (py::isinstance<py::str>(v)) {
                 p.method = parseProposeMethod(v.cast<std::string>());
                 if (p.method < 0)
-                    throw py::value_error("method: '" + v.cast<std::string>() +
-                                          "' is not one of auto, threshold, adaptive, grabcut, saliency, "
-                                          "spectral, mask, labels");
+                    throw py::value_error(
+                        "method: '" + v.cast<std::string>() +
+                        "' is not one of auto, threshold, adaptive, grabcut, saliency, "
+                        "spectral, mask, labels");
             } else {
                 p.method = enumFromObject(v, "method", {}, PROPOSE_LABELS + 1);
             }
-        } else if (key == "max_vertices") p.maxVertices = intArg(v, key);
-        else if (key == "max_polygon_vertices") p.maxPolygonVertices = intArg(v, key);
-        else if (key == "max_polygons") p.maxPolygons = intArg(v, key);
-        else if (key == "max_depth") p.maxDepth = intArg(v, key);
-        else if (key == "margin") p.margin = static_cast<float>(numberArg(v, key));
+        } else if (key == "max_vertices")
+            p.maxVertices = intArg(v, key);
+        else if (key == "max_polygon_vertices")
+            p.maxPolygonVertices = intArg(v, key);
+        else if (key == "max_polygons")
+            p.maxPolygons = intArg(v, key);
+        else if (key == "max_depth")
+            p.maxDepth = intArg(v, key);
+        else if (key == "margin")
+            p.margin = static_cast<float>(numberArg(v, key));
         else if (key == "min_region_area" || key == "min_area") {
             if (haveMinArea)
-                throw py::type_error(std::string(function) + "() got both min_region_area and min_area "
+                throw py::type_error(std::string(function) +
+                                     "() got both min_region_area and min_area "
                                      "(the same keyword; use min_region_area)");
             haveMinArea = true;
             p.minRegionArea = numberArg(v, key);
-        } else if (key == "morphology_radius") p.morphologyRadius = intArg(v, key);
-        else if (key == "working_size") p.workingSize = intArg(v, key);
-        else if (key == "grabcut_iterations") p.grabCutIterations = intArg(v, key);
-        else if (key == "grabcut_max_side") p.grabCutMaxSide = intArg(v, key);
+        } else if (key == "morphology_radius")
+            p.morphologyRadius = intArg(v, key);
+        else if (key == "working_size")
+            p.workingSize = intArg(v, key);
+        else if (key == "grabcut_iterations")
+            p.grabCutIterations = intArg(v, key);
+        else if (key == "grabcut_max_side")
+            p.grabCutMaxSide = intArg(v, key);
         else if (key == "protect" && takesProtect) {
             // True/False as --protect/--no-protect, or a detector name as --protect DETECTOR.
             if (py::isinstance<py::str>(v)) {
                 const std::string name = v.cast<std::string>();
                 const int detector = parseProtectDetector(name);
                 if (detector < 0)
-                    throw py::value_error("protect: '" + name + "' is not one of saliency, faces, all");
+                    throw py::value_error("protect: '" + name +
+                                          "' is not one of saliency, faces, all");
                 o.protect = true;
                 p.protect = detector;
             } else {
@@ -69,21 +82,21 @@ ProposeOptions proposeOptions(const py::kwargs& kwargs, const char* function, bo
             }
         } else if (key == "cascade_dir") {
             if (!py::isinstance<py::str>(v))
-                throw py::type_error("cascade_dir: expected a folder name (str), got " + shortValue(v));
+                throw py::type_error("cascade_dir: expected a folder name (str), got " +
+                                     shortValue(v));
             p.cascadeDir = v.cast<std::string>();
-        }
-        else if (key == "rect") {
+        } else if (key == "rect") {
             if (py::isinstance<py::str>(v) || !py::isinstance<py::sequence>(v))
                 throw py::type_error("rect: expected (x, y, width, height), got " + shortValue(v));
             const py::sequence r = py::reinterpret_borrow<py::sequence>(v);
             if (py::len(r) != 4)
-                throw py::value_error("rect: expected (x, y, width, height), got " + std::to_string(py::len(r)) +
-                                      " values");
-            p.rect = cv::Rect(intArg(r[0], "rect[0]"), intArg(r[1], "rect[1]"), intArg(r[2], "rect[2]"),
-                              intArg(r[3], "rect[3]"));
+                throw py::value_error("rect: expected (x, y, width, height), got " +
+                                      std::to_string(py::len(r)) + " values");
+            p.rect = cv::Rect(intArg(r[0], "rect[0]"), intArg(r[1], "rect[1]"),
+                              intArg(r[2], "rect[2]"), intArg(r[3], "rect[3]"));
         } else {
-            throw py::type_error(std::string(function) + "() got an unexpected keyword argument '" + key +
-                                 "' (it takes " + kProposeKeywords + ")");
+            throw py::type_error(std::string(function) + "() got an unexpected keyword argument '" +
+                                 key + "' (it takes " + kProposeKeywords + ")");
         }
     }
     if (!std::isfinite(p.margin)) throw py::value_error("margin: must be finite");
@@ -128,7 +141,8 @@ py::dict proposeDefaults() {
 
 const char* kProposeMulticageDoc =
     "propose_multicage(image, **keywords) -> Multicage\n\n"
-    "Proposes a valid, oriented multicage enclosing the objects of an image, as `multicage propose` "
+    "Proposes a valid, oriented multicage enclosing the objects of an image, as `multicage "
+    "propose` "
     "does: the keywords are its options with '_' for '-' (--min-region-area: min_region_area; "
     "min_area is accepted too). Raises NoObjectFoundError (a multicage.Error) when it finds no "
     "object, where the CLI says \"no object found\".\n\n"
@@ -143,7 +157,8 @@ void defineProposeMulticage(py::module_& m) {
     // The keyword list with the library's defaults, so that the docs never drift from them.
     std::string proposeKeywordDoc;
     for (const auto& item : proposeDefaults())
-        proposeKeywordDoc += "    " + item.first.cast<std::string>() + "=" + py::repr(item.second).cast<std::string>() + "\n";
+        proposeKeywordDoc += "    " + item.first.cast<std::string>() + "=" +
+                             py::repr(item.second).cast<std::string>() + "\n";
 
     m.def(
         "propose_multicage",
@@ -159,7 +174,8 @@ void defineProposeMulticage(py::module_& m) {
             }
             if (cage.polygonCount() == 0) {
                 std::ostringstream s;
-                s << "propose_multicage: no object found with method='" << proposeMethodName(options.params.method)
+                s << "propose_multicage: no object found with method='"
+                  << proposeMethodName(options.params.method)
                   << "' (no region larger than min_region_area=" << options.params.minRegionArea
                   << " of the image); try another method, a smaller min_region_area, or a mask "
                      "(method='mask')";
@@ -179,7 +195,8 @@ void defineProposal(py::module_& m) {
     m.def(
         "propose_segmentation",
         [](const py::object& image, const py::kwargs& kwargs) {
-            const ProposeParams params = proposeOptions(kwargs, "propose_segmentation", true).params;
+            const ProposeParams params =
+                proposeOptions(kwargs, "propose_segmentation", true).params;
             py::object keep;
             const cv::Mat src = imageFromArray(image, "image", keep, true);
             cv::Mat mask;
@@ -191,7 +208,8 @@ void defineProposal(py::module_& m) {
         },
         py::arg("image"),
         "The cleaned segmentation propose_multicage encloses: HxW uint8, 255 on object pixels "
-        "(all 0 where it finds no object). Same keywords as propose_multicage (protect changes nothing here).");
+        "(all 0 where it finds no object). Same keywords as propose_multicage (protect changes "
+        "nothing here).");
     m.def(
         "protect_features",
         [](const py::object& image, const py::object& cageObj, const py::object& polygonObj,
