@@ -1,0 +1,90 @@
+// What the binding files of the Python module share: the error types, the conversion of
+// Python arguments (a wrong one is a TypeError or ValueError naming the keyword), the pickle
+// state format, and the define functions PYBIND11_MODULE calls. Private to the module.
+#ifndef MULTICAGE_PYTHON_COMMON_HPP
+#define MULTICAGE_PYTHON_COMMON_HPP
+
+#include "convert.hpp"
+
+#include <opencv2/multicage.hpp>
+#include <pybind11/stl.h>  // in every binding file, as pybind11 asks: one set of STL casters
+
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace multicage_py {
+
+// --- errors ---------------------------------------------------------------------------------
+
+extern PyObject* errorType;          // multicage.Error, alive as long as the interpreter
+extern PyObject* noObjectErrorType;  // multicage.NoObjectFoundError, a multicage.Error
+
+[[noreturn]] void raise(PyObject* type, const std::string& message);
+
+// --- argument parsing -----------------------------------------------------------------------
+
+/** A short description of a value for messages: its type, and its repr when that is short
+(never a whole image array). */
+std::string shortValue(const py::handle& v);
+
+/** Python's int (or a numpy integer) as an int; bool, float and str are TypeErrors, as
+Python itself treats them where an index is needed. */
+int intArg(const py::handle& v, const std::string& name);
+
+/** A real number (int, float, numpy scalar); str, bytes, bool and None are TypeErrors. */
+double numberArg(const py::handle& v, const std::string& name);
+
+/** True or False (or a numpy bool); 1, 'yes' and None are TypeErrors: a flag is a flag. */
+bool boolArg(const py::handle& v, const std::string& name);
+
+/** A string name, one of the enum's members, or its integer value (not a float: 2.0 is
+more likely a mistake than a method). */
+int enumFromObject(const py::handle& obj, const char* what,
+                   const std::vector<std::pair<std::string, int>>& names, int count);
+
+/** The Python names of Backend and CoordinateType values, both ways ('auto', 'cpu', 'gpu';
+'mvc' or 'mean_value', 'harmonic'). */
+int parseBackend(const py::handle& obj);
+int parseCoordinates(const py::handle& obj);
+const char* coordinatesName(int c);  // backendName is the library's
+
+/** DeformParams from the Python keywords. coordinates None follows the multicage's own
+choice (the cage file's `coordinates:`), as `multicage deform` does without --coords. */
+cv::multicage::DeformParams deformParams(const py::object& coordinates, const py::object& gridStep,
+                                         const py::object& backend, const py::object& borderValue,
+                                         const py::object& halfFloat, const py::object& gpuBinding,
+                                         const py::object& memoryBudget, int cageCoordinates);
+
+/** A Multicage argument, with a TypeError in Python's words for anything else. */
+const cv::multicage::Multicage& multicageArg(const py::handle& obj, const char* what);
+
+void checkIndex(int i, int count, const char* what);
+
+py::tuple sizeTuple(cv::Size s);
+std::string sizeString(cv::Size s);
+
+// --- pickling -------------------------------------------------------------------------------
+// States are tuples of Python numbers, strings and numpy arrays (no raw C++ memory), first
+// a version number, so that a pickle travels between processes and machines (multiprocessing
+// with 'spawn', Dask) and a later module can still read it or say why not.
+
+constexpr int kPickleVersion = 1;
+
+void checkState(const py::tuple& state, size_t size, const char* what);
+
+// --- the parts of the module, in the order PYBIND11_MODULE defines them ---------------------
+// A class is defined before the functions and classes that take or return it, so that their
+// signatures name it (multicage._multicage.Pose, not the C++ type).
+
+void definePose(py::module_& m);         // multicage_py.cpp
+void defineMulticage(py::module_& m);    // multicage_py.cpp
+void defineBinding(py::module_& m);      // binding_py.cpp: Binding and bind()
+void defineDeformer(py::module_& m);     // deformer_py.cpp: Deformer and deform_image()
+void defineCoordinates(py::module_& m);  // binding_py.cpp: mean_value_coordinates()
+void defineProposal(py::module_& m);     // propose_py.cpp
+void defineGpu(py::module_& m);          // gpu_py.cpp: gpu_available(), auto_backend()
+
+}  // namespace multicage_py
+
+#endif
