@@ -163,7 +163,7 @@ void statusSection(const Editor& e, const View& v) {
     if (v.deformer) {
         ImGui::Text("binding %.0f ms (grid %dx%d, %s)", v.bindMs, v.binding.gridSize.width,
                     v.binding.gridSize.height,
-                    v.binding.coordinates == mc::HARMONIC ? "harmonic" : "mean value");
+                    mc::coordinateTypeDescription(v.binding.coordinates));
         ImGui::Text("min conditioning %.2g", v.binding.minConditioning);
         if (v.binding.minConditioning < mc::kConditioningWarning)
             ImGui::TextColored(ImVec4(1, 0.6f, 0.2f, 1),

@@ -259,9 +259,8 @@ const Command kCommands[] = {
      }},
     {"coords",
      [](Session& r, const ScriptCommand& c) {
-         if (c.args[0] != "mvc" && c.args[0] != "harmonic")
+         if (!mc::parseCoordinateType(c.args[0], r.s.coordinates))
              throw std::runtime_error("coords mvc|harmonic");
-         r.s.coordinates = c.args[0] == "harmonic" ? mc::HARMONIC : mc::MEAN_VALUE;
          return Flow::Next;
      }},
     {"grid-step",

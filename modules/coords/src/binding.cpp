@@ -8,6 +8,7 @@
 #include <sys/mman.h>
 #endif
 
+#include <opencv2/multicage/internal/backend_contract.hpp>
 #include <opencv2/multicage/internal/geometry.hpp>
 #include "harmonic.hpp"
 #include "mean_value.hpp"
@@ -401,8 +402,7 @@ Binding bind(const Multicage& multicage, int coordinates, int gridStep) {
     int maxN = 4;
     for (int p = 0; p < multicage.polygonCount(); ++p) {
         BoundPolygon bp{multicage.polygon(p), multicage.polygonOffset(p), 1.f};
-        const bool wantPositive = multicage.depth(p) % 2 == 0;
-        bp.sign = (multicage.signedArea(p) > 0) == wantPositive ? 1.f : -1.f;
+        bp.sign = static_cast<float>(orientationSign(multicage, p));
         maxN = std::max(maxN, static_cast<int>(bp.v.size()));
         polygons.push_back(std::move(bp));
     }

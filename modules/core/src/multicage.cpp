@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include <opencv2/multicage/internal/backend_contract.hpp>
 #include <opencv2/multicage/internal/geometry.hpp>
 #include <opencv2/multicage/internal/point_input.hpp>
 
@@ -70,7 +71,7 @@ void Multicage::orient() {
     for (int i = 0; i < polygonCount(); ++i) {
         std::vector<Point2f>& polygon = polygons_[i];
         const double area = geometry::signedArea(polygon);
-        const bool wantPositive = depth[i] % 2 == 0;
+        const bool wantPositive = wantsPositiveArea(depth[i]);
         if (area == 0.0 || (area > 0) == wantPositive) continue;
         // Reverse keeping vertex 0 first, so vertex numbering changes as little as possible.
         std::reverse(polygon.begin() + 1, polygon.end());
@@ -138,10 +139,10 @@ bool Multicage::validate(std::string* why) const {
     for (int p = 0; p < polygonCount(); ++p) {
         const int d = depth(p);
         const double area = signedArea(p);
-        if ((area > 0) != (d % 2 == 0))
+        if (orientationSign(*this, p) < 0)
             return fail(why, format("polygon %d at depth %d has signed area %g; the orientation "
                                     "rule wants %s (call orient())",
-                                    p, d, area, d % 2 == 0 ? "> 0" : "< 0"));
+                                    p, d, area, wantsPositiveArea(d) ? "> 0" : "< 0"));
     }
     return true;
 }
@@ -179,8 +180,8 @@ double Multicage::signedArea(int i) const {
 }
 
 std::vector<Point2f> Multicage::frame() const {
-    const float r = imageSize_.width - 0.5f, b = imageSize_.height - 0.5f;
-    return {{-0.5f, -0.5f}, {r, -0.5f}, {r, b}, {-0.5f, b}};
+    const std::array<Point2f, 4> corners = frameCorners(imageSize_);
+    return std::vector<Point2f>(corners.begin(), corners.end());
 }
 
 std::vector<Point2f> Multicage::vertices() const {

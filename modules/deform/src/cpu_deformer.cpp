@@ -60,16 +60,6 @@ private:
 
 }  // namespace
 
-void checkImage(InputArray image) {
-    if (image.empty()) CV_Error(Error::StsBadArg, "multicage: the image is empty");
-    const int depth = image.depth(), cn = image.channels();
-    if ((depth != CV_8U && depth != CV_16U && depth != CV_32F) || (cn != 1 && cn != 3 && cn != 4))
-        CV_Error_(Error::StsUnsupportedFormat,
-                  ("multicage: unsupported image type %s; use CV_8U, CV_16U or CV_32F with 1, 3 or "
-                   "4 channels", typeToString(image.type()).c_str()));
-    if (image.dims() > 2) CV_Error(Error::StsBadArg, "multicage: the image must be 2-dimensional");
-}
-
 Ptr<Deformer> createCpuDeformer(const Mat& image, const Binding& binding, const DeformParams& params) {
     return makePtr<CpuDeformer>(image, binding, params);
 }

@@ -3,6 +3,7 @@
 #define MULTICAGE_CPU_DEFORMER_HPP
 
 #include <opencv2/multicage/deformer.hpp>
+#include <opencv2/multicage/internal/backend_contract.hpp>
 
 #include <vector>
 
@@ -11,8 +12,6 @@ namespace multicage {
 
 Ptr<Deformer> createCpuDeformer(const Mat& image, const Binding& binding, const DeformParams& params);
 
-/** Throws a cv::Exception unless image is a non-empty 8U/16U/32F image with 1, 3 or 4 channels. */
-void checkImage(InputArray image);
 
 /** A matrix for a large buffer that stays with a Deformer. From 2 MB up it is backed by memory
 the kernel may give 2 MB pages (madvise MADV_HUGEPAGE; `owners` keeps the allocation alive):

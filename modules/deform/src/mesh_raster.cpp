@@ -26,8 +26,6 @@ namespace multicage {
 
 namespace {
 
-constexpr float kUncovered = -1e4f;  // far outside any image: cv::remap gives the border value
-
 inline double cross(Point2d a, Point2d b) { return a.x * b.y - a.y * b.x; }
 
 // The triangle kernel is compiled twice, for AVX2 and for the baseline (GCC function
@@ -153,20 +151,21 @@ inline void drawTriangle(const TriangleSetup& s, int t, int y0, int y1, Point2f 
 }
 
 // Draws the cells of one row of the mesh (nodes rows p0/p1 deformed, r0/r1 rest, `cells`
-// cells) into output rows [y0, y1), in order: cell by cell, (a,b,c) then (b,d,c).
+// cells) into output rows [y0, y1), in order: cell by cell, its kCellTriangles in turn.
 MULTICAGE_TARGET_CLONES
 void drawCellRow(const Point2f* p0, const Point2f* p1, const Point2f* r0, const Point2f* r1, int cells,
                  int y0, int y1, Point2f lo, Point2f hi, Mat& mapx, Mat& mapy, TriangleSetup& s) {
     for (int first = 0; first < cells; first += kRunCells) {
         const int n = std::min(kRunCells, cells - first);
         for (int k = 0; k < n; ++k) {
-            const int gx = first + k, a = 2 * k, b = 2 * k + 1;
-            s.qx[0][a] = p0[gx].x, s.qy[0][a] = p0[gx].y, s.px[0][a] = r0[gx].x, s.py[0][a] = r0[gx].y;
-            s.qx[1][a] = p0[gx + 1].x, s.qy[1][a] = p0[gx + 1].y, s.px[1][a] = r0[gx + 1].x, s.py[1][a] = r0[gx + 1].y;
-            s.qx[2][a] = p1[gx].x, s.qy[2][a] = p1[gx].y, s.px[2][a] = r1[gx].x, s.py[2][a] = r1[gx].y;
-            s.qx[0][b] = p0[gx + 1].x, s.qy[0][b] = p0[gx + 1].y, s.px[0][b] = r0[gx + 1].x, s.py[0][b] = r0[gx + 1].y;
-            s.qx[1][b] = p1[gx + 1].x, s.qy[1][b] = p1[gx + 1].y, s.px[1][b] = r1[gx + 1].x, s.py[1][b] = r1[gx + 1].y;
-            s.qx[2][b] = p1[gx].x, s.qy[2][b] = p1[gx].y, s.px[2][b] = r1[gx].x, s.py[2][b] = r1[gx].y;
+#pragma GCC unroll 6
+            for (int i = 0; i < 6; ++i) {  // triangle t = i / 3 of cell first + k, its vertex v
+                const int t = i / 3, v = i % 3, tri = 2 * k + t;
+                const int x = first + k + kCellTriangles[t][v][0];
+                const bool below = kCellTriangles[t][v][1] != 0;
+                const Point2f q = (below ? p1 : p0)[x], r = (below ? r1 : r0)[x];
+                s.qx[v][tri] = q.x, s.qy[v][tri] = q.y, s.px[v][tri] = r.x, s.py[v][tri] = r.y;
+            }
         }
         setUpTriangles(s, 2 * n);
         for (int t = 0; t < 2 * n; ++t) drawTriangle(s, t, y0, y1, lo, hi, mapx, mapy);
@@ -260,8 +259,8 @@ void RasterMesh::setFrame(const Point2f* frame) {
     // frame and the border nodes is always covered: when border nodes move inwards the border
     // pixels stretch instead of leaving a line of border colour. deform.vert builds the same ring.
     const float W = static_cast<float>(out_.width), H = static_cast<float>(out_.height);
-    Point2f corners[4] = {{-0.5f, -0.5f}, {W - 0.5f, -0.5f}, {W - 0.5f, H - 0.5f}, {-0.5f, H - 0.5f}};
-    if (frame) std::copy(frame, frame + 4, corners);
+    std::array<Point2f, 4> corners = frameCorners(out_);
+    if (frame) std::copy(frame, frame + 4, corners.begin());
     const int m = P_.cols - 2, n = P_.rows - 2;
     forEachRingNode([&](int ex, int ey) {
         const Point2f source = R_.empty() ? Point2f(restX_[ex], restY_[ey]) : R_.at<Point2f>(ey, ex);
@@ -348,14 +347,11 @@ int countFoldedTriangles(InputArray positionsIn, InputArray restIn) {
     };
     int folded = 0;
     for (int gy = 0; gy + 1 < P.rows; ++gy)
-        for (int gx = 0; gx + 1 < P.cols; ++gx) {
-            const Point2f a = P.at<Point2f>(gy, gx), b = P.at<Point2f>(gy, gx + 1);
-            const Point2f c = P.at<Point2f>(gy + 1, gx), d = P.at<Point2f>(gy + 1, gx + 1);
-            const Point2f ra = R.at<Point2f>(gy, gx), rb = R.at<Point2f>(gy, gx + 1);
-            const Point2f rc = R.at<Point2f>(gy + 1, gx), rd = R.at<Point2f>(gy + 1, gx + 1);
-            folded += orientationOf(a, b, c) != orientationOf(ra, rb, rc);
-            folded += orientationOf(b, d, c) != orientationOf(rb, rd, rc);
-        }
+        for (int gx = 0; gx + 1 < P.cols; ++gx)
+            for (const auto& t : kCellTriangles) {
+                auto at = [&](const Mat& M, int v) { return M.at<Point2f>(gy + t[v][1], gx + t[v][0]); };
+                folded += orientationOf(at(P, 0), at(P, 1), at(P, 2)) != orientationOf(at(R, 0), at(R, 1), at(R, 2));
+            }
     return folded;
 }
 

@@ -1,5 +1,7 @@
 #include "gl_binding.hpp"
 
+#include <opencv2/multicage/internal/backend_contract.hpp>
+
 #include <chrono>
 #include <tuple>
 
@@ -41,8 +43,7 @@ void bindMeanValue(const Multicage& multicage, const PackLayout& layout, GLuint 
     std::vector<Vec2f> vertices(b->restVertices.begin(), b->restVertices.end());
     std::vector<Vec4i> polygons;
     for (int p = 0; p < multicage.polygonCount(); ++p) {
-        const bool wantPositive = multicage.depth(p) % 2 == 0;
-        const int sign = (multicage.signedArea(p) > 0) == wantPositive ? 1 : -1;
+        const int sign = orientationSign(multicage, p);
         polygons.emplace_back(multicage.polygonOffset(p),
                               static_cast<int>(multicage.polygon(p).size()), sign, 0);
     }

@@ -3,6 +3,7 @@
 #include <chrono>
 #include <opencv2/core/utility.hpp>
 #include <opencv2/multicage/gpu.hpp>
+#include <opencv2/multicage/internal/backend_contract.hpp>
 
 #include "gl_binding.hpp"
 #include "gl_util.hpp"
@@ -17,8 +18,6 @@ using gpu::glVersion;
 
 namespace {
 
-constexpr float kUncovered = -1e4f;  // the CPU backend's value for pixels no triangle covers
-
 struct PixelFormat {
     GLenum internal, format, type;
     double scale;  // Scalar value -> what the shader writes (normalised formats)
@@ -27,6 +26,7 @@ struct PixelFormat {
 // The image texture and the output FBO share a format matching the input depth. Three
 // channels are stored as RGBA (RGB formats need not be colour-renderable) and read back as RGB.
 PixelFormat pixelFormat(int type) {
+    checkImageType(type);
     const int depth = CV_MAT_DEPTH(type), cn = CV_MAT_CN(type);
     const GLenum format = cn == 1 ? GL_RED : cn == 3 ? GL_RGB : GL_RGBA;
     switch (depth) {
@@ -39,10 +39,7 @@ PixelFormat pixelFormat(int type) {
         case CV_32F:
             return {cn == 1 ? GLenum(GL_R32F) : GLenum(GL_RGBA32F), format, GL_FLOAT, 1.0};
     }
-    CV_Error_(Error::StsUnsupportedFormat,
-              ("multicage: unsupported image type %s; use CV_8U, CV_16U or CV_32F with 1, 3 or 4 "
-               "channels",
-               typeToString(type).c_str()));
+    CV_Error(Error::StsInternal, "multicage: pixelFormat");  // checkImageType let it through
 }
 
 GLuint makeTexture(GLenum target) {
@@ -222,16 +219,17 @@ struct GLDeformer::Impl {
 
     void initVertexShader() {
         if (imageProgram) return;
-        // One mesh vertex per node plus the ring (mesh_grid.glsl); per cell (a,b,c) then
-        // (b,d,c), row-major, as the CPU backend draws them, so that fold-overs resolve the
-        // same way (later triangle wins).
+        // One mesh vertex per node plus the ring (mesh_grid.glsl); the cells' triangles in
+        // the order the CPU backend draws them (kCellTriangles), so that fold-overs resolve
+        // the same way (later triangle wins).
         const int em = meshSize().width, en = meshSize().height;
         std::vector<GLuint> idx;
         idx.reserve(size_t(em - 1) * (en - 1) * 6);
         for (int gy = 0; gy + 1 < en; ++gy)
             for (int gx = 0; gx + 1 < em; ++gx) {
-                const GLuint a = gy * em + gx, b = a + 1, c = a + em, d = c + 1;
-                idx.insert(idx.end(), {a, b, c, b, d, c});
+                for (const auto& triangle : kCellTriangles)
+                    for (const auto& corner : triangle)
+                        idx.push_back(GLuint((gy + corner[1]) * em + gx + corner[0]));
             }
         indexCount = static_cast<GLsizei>(idx.size());
         glGenVertexArrays(1, &vao);

@@ -1,0 +1,53 @@
+// What the CPU backend (modules/deform) and the GPU backend and binding (modules/gpu) must
+// agree on to draw the same pictures from the same binding. One definition each, here; the
+// shaders restate the mesh rules in GLSL (mesh_grid.glsl, mesh_positions.glsl), and the
+// GpuCompute tests check that both backends give bit-identical maps.
+#ifndef MULTICAGE_INTERNAL_BACKEND_CONTRACT_HPP
+#define MULTICAGE_INTERNAL_BACKEND_CONTRACT_HPP
+
+#include <opencv2/multicage/multicage.hpp>
+
+#include <array>
+
+namespace cv {
+namespace multicage {
+
+/** The inverse-map value of an output pixel no deformed triangle covers: far outside any
+image, so cv::remap (and the GPU gather) gives the border value there. */
+constexpr float kUncovered = -1e4f;
+
+/** The image frame of a size, corners in the order the frame's 4 coefficients use: TL, TR,
+BR, BL. Pixel centres are integers, so the frame runs half a pixel outside them. */
+inline std::array<Point2f, 4> frameCorners(Size imageSize) {
+    const float r = imageSize.width - 0.5f, b = imageSize.height - 0.5f;
+    return {{{-0.5f, -0.5f}, {r, -0.5f}, {r, b}, {-0.5f, b}}};
+}
+
+/** The mesh's triangles. A cell's corners are a = (x, y), b = (x+1, y), c = (x, y+1),
+d = (x+1, y+1) of the node grid ringed by the frame; each cell is (a, b, c) then (b, d, c),
+cells in row-major order, and where triangles overlap (a fold-over) the later one wins. As
+(dx, dy) offsets from a. */
+constexpr int kCellTriangles[2][3][2] = {{{0, 0}, {1, 0}, {0, 1}}, {{1, 0}, {1, 1}, {0, 1}}};
+
+/** The orientation rule (paper §3.1): a polygon at even depth runs counter-clockwise in the
+y-down image (positive signed area), one at odd depth clockwise. */
+inline bool wantsPositiveArea(int depth) {
+    return depth % 2 == 0;
+}
+
+/** +1 when polygon p of the multicage obeys the orientation rule, -1 when it runs the other
+way: the sign its raw mean value weights are multiplied by, on the CPU and the GPU. */
+inline int orientationSign(const Multicage& multicage, int p) {
+    return (multicage.signedArea(p) > 0) == wantsPositiveArea(multicage.depth(p)) ? 1 : -1;
+}
+
+/** Throws a cv::Exception unless type is CV_8U, CV_16U or CV_32F with 1, 3 or 4 channels: the
+images both backends deform. */
+void checkImageType(int type);
+/** The same, and that the image is non-empty and 2-dimensional. */
+void checkImage(InputArray image);
+
+}  // namespace multicage
+}  // namespace cv
+
+#endif
