@@ -21,7 +21,7 @@ layout(COEFF_FORMAT, binding = 0) writeonly uniform image2DArray coefficientImag
 #else
 layout(COEFF_FORMAT, binding = 0) writeonly uniform image2D coefficientImage;
 #endif
-// |sum_j w_j| / sum_j |w_j| per node (the conditioning of DESIGN.md).
+// |sum_j w_j| / sum_j |w_j| per node (the conditioning Binding::minConditioning reports).
 layout(r32f, binding = 1) writeonly uniform image2D conditioningImage;
 layout(location = 0) uniform int firstRow;  // dispatches go in bands of rows
 

@@ -11,15 +11,14 @@ namespace cv {
 namespace multicage {
 
 /** The shared headless context when it is on a hardware device (not a software renderer),
-else nullptr with the reason in *why: what BACKEND_AUTO and the default gpuBinding take as
-"a real GPU". Probes once per process. */
+else nullptr with the reason in *why: the "hardware GPU" of BACKEND_AUTO's rule
+(deformer.hpp) and of the default gpuBinding. Probes once per process. */
 HeadlessGLContext* hardwareContext(std::string* why);
 
 /** The GPU deformer for image and binding, or nullptr with the reason in *why when no EGL
-context can be made (no driver, no device, too old a GL), or when the only OpenGL is a software
-renderer and params.backend is BACKEND_AUTO: llvmpipe is slower than the CPU backend, so AUTO
-means "a real GPU, else the CPU backend". BACKEND_GPU takes whatever OpenGL there is. Other
-failures throw. */
+context can be made (no driver, no device, too old a GL), or when params.backend is
+BACKEND_AUTO and hardwareContext() finds none. BACKEND_GPU takes whatever OpenGL there is.
+Other failures throw. */
 Ptr<Deformer> createGpuDeformer(const Mat& image, const Binding& binding, const DeformParams& params,
                                 std::string* why);
 

@@ -31,19 +31,11 @@ const GpuProbe& gpuProbe() {
     return probe;
 }
 
-/** What BACKEND_AUTO takes here, asked of the library with a 2x2 image and no polygon, so
-that the answer is the library's own rule (software renderers skipped), not a copy of it. */
+/** What BACKEND_AUTO takes here: the library's own rule (autoBackendUsesGpu, probed once
+per process), not a copy of it. */
 int autoBackend() {
-    static int backend = -1;
     py::gil_scoped_release release;
-    std::lock_guard<std::mutex> lock(probeMutex);
-    if (backend < 0) {
-        DeformParams params;
-        params.backend = BACKEND_AUTO;
-        const cv::Mat image(2, 2, CV_8UC1, cv::Scalar(0));
-        backend = Deformer::create(image, Multicage(image.size()), params)->backend();
-    }
-    return backend;
+    return autoBackendUsesGpu() ? BACKEND_GPU : BACKEND_CPU;
 }
 
 const char* kGpuAvailableDoc = R"doc(gpu_available() -> (available, description)

@@ -125,7 +125,7 @@ public:
     (c + 0.5) * newSize / imageSize - 0.5, so the frame maps onto the new frame. */
     Multicage scaled(Size newSize) const;
 
-    /** Writes image_size, polygons and poses (the cage file schema of DESIGN.md). */
+    /** Writes image_size, coordinates, polygons and poses (the cage file schema, README.md). */
     void write(FileStorage& fs) const;
     /** Reads what write() writes. A malformed node throws a cv::Exception naming the field
     and the polygon or pose ("polygons[2]: odd number of coordinates (7)"). */

@@ -1,6 +1,6 @@
 // Writes docs/animate: butterfly_flap.gif (the looped flap of samples/butterfly_flap.yml) and
 // butterfly_flap_strip.jpg (six frames of it, the posed multicage drawn on each).
-// Usage: animate_docs OUTDIR   (built with the tests, not run by ctest)
+// Usage: animate_docs OUTDIR   (docs/generators; run by hand)
 #include <iostream>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>

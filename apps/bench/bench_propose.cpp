@@ -1,5 +1,5 @@
 // Speed of proposeMulticage on a 1024x768 photograph (fruits.jpg and smarties.png scaled up),
-// one benchmark per method. Built with the tests, not run by ctest:
+// one benchmark per method. Built with the tools (apps/bench), run by hand:
 //   bench_propose --benchmark_repetitions=5 --benchmark_report_aggregates_only=true
 #include <benchmark/benchmark.h>
 

@@ -1,6 +1,6 @@
 // Writes the pictures of docs/propose: for each sample photo the proposed multicage over the
 // image with the segmentation tinted, and the feature-protection before/after.
-// Usage: propose_docs OUTDIR [METHOD]   (built with the tests, not run by ctest)
+// Usage: propose_docs OUTDIR [METHOD]   (docs/generators; run by hand)
 #include <iostream>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
