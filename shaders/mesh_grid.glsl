@@ -6,8 +6,8 @@
 // The mesh is the node grid plus a ring of vertices on the image frame around it: MESH_W x
 // MESH_H vertices, vertex (ex, ey) being node (ex - 1, ey - 1). Each cell (a, b, c, d) =
 // ((x, y), (x+1, y), (x, y+1), (x+1, y+1)) holds the triangles (a, b, c) and (b, d, c), in
-// row-major cell order: the CPU backend's order (mesh_raster.cpp), where the later triangle
-// wins a pixel two triangles cover.
+// row-major cell order, the later triangle winning a pixel two triangles cover: the rule
+// kCellTriangles states once for C++ (modules/core/internal/.../backend_contract.hpp).
 
 #define MESH_W (GRID_W + 2)
 #define MESH_H (GRID_H + 2)

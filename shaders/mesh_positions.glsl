@@ -48,7 +48,8 @@ vec2 meshPosition(ivec2 e) {
     if (any(notEqual(e, g + 1))) {
         // A ring vertex on the frame follows it as mean value coordinates do on a polygon
         // edge: the frame corners interpolated linearly. It keeps the half-pixel band between
-        // the frame and the border nodes covered however those nodes move (mesh_raster.cpp).
+        // the frame and the border nodes covered however those nodes move (mesh_raster.cpp;
+        // the frame as frameCorners in backend_contract.hpp).
         const vec2 r = vec2(e.x == 0 ? -0.5 : (e.x == GRID_W + 1 ? float(IMAGE_W) - 0.5 : x.x),
                             e.y == 0 ? -0.5 : (e.y == GRID_H + 1 ? float(IMAGE_H) - 0.5 : x.y));
         precise float u = (r.x + 0.5) / float(IMAGE_W), v = (r.y + 0.5) / float(IMAGE_H);
