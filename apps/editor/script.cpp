@@ -10,7 +10,7 @@ const std::vector<ScriptVerb>& scriptVerbs() {
     static const std::vector<ScriptVerb> verbs = {
         {"load", 1, 2, "load IMAGE [CAGE]      open an image (and a cage file)"},
         {"load-cage", 1, 1, "load-cage CAGE         open a cage file for the current image"},
-        {"propose", 0, 0, "propose                proposeMulticage() on the image"},
+        {"propose", 0, 0, "propose                faces, outlines, features (propose --protect all)"},
         {"mode", 1, 1, "mode rest|pose         edit the rest polygons or the pose"},
         {"drag", 3, 3, "drag I DX DY           move vertex I (vertices() order) by (DX, DY)"},
         {"drag-polygon", 3, 3, "drag-polygon P DX DY   move every vertex of polygon P"},
