@@ -160,17 +160,90 @@ CLI::Validator wholeNumber(int lo, int hi) {
         "INT in [" + std::to_string(lo) + " - " + std::to_string(hi) + "]");
 }
 
+std::vector<std::string> backendNames() {
+    std::vector<std::string> names;
+    for (int b = 0; const char* name = cv::multicage::backendName(b); ++b) names.push_back(name);
+    return names;
+}
+
+std::vector<std::string> coordinateNames() {
+    std::vector<std::string> names;
+    for (int t = 0; const char* name = cv::multicage::coordinateTypeName(t); ++t)
+        names.push_back(name);
+    return names;
+}
+
+namespace {
+// "a, b or c".
+std::string orList(const std::vector<std::string>& words) {
+    std::string s;
+    for (size_t i = 0; i < words.size(); ++i)
+        s += (i == 0 ? "" : i + 1 == words.size() ? " or " : ", ") + words[i];
+    return s;
+}
+}  // namespace
+
 int backendArg(const std::string& name) {
     int backend = 0;
-    if (!cv::multicage::parseBackend(name, backend)) throw Failure("unknown backend '" + name + "' (auto, cpu or gpu)");
+    if (!cv::multicage::parseBackend(name, backend))
+        throw Failure("unknown backend '" + name + "' (" + orList(backendNames()) + ")");
     return backend;
 }
 
 int coordinatesArg(const std::string& name) {
     int type = 0;
     if (!cv::multicage::parseCoordinateType(name, type))
-        throw Failure("unknown coordinates '" + name + "' (mvc or harmonic)");
+        throw Failure("unknown coordinates '" + name + "' (" + orList(coordinateNames()) + ")");
     return type;
+}
+
+void addDeformOptions(CLI::App* cmd, DeformOptions& o) {
+    using namespace cv::multicage;
+    std::vector<std::string> backends;  // "auto (GPU if available, else CPU)", "cpu", "gpu"
+    for (const std::string& name : backendNames())
+        backends.push_back(
+            name == backendName(BACKEND_AUTO) ? name + " (GPU if available, else CPU)" : name);
+    std::vector<std::string> coordinates;  // "mvc (mean value)", "harmonic"
+    for (int t = 0; const char* name = coordinateTypeName(t); ++t) {
+        const std::string words = coordinateTypeDescription(t);
+        coordinates.push_back(words == name ? std::string(name) : name + (" (" + words + ")"));
+    }
+    cmd->add_option("--backend", o.backend, orList(backends))
+        ->capture_default_str()
+        ->check(CLI::IsMember(backendNames()));
+    cmd->add_option(
+           "--coords", o.coords,
+           "Cage coordinates: " + orList(coordinates) + " (default: the cage file's choice)")
+        ->check(CLI::IsMember(coordinateNames()));
+    o.gridStepOption =
+        cmd->add_option(
+               "--grid-step", o.gridStep,
+               "A mesh node every N pixels: 1 is exact, larger binds N^2 times faster (raised, "
+               "and said, when the coefficients would not fit in --memory-budget)")
+            ->capture_default_str()
+            ->check(wholeNumber(1, 256));
+    cmd->add_option("--memory-budget", o.memoryBudget,
+                    "Most memory the binding's coefficients may take, e.g. 4G or 512M; 0: no limit "
+                    "(default 1G)");
+    cmd->add_option("--border", o.border,
+                    "Value of uncovered pixels: one value, or B G R [A], e.g. --border 255 255 255")
+        ->expected(1, 4)
+        ->type_name("V [V V V]");
+}
+
+cv::multicage::DeformParams deformParams(const DeformOptions& o, const std::string& command,
+                                         cv::Size imageSize, const cv::multicage::Multicage& cage,
+                                         std::string* stepChange) {
+    cv::multicage::DeformParams params;
+    params.backend = backendArg(o.backend);
+    params.coordinates = o.coords.empty() ? cage.coordinates() : coordinatesArg(o.coords);
+    if (!o.memoryBudget.empty()) params.memoryBudget = parseMemorySize(o.memoryBudget);
+    const bool typed = o.gridStepOption && o.gridStepOption->count() > 0;
+    params.gridStep = chooseGridStep(command, imageSize, cage.vertexCount(), o.gridStep, typed,
+                                     params.memoryBudget, stepChange);
+    for (size_t i = 0; i < o.border.size() && i < 4; ++i)
+        params.borderValue[static_cast<int>(i)] = o.border[i];
+    return params;
 }
 
 std::string plural(long long n, const std::string& one, const std::string& many) {

@@ -3,9 +3,10 @@
 #define MULTICAGE_CLI_UTIL_HPP
 
 #include <CLI/CLI.hpp>
-#include <opencv2/multicage.hpp>
 #include <chrono>
+#include <opencv2/multicage.hpp>
 #include <string>
+#include <vector>
 
 namespace multicage_cli {
 
@@ -67,9 +68,33 @@ class BindProgressLine {
 whole number", "0 is out of range: 1 to 256"). */
 CLI::Validator wholeNumber(int lo, int hi);
 
+/** The library's names of the backends (backendName: auto, cpu, gpu) and of the coordinate
+types (coordinateTypeName: mvc, harmonic). */
+std::vector<std::string> backendNames();
+std::vector<std::string> coordinateNames();
 // The library's names (cv::multicage::parseBackend, parseCoordinateType), as a Failure when unknown.
 int backendArg(const std::string& name);       // auto | cpu | gpu
 int coordinatesArg(const std::string& name);   // mvc | harmonic
+
+/** The options of a deformation that deform, animate and demo share, as typed. */
+struct DeformOptions {
+    std::string backend = "auto";  //!< --backend: a backendNames() entry
+    std::string coords;            //!< --coords: a coordinateNames() entry; "": the cage's choice
+    std::string memoryBudget;      //!< --memory-budget: parseMemorySize() text; "": the default
+    int gridStep = 1;              //!< --grid-step
+    std::vector<double> border;    //!< --border: 1 to 4 channel values; empty: 0
+    const CLI::Option* gridStepOption = nullptr;  //!< set by addDeformOptions: typed or not
+};
+/** Adds --backend, --coords, --grid-step, --memory-budget and --border to cmd, stored in o
+(which must live as long as cmd). The valid names are the library's. */
+void addDeformOptions(CLI::App* cmd, DeformOptions& o);
+/** The DeformParams the options ask for on this image and cage: backend and coordinates
+parsed (no --coords: the cage's own), memory budget and border, and the grid step
+chooseGridStep() picks (`command` and *stepChange as there). Throws a Failure for a bad
+--memory-budget. */
+cv::multicage::DeformParams deformParams(const DeformOptions& o, const std::string& command,
+                                         cv::Size imageSize, const cv::multicage::Multicage& cage,
+                                         std::string* stepChange);
 
 /** "1 polygon", "3 polygons" (many: the plural when it is not singular + "s"). */
 std::string plural(long long n, const std::string& one, const std::string& many = "");

@@ -11,10 +11,10 @@ namespace multicage_cli {
 
 namespace {
 struct AnimateOptions {
-    std::string image, cage, output, backend = "auto", coords, interpolation = "catmull-rom", memoryBudget;
+    std::string image, cage, output, interpolation = "catmull-rom";
     double fps = 25, duration = 0;
-    bool loop = false, quiet = false, gridStepTyped = false;
-    int gridStep = 1;
+    bool loop = false, quiet = false;
+    DeformOptions deform;
 };
 
 // A bar redrawn in place on a terminal; elsewhere (logs, CI) a line every 10%.
@@ -55,36 +55,34 @@ void runAnimate(const AnimateOptions& o) {
     params.fps = o.fps;
     params.duration = o.duration;
     params.loop = o.loop;
-    params.interpolation = o.interpolation == "linear" ? INTERPOLATE_LINEAR : INTERPOLATE_CATMULL_ROM;
-    DeformParams deformParams;
-    deformParams.backend = backendArg(o.backend);
-    deformParams.coordinates = o.coords.empty() ? cage.coordinates() : coordinatesArg(o.coords);
-    if (!o.memoryBudget.empty()) deformParams.memoryBudget = parseMemorySize(o.memoryBudget);
+    params.interpolation =
+        o.interpolation == "linear" ? INTERPOLATE_LINEAR : INTERPOLATE_CATMULL_ROM;
     std::string stepChange;
-    deformParams.gridStep = chooseGridStep("animate", image.size(), cage.vertexCount(), o.gridStep, o.gridStepTyped,
-                                           deformParams.memoryBudget, &stepChange);
-    probeAutoBackend(deformParams.backend);  // once, and not counted as bind time
+    DeformParams deformation = deformParams(o.deform, "animate", image.size(), cage, &stepChange);
+    probeAutoBackend(deformation.backend);  // once, and not counted as bind time
 
     Progress progress(o.quiet);
     AnimationStats s;
     {
         BindProgressLine bindProgress("animate", o.quiet);
-        deformParams.progress = bindProgress.callback();
+        deformation.progress = bindProgress.callback();
         try {
-            s = renderAnimation(image, cage, o.output, params, deformParams,
+            s = renderAnimation(image, cage, o.output, params, deformation,
                                 [&progress](int done, int total) { progress(done, total); });
         } catch (const cv::Exception& e) {
             bindProgress.rethrow(e);
         }
     }
     const double n = s.frames;
-    std::printf("wrote %s (%d frames, %dx%d, %g fps, %.2f s of animation, %s, %s coordinates, grid step %d%s)\n"
-                "render: %.1f frames/s over %.0f ms (bind %.0f ms; per frame: pose %.2f ms, deform %.1f ms, "
-                "write %.1f ms)\n",
-                o.output.c_str(), s.frames, image.cols, image.rows, o.fps, s.frames / o.fps,
-                backendName(s.backend), coordinateTypeDescription(deformParams.coordinates),
-                deformParams.gridStep, stepChange.empty() ? "" : (" (" + stepChange + ")").c_str(), s.fps(), s.totalMs, s.bindMs, s.sampleMs / n,
-                s.deformMs / n, s.writeMs / n);
+    std::printf(
+        "wrote %s (%d frames, %dx%d, %g fps, %.2f s of animation, %s, %s coordinates, "
+        "grid step %d%s)\n"
+        "render: %.1f frames/s over %.0f ms (bind %.0f ms; per frame: pose %.2f ms, "
+        "deform %.1f ms, write %.1f ms)\n",
+        o.output.c_str(), s.frames, image.cols, image.rows, o.fps, s.frames / o.fps,
+        backendName(s.backend), coordinateTypeDescription(deformation.coordinates),
+        deformation.gridStep, stepChange.empty() ? "" : (" (" + stepChange + ")").c_str(), s.fps(),
+        s.totalMs, s.bindMs, s.sampleMs / n, s.deformMs / n, s.writeMs / n);
     if (!s.note.empty()) std::fprintf(stderr, "multicage animate: note: %s: %s\n", o.output.c_str(), s.note.c_str());
 }
 }  // namespace
@@ -114,22 +112,9 @@ void addAnimateCommand(CLI::App& app) {
                   "spacing), so the output can play on repeat without a jump");
     cmd->add_option("--interpolation", o->interpolation, "catmull-rom (smooth) or linear")
         ->capture_default_str()->check(CLI::IsMember({"linear", "catmull-rom"}));
-    cmd->add_option("--backend", o->backend, "auto (GPU if available, else CPU), cpu or gpu")->capture_default_str()
-        ->check(CLI::IsMember({"auto", "cpu", "gpu"}));
-    cmd->add_option("--coords", o->coords,
-                    "Cage coordinates: mvc (mean value) or harmonic (default: the cage file's choice)")
-        ->check(CLI::IsMember({"mvc", "harmonic"}));
-    CLI::Option* step = cmd->add_option("--grid-step", o->gridStep,
-                    "A mesh node every N pixels: 1 is exact, larger binds N^2 times faster (raised, "
-                    "and said, when the coefficients would not fit in --memory-budget)")->capture_default_str()
-        ->check(wholeNumber(1, 256));
-    cmd->add_option("--memory-budget", o->memoryBudget,
-                    "Most memory the binding's coefficients may take, e.g. 4G or 512M; 0: no limit (default 1G)");
+    addDeformOptions(cmd, o->deform);
     cmd->add_flag("-q,--quiet", o->quiet, "No progress output");
-    cmd->callback([o, step] {
-        o->gridStepTyped = step->count() > 0;
-        runAnimate(*o);
-    });
+    cmd->callback([o] { runAnimate(*o); });
 }
 
 }  // namespace multicage_cli

@@ -323,95 +323,115 @@ void printCpuScaling(const BenchOptions& o, const cv::Mat& image, const cv::mult
     cv::setNumThreads(maxThreads);
 }
 
-void runBench(const BenchOptions& o) {
-    using namespace cv::multicage;
-    // Everything that can fail on bad input fails before the first line of output.
+// One case's inputs, kept for the CPU sections after the table (they use the first case).
+struct CaseInputs {
+    cv::Mat image;
+    cv::multicage::Multicage cage;
+    cv::multicage::Binding binding;  // grid step 1, mean value; empty with --gpu-only
+    std::vector<cv::Point2f> pose;
+};
+
+// The cases to run: Table 1's, or the first of them, or one of --size.
+std::vector<BenchCase> benchCases(const BenchOptions& o) {
     std::vector<BenchCase> cases(std::begin(kPaperCases), std::end(kPaperCases));
     if (!o.size.empty()) cases = {{parseSize(o.size), o.vertices, -1}};
     if (o.paperOnly) cases.resize(1);
-    if (!o.image.empty()) readImage(o.image);
-    if (o.threads > 0) cv::setNumThreads(o.threads);
-    std::printf("multicage bench: medians of %d runs, %d threads, OpenCV %s%s\n", o.repeats,
-                cv::getNumThreads(), CV_VERSION, o.half ? ", half-float coefficients on the GPU" : "");
-    std::unique_ptr<HeadlessGLContext> gl;
-    std::string device = "none";
-    if (!o.noGpu) {
-        try {
-            gl.reset(new HeadlessGLContext());
-            device = gl->description();
-            std::printf("GPU: %s\n", device.c_str());
-        } catch (const cv::Exception& e) {
-            device = "none (" + e.err + ")";
-            std::printf("GPU: %s; GPU columns show -\n", device.c_str());
-        }
+    return cases;
+}
+
+// The bench's own GL context, or none (said, with why, in *device and on stdout).
+std::unique_ptr<cv::multicage::HeadlessGLContext> openGpu(std::string* device) {
+    std::unique_ptr<cv::multicage::HeadlessGLContext> gl;
+    try {
+        gl.reset(new cv::multicage::HeadlessGLContext());
+        *device = gl->description();
+        std::printf("GPU: %s\n", device->c_str());
+    } catch (const cv::Exception& e) {
+        *device = "none (" + e.err + ")";
+        std::printf("GPU: %s; GPU columns show -\n", device->c_str());
     }
-    std::printf("%-10s %4s | %8s %8s %8s | %8s %8s | %8s %8s %8s | %8s %8s %8s | %8s %7s | %7s %7s\n",
-                "image", "V", "bind", "bind", "paper", "pack+up", "create", "pose", "deform",
-                "pose", "pose", "maps", "TPS", "TPS", "TPS/gpu", "coef MB", "coef MB");
-    std::printf("%-10s %4s | %8s %8s %8s | %8s %8s | %8s %8s %8s | %8s %8s %8s | %8s %7s | %7s %7s\n",
-                "", "", "CPU ms", "GPU ms", "bind ms", "GPU ms", "GPU ms", "GPU ms", "GPU ms",
-                "CPU ms", "CPU s=4", "CPU ms", "warp ms", "/CPU", "deform", "CPU", "texture");
-    struct {
-        cv::Mat image;
-        Multicage cage;
-        Binding binding;
-        std::vector<cv::Point2f> pose;
-    } firstCase;  // the CPU sections below use the first case
-    std::vector<CaseRecord> records;
-    for (const BenchCase& c : cases) {
-        CaseRecord r;
-        r.size = c.size, r.vertices = c.vertices;
-        const cv::Mat image = benchImage(o.image, c.size);
-        const Multicage cage = multicage_fixtures::lotusMulticage(c.size, c.vertices);
-        const std::vector<cv::Point2f> pose = multicage_fixtures::wavePose(cage, 12.f, 0.5f);
-        Binding binding;
-        if (!o.gpuOnly) {
-            r.cpuBind = medianMs(o.repeats, [&] { binding = bind(cage, MEAN_VALUE, 1); });
-            DeformParams cpu;
-            cpu.backend = BACKEND_CPU;
-            cv::Ptr<Deformer> d1 = Deformer::create(image, binding, cpu);
-            cv::Mat out, mapx, mapy;
-            r.cpuPose = medianMs(o.repeats, [&] { d1->deform(pose, out); });
-            r.cpuMaps = medianMs(o.repeats, [&] { d1->computeMaps(pose, mapx, mapy); });
-            cpu.gridStep = 4;
-            cv::Ptr<Deformer> d4 = Deformer::create(image, cage, cpu);
-            r.cpuPose4 = medianMs(o.repeats, [&] { d4->deform(pose, out); });
-        }
-        if (gl) {
-            HeadlessGLContext::Scope scope(*gl);
-            r.gpu = gpuFigures(o, image, cage, binding, pose);
-        }
-        if (!o.noPeer && !o.gpuOnly) {
-            // The peer: one thin-plate spline through the same vertices (rest -> pose).
-            std::vector<cv::Point2f> rest = cage.vertices();
-            rest.resize(cage.vertexCount());
-            std::vector<cv::DMatch> matches;
-            for (int i = 0; i < cage.vertexCount(); ++i) matches.emplace_back(i, i, 0.f);
-            cv::Ptr<cv::ThinPlateSplineShapeTransformer> tps = cv::createThinPlateSplineShapeTransformer();
-            cv::Mat tpsOut;
-            // warpImage maps output to input, so the estimate goes from pose to rest.
-            r.tps = medianMs(std::max(1, o.repeats / 2), [&] {
-                tps->estimateTransformation(cv::Mat(pose).reshape(2, 1), cv::Mat(rest).reshape(2, 1), matches);
-                tps->warpImage(image, tpsOut);
-            });
-        }
-        const double coefMB =
-            binding.empty() ? -1 : binding.coefficients.total() * sizeof(float) / (1024.0 * 1024.0);
-        const GpuFigures& g = r.gpu;
-        char size[16];
-        std::snprintf(size, sizeof size, "%dx%d", c.size.width, c.size.height);
-        std::printf("%-10s %4d | %8s %8s %8s | %8s %8s | %8s %8s %8s | %8s %8s %8s | %8s %7s | %7s %7s\n",
-                    size, c.vertices, cell(r.cpuBind, "%.1f"), cell(g.bind, "%.1f"),
-                    cell(c.paperBindSeconds * 1000, "%.0f"), cell(g.packUpload, "%.1f"),
-                    cell(g.createAgain, "%.1f"), cell(g.pose, "%.3f"), cell(g.poseRead, "%.3f"),
-                    cell(r.cpuPose, "%.1f"), cell(r.cpuPose4, "%.2f"), cell(r.cpuMaps, "%.1f"),
-                    cell(r.tps, "%.1f"), cell(r.tps > 0 && r.cpuPose > 0 ? r.tps / r.cpuPose : -1, "%.1f"),
-                    cell(r.tps > 0 && g.poseRead > 0 ? r.tps / g.poseRead : -1, "%.1f"),
-                    cell(coefMB, "%.1f"), cell(g.coefMB, "%.1f"));
-        std::fflush(stdout);
-        if (records.empty()) firstCase = {image, cage, binding, pose};
-        records.push_back(r);
+    return gl;
+}
+
+const char* const kTableRow =
+    "%-10s %4s | %8s %8s %8s | %8s %8s | %8s %8s %8s | %8s %8s %8s | %8s %7s | %7s %7s\n";
+
+void printTableHeader() {
+    std::printf(kTableRow, "image", "V", "bind", "bind", "paper", "pack+up", "create", "pose",
+                "deform", "pose", "pose", "maps", "TPS", "TPS", "TPS/gpu", "coef MB", "coef MB");
+    std::printf(kTableRow, "", "", "CPU ms", "GPU ms", "bind ms", "GPU ms", "GPU ms", "GPU ms",
+                "GPU ms", "CPU ms", "CPU s=4", "CPU ms", "warp ms", "/CPU", "deform", "CPU",
+                "texture");
+}
+
+// The CPU figures of one case: binding at grid step 1 (kept in in.binding), pose and maps from
+// it, and a pose at grid step 4.
+void measureCpu(const BenchOptions& o, CaseInputs& in, CaseRecord& r) {
+    using namespace cv::multicage;
+    r.cpuBind = medianMs(o.repeats, [&] { in.binding = bind(in.cage, MEAN_VALUE, 1); });
+    DeformParams cpu;
+    cpu.backend = BACKEND_CPU;
+    cv::Ptr<Deformer> d1 = Deformer::create(in.image, in.binding, cpu);
+    cv::Mat out, mapx, mapy;
+    r.cpuPose = medianMs(o.repeats, [&] { d1->deform(in.pose, out); });
+    r.cpuMaps = medianMs(o.repeats, [&] { d1->computeMaps(in.pose, mapx, mapy); });
+    cpu.gridStep = 4;
+    cv::Ptr<Deformer> d4 = Deformer::create(in.image, in.cage, cpu);
+    r.cpuPose4 = medianMs(o.repeats, [&] { d4->deform(in.pose, out); });
+}
+
+// The peer: one thin-plate spline through the same vertices (rest -> pose).
+double measurePeer(const BenchOptions& o, const CaseInputs& in) {
+    std::vector<cv::Point2f> rest = in.cage.vertices();
+    rest.resize(in.cage.vertexCount());
+    std::vector<cv::DMatch> matches;
+    for (int i = 0; i < in.cage.vertexCount(); ++i) matches.emplace_back(i, i, 0.f);
+    cv::Ptr<cv::ThinPlateSplineShapeTransformer> tps = cv::createThinPlateSplineShapeTransformer();
+    cv::Mat tpsOut;
+    // warpImage maps output to input, so the estimate goes from pose to rest.
+    return medianMs(std::max(1, o.repeats / 2), [&] {
+        tps->estimateTransformation(cv::Mat(in.pose).reshape(2, 1), cv::Mat(rest).reshape(2, 1),
+                                    matches);
+        tps->warpImage(in.image, tpsOut);
+    });
+}
+
+// Every figure of one case; its inputs come back in `in`.
+CaseRecord measureCase(const BenchOptions& o, const BenchCase& c,
+                       cv::multicage::HeadlessGLContext* gl, CaseInputs& in) {
+    using namespace cv::multicage;
+    CaseRecord r;
+    r.size = c.size, r.vertices = c.vertices;
+    in.image = benchImage(o.image, c.size);
+    in.cage = multicage_fixtures::lotusMulticage(c.size, c.vertices);
+    in.pose = multicage_fixtures::wavePose(in.cage, 12.f, 0.5f);
+    if (!o.gpuOnly) measureCpu(o, in, r);
+    if (gl) {
+        HeadlessGLContext::Scope scope(*gl);
+        r.gpu = gpuFigures(o, in.image, in.cage, in.binding, in.pose);
     }
+    if (!o.noPeer && !o.gpuOnly) r.tps = measurePeer(o, in);
+    return r;
+}
+
+void printCaseRow(const BenchCase& c, const CaseRecord& r, const cv::multicage::Binding& binding) {
+    const double coefMB =
+        binding.empty() ? -1 : binding.coefficients.total() * sizeof(float) / (1024.0 * 1024.0);
+    const GpuFigures& g = r.gpu;
+    char size[16];
+    std::snprintf(size, sizeof size, "%dx%d", c.size.width, c.size.height);
+    std::printf(kTableRow, size, std::to_string(c.vertices).c_str(), cell(r.cpuBind, "%.1f"),
+                cell(g.bind, "%.1f"), cell(c.paperBindSeconds * 1000, "%.0f"),
+                cell(g.packUpload, "%.1f"), cell(g.createAgain, "%.1f"), cell(g.pose, "%.3f"),
+                cell(g.poseRead, "%.3f"), cell(r.cpuPose, "%.1f"), cell(r.cpuPose4, "%.2f"),
+                cell(r.cpuMaps, "%.1f"), cell(r.tps, "%.1f"),
+                cell(r.tps > 0 && r.cpuPose > 0 ? r.tps / r.cpuPose : -1, "%.1f"),
+                cell(r.tps > 0 && g.poseRead > 0 ? r.tps / g.poseRead : -1, "%.1f"),
+                cell(coefMB, "%.1f"), cell(g.coefMB, "%.1f"));
+    std::fflush(stdout);
+}
+
+void printTableNotes() {
     std::printf(
         "bind: Algorithm 1 over every pixel (grid step 1): CPU on all threads, GPU in the compute "
         "shader (float, double near vertices/edges); paper: Table 1's binding time (only the "
@@ -422,6 +442,31 @@ void runBench(const BenchOptions& o) {
         "step 1 and 4); maps: CPU inverse maps only. TPS: cv::ThinPlateSplineShapeTransformer "
         "estimate + warpImage with the same points. coef MB: planar float32 coefficients on the "
         "CPU, and the packed texture (empty blocks included) on the GPU.\n");
+}
+
+void runBench(const BenchOptions& o) {
+    using namespace cv::multicage;
+    // Everything that can fail on bad input fails before the first line of output.
+    const std::vector<BenchCase> cases = benchCases(o);
+    if (!o.image.empty()) readImage(o.image);
+    if (o.threads > 0) cv::setNumThreads(o.threads);
+    std::printf("multicage bench: medians of %d runs, %d threads, OpenCV %s%s\n", o.repeats,
+                cv::getNumThreads(), CV_VERSION,
+                o.half ? ", half-float coefficients on the GPU" : "");
+    std::unique_ptr<HeadlessGLContext> gl;
+    std::string device = "none";
+    if (!o.noGpu) gl = openGpu(&device);
+    printTableHeader();
+    CaseInputs firstCase;  // the CPU sections below use the first case
+    std::vector<CaseRecord> records;
+    for (const BenchCase& c : cases) {
+        CaseInputs in;
+        const CaseRecord r = measureCase(o, c, gl.get(), in);
+        printCaseRow(c, r, in.binding);
+        if (records.empty()) firstCase = in;
+        records.push_back(r);
+    }
+    printTableNotes();
     if (gl) printGpuTable(records);
     if (!o.json.empty()) {
         writeJson(o.json, device, o, records);

@@ -7,14 +7,13 @@
 namespace multicage_cli {
 
 namespace {
-struct DeformOptions {
-    std::string image, cage, output, pose, backend = "auto", coords, memoryBudget;
-    int gridStep = 1;
-    bool gridStepTyped = false, quiet = false;
-    std::vector<double> border;
+struct DeformCommandOptions {
+    std::string image, cage, output, pose;
+    DeformOptions deform;
+    bool quiet = false;
 };
 
-void runDeform(const DeformOptions& o) {
+void runDeform(const DeformCommandOptions& o) {
     using namespace cv::multicage;
     const auto t0 = std::chrono::steady_clock::now();
     checkImageOutput(o.output);
@@ -32,14 +31,8 @@ void runDeform(const DeformOptions& o) {
             throw Failure(o.cage + ": no pose named '" + o.pose + "' (it has: " + names + ")");
         }
     }
-    DeformParams params;
-    params.backend = backendArg(o.backend);
-    params.coordinates = o.coords.empty() ? cage.coordinates() : coordinatesArg(o.coords);
-    if (!o.memoryBudget.empty()) params.memoryBudget = parseMemorySize(o.memoryBudget);
     std::string stepChange;
-    params.gridStep = chooseGridStep("deform", image.size(), cage.vertexCount(), o.gridStep, o.gridStepTyped,
-                                     params.memoryBudget, &stepChange);
-    for (size_t i = 0; i < o.border.size() && i < 4; ++i) params.borderValue[static_cast<int>(i)] = o.border[i];
+    DeformParams params = deformParams(o.deform, "deform", image.size(), cage, &stepChange);
 
     probeAutoBackend(params.backend);  // once, and not counted as bind time
     cv::Ptr<Deformer> deformer;
@@ -70,16 +63,18 @@ void runDeform(const DeformOptions& o) {
     deformer->deform(pose.vertices, out);
     const double deformMs = msSince(td);
     writeImage("deform", o.output, out);
-    std::cout << "wrote " << o.output << " (" << out.cols << "x" << out.rows << ", pose '" << pose.name
-              << "', " << backendName(deformer->backend()) << (o.backend == "auto" ? " (auto)" : "") << ", "
+    std::cout << "wrote " << o.output << " (" << out.cols << "x" << out.rows << ", pose '"
+              << pose.name << "', " << backendName(deformer->backend())
+              << (params.backend == BACKEND_AUTO ? " (auto)" : "") << ", "
               << coordinateTypeDescription(binding.coordinates) << " coordinates, grid step "
-              << binding.gridStep << (stepChange.empty() ? "" : " (" + stepChange + ")") << ", bind " << cvRound(bindMs) << " ms, deform " << cvRound(deformMs) << " ms, total "
-              << cvRound(msSince(t0)) << " ms)" << std::endl;
+              << binding.gridStep << (stepChange.empty() ? "" : " (" + stepChange + ")")
+              << ", bind " << cvRound(bindMs) << " ms, deform " << cvRound(deformMs)
+              << " ms, total " << cvRound(msSince(t0)) << " ms)" << std::endl;
 }
 }  // namespace
 
 void addDeformCommand(CLI::App& app) {
-    auto o = std::make_shared<DeformOptions>();
+    auto o = std::make_shared<DeformCommandOptions>();
     CLI::App* cmd = app.add_subcommand(
         "deform",
         "Deform IMAGE to a pose stored in CAGE.yml and write OUT.\n"
@@ -96,24 +91,9 @@ void addDeformCommand(CLI::App& app) {
     cmd->add_option("cage", o->cage, "Cage file (.yml, .yaml or .json)")->required();
     cmd->add_option("-o,--output", o->output, "Output image; written only when complete")->required();
     cmd->add_option("--pose", o->pose, "Pose name in the cage file (default: the first pose)");
-    cmd->add_option("--backend", o->backend, "auto (GPU if available, else CPU), cpu or gpu")->capture_default_str()
-        ->check(CLI::IsMember({"auto", "cpu", "gpu"}));
-    cmd->add_option("--coords", o->coords,
-                    "Cage coordinates: mvc (mean value) or harmonic (default: the cage file's choice)")
-        ->check(CLI::IsMember({"mvc", "harmonic"}));
-    CLI::Option* step = cmd->add_option("--grid-step", o->gridStep,
-                    "A mesh node every N pixels: 1 is exact, larger binds N^2 times faster (raised, "
-                    "and said, when the coefficients would not fit in --memory-budget)")->capture_default_str()
-        ->check(wholeNumber(1, 256));
-    cmd->add_option("--memory-budget", o->memoryBudget,
-                    "Most memory the binding's coefficients may take, e.g. 4G or 512M; 0: no limit (default 1G)");
-    cmd->add_option("--border", o->border, "Value of uncovered pixels: one value, or B G R [A], e.g. --border 255 255 255")
-        ->expected(1, 4)->type_name("V [V V V]");
+    addDeformOptions(cmd, o->deform);
     cmd->add_flag("-q,--quiet", o->quiet, "No progress line while binding");
-    cmd->callback([o, step] {
-        o->gridStepTyped = step->count() > 0;
-        runDeform(*o);
-    });
+    cmd->callback([o] { runDeform(*o); });
 }
 
 }  // namespace multicage_cli

@@ -21,8 +21,8 @@ namespace multicage_cli {
 
 namespace {
 struct DemoOptions {
-    std::string outDir = "multicage-demo", backend = "auto";
-    int gridStep = 1;
+    std::string outDir = "multicage-demo";
+    DeformOptions deform;
 };
 
 cv::Mat decodeEmbeddedImage(std::string_view name) {
@@ -53,9 +53,10 @@ void runDemo(const DemoOptions& o) {
         p.y = std::min(std::max(p.y, 4.f), image.rows - 5.f);
     }
     cage.addPose("stretch", stretch, 1.0);
-    DeformParams params;
-    params.backend = backendArg(o.backend);
-    params.gridStep = o.gridStep;
+    std::string stepChange;
+    const DeformParams params = deformParams(o.deform, "demo", image.size(), cage, &stepChange);
+    if (!stepChange.empty())
+        std::cout << "  grid step " << params.gridStep << " (" << stepChange << ")\n";
     probeAutoBackend(params.backend);  // once, and not counted as bind time
     t = std::chrono::steady_clock::now();
     cv::Ptr<Deformer> deformer = Deformer::create(image, cage, params);
@@ -95,9 +96,7 @@ void addDemoCommand(CLI::App& app) {
         "around the butterfly, inner polygons protecting its wing patterns), a pose that "
         "stretches the outline, and the output images in a folder.");
     cmd->add_option("-o,--output-dir", o->outDir, "Folder for the outputs")->capture_default_str();
-    cmd->add_option("--backend", o->backend, "auto, cpu or gpu")->capture_default_str()
-        ->check(CLI::IsMember({"auto", "cpu", "gpu"}));
-    cmd->add_option("--grid-step", o->gridStep, "A mesh node every N pixels")->capture_default_str()->check(wholeNumber(1, 256));
+    addDeformOptions(cmd, o->deform);
     cmd->callback([o] { runDemo(*o); });
 }
 

@@ -37,12 +37,8 @@ std::string reason(const cv::Exception& e) {
     return s;
 }
 
-void runPropose(const ProposeOptions& o) {
+cv::multicage::ProposeParams proposeParams(const ProposeOptions& o) {
     using namespace cv::multicage;
-    const auto t0 = std::chrono::steady_clock::now();
-    checkCageOutput(o.output);
-    if (!o.overlay.empty()) checkImageOutput(o.overlay);
-    cv::Mat image = readImage(o.image);
     ProposeParams params;
     params.method = parseProposeMethod(o.method);
     params.maxVertices = o.maxVertices;
@@ -53,58 +49,102 @@ void runPropose(const ProposeOptions& o) {
     params.minRegionArea = o.minArea;
     params.workingSize = o.workingSize;
     if (o.rect.size() == 4) params.rect = cv::Rect(o.rect[0], o.rect[1], o.rect[2], o.rect[3]);
-    cv::Mat input = image;
-    if ((params.method == PROPOSE_MASK || params.method == PROPOSE_LABELS) &&
-        image.channels() != 1) {
-        if (params.method == PROPOSE_LABELS)
-            throw Failure(o.image + ": a label image has one channel (this one has " +
-                          std::to_string(image.channels()) + ")");
-        // A mask saved in colour has equal channels; a photo does not, and read as a mask it
-        // is "object" almost everywhere (one polygon around the whole image): refuse it.
-        std::vector<cv::Mat> ch;
-        cv::split(image, ch);
-        const double spread = (cv::norm(ch[0], ch[1], cv::NORM_L1) + cv::norm(ch[1], ch[2], cv::NORM_L1)) /
-                              static_cast<double>(image.total());
-        if (spread > 2.0)
-            throw Failure(o.image + ": --method mask wants a mask (black background, non-zero object), "
-                          "and this is a colour image; for a photo use --method auto");
-        cv::cvtColor(image, input,
-                     image.channels() == 4 ? cv::COLOR_BGRA2GRAY : cv::COLOR_BGR2GRAY);
-    }
     // Faces are opt-in until their polygons fit the face closely (issue 16 is still open: the
     // face polygon can swallow the body, and the face search costs ~400 ms at 1024x768).
     params.protect = parseProtectDetector(o.protect.empty() ? "saliency" : o.protect);
     params.cascadeDir = o.cascadeDir;
-    Multicage cage;
+    return params;
+}
+
+bool isMaskMethod(int method) {
+    return method == cv::multicage::PROPOSE_MASK || method == cv::multicage::PROPOSE_LABELS;
+}
+
+// What the proposal reads: the image, or for --method mask or labels a one-channel copy.
+cv::Mat proposalInput(const ProposeOptions& o, const cv::Mat& image, int method) {
+    if (!isMaskMethod(method) || image.channels() == 1) return image;
+    if (method == cv::multicage::PROPOSE_LABELS)
+        throw Failure(o.image + ": a label image has one channel (this one has " +
+                      std::to_string(image.channels()) + ")");
+    // A mask saved in colour has equal channels; a photo does not, and read as a mask it
+    // is "object" almost everywhere (one polygon around the whole image): refuse it.
+    std::vector<cv::Mat> ch;
+    cv::split(image, ch);
+    const double spread =
+        (cv::norm(ch[0], ch[1], cv::NORM_L1) + cv::norm(ch[1], ch[2], cv::NORM_L1)) /
+        static_cast<double>(image.total());
+    if (spread > 2.0)
+        throw Failure(o.image +
+                      ": --method mask wants a mask (black background, non-zero object), "
+                      "and this is a colour image; for a photo use --method auto");
+    cv::Mat input;
+    cv::cvtColor(image, input, image.channels() == 4 ? cv::COLOR_BGRA2GRAY : cv::COLOR_BGR2GRAY);
+    return input;
+}
+
+// The multicage is the product: inner polygons protect the features (faces, salient blobs)
+// inside each outline unless --no-protect; a mask or label input is no photo to find features
+// in (--protect still protects its regions). *note: what the face search found, if it ran.
+cv::multicage::Multicage proposeCage(const ProposeOptions& o,
+                                     const cv::multicage::ProposeParams& params,
+                                     const cv::Mat& image, const cv::Mat& input,
+                                     std::string* note) {
+    using namespace cv::multicage;
+    if (o.noProtect) return proposeMulticage(input, params);
+    if (isMaskMethod(params.method)) {
+        Multicage cage = proposeMulticage(input, params);
+        if (!o.protect.empty()) {
+            const int top = cage.polygonCount();
+            for (int p = 0; p < top; ++p)
+                if (cage.depth(p) == 1) cage = protectFeatures(image, cage, p, params);
+        }
+        return cage;
+    }
     std::vector<cv::Rect> faces;
+    Multicage cage = proposeProtectedMulticage(image, params, &faces);
+    const bool faceSearch = params.protect != PROTECT_SALIENCY;
+    if (faceSearch && params.protect == PROTECT_ALL && faceCascadeFile(params).empty())
+        *note =
+            "note: no face cascade installed (Debian package opencv-data): protected "
+            "salient features only";
+    else if (faceSearch && faces.empty())
+        *note = params.protect == PROTECT_FACES
+                    ? "note: no face found: the outlines have no inner polygon"
+                    : "note: no face found: protected salient features only";
+    else if (faceSearch)
+        *note = "protected " + plural(static_cast<int>(faces.size()), "face");
+    return cage;
+}
+
+// The image with the polygons drawn, coloured by depth (a mask or label image stretched to
+// be seen).
+void writeOverlay(const std::string& path, const cv::Mat& image,
+                  const cv::multicage::Multicage& cage, int method) {
+    cv::Mat overlay;
+    if (image.depth() != CV_8U) {
+        cv::normalize(image, overlay, 0, 255, cv::NORM_MINMAX, CV_8U);
+    } else {
+        overlay = image.clone();
+    }
+    if (overlay.channels() == 1) cv::cvtColor(overlay, overlay, cv::COLOR_GRAY2BGR);
+    if (overlay.channels() == 4) cv::cvtColor(overlay, overlay, cv::COLOR_BGRA2BGR);
+    if (isMaskMethod(method)) cv::normalize(overlay, overlay, 0, 255, cv::NORM_MINMAX);
+    cage.draw(overlay, std::max(1, std::max(image.cols, image.rows) / 300));
+    cv::multicage::imwriteAtomic(path, overlay);
+}
+
+void runPropose(const ProposeOptions& o) {
+    using namespace cv::multicage;
+    const auto t0 = std::chrono::steady_clock::now();
+    checkCageOutput(o.output);
+    if (!o.overlay.empty()) checkImageOutput(o.overlay);
+    const cv::Mat image = readImage(o.image);
+    const ProposeParams params = proposeParams(o);
+    const cv::Mat input = proposalInput(o, image, params.method);
+    Multicage cage;
     std::string note;
     try {
-        // The multicage is the product: inner polygons protect the features (faces, salient
-        // blobs) inside each outline unless --no-protect; a mask or label input is no photo to
-        // find features in (--protect still protects its regions).
-        const bool maskInput = params.method == PROPOSE_MASK || params.method == PROPOSE_LABELS;
-        if (o.noProtect) {
-            cage = proposeMulticage(input, params);
-        } else if (maskInput) {
-            cage = proposeMulticage(input, params);
-            if (!o.protect.empty()) {
-                const int top = cage.polygonCount();
-                for (int p = 0; p < top; ++p)
-                    if (cage.depth(p) == 1) cage = protectFeatures(image, cage, p, params);
-            }
-        } else {
-            cage = proposeProtectedMulticage(image, params, &faces);
-            const bool faceSearch = params.protect != PROTECT_SALIENCY;
-            if (faceSearch && params.protect == PROTECT_ALL && faceCascadeFile(params).empty())
-                note = "note: no face cascade installed (Debian package opencv-data): protected "
-                       "salient features only";
-            else if (faceSearch && faces.empty())
-                note = params.protect == PROTECT_FACES
-                           ? "note: no face found: the outlines have no inner polygon"
-                           : "note: no face found: protected salient features only";
-            else if (faceSearch)
-                note = "protected " + plural(static_cast<int>(faces.size()), "face");
-        }
+        cage = proposeCage(o, params, image, input, &note);
     } catch (const cv::Exception& e) {
         throw Failure(o.image + ": " + reason(e));
     }
@@ -117,20 +157,7 @@ void runPropose(const ProposeOptions& o) {
     // A pose to start from: `deform` needs one, and the file shows the format to edit.
     cage.addPose("rest", cage.vertices(), 0.0);
     cage.save(o.output);
-    if (!o.overlay.empty()) {
-        cv::Mat overlay;
-        if (image.depth() != CV_8U) {
-            cv::normalize(image, overlay, 0, 255, cv::NORM_MINMAX, CV_8U);
-        } else {
-            overlay = image.clone();
-        }
-        if (overlay.channels() == 1) cv::cvtColor(overlay, overlay, cv::COLOR_GRAY2BGR);
-        if (overlay.channels() == 4) cv::cvtColor(overlay, overlay, cv::COLOR_BGRA2BGR);
-        if (params.method == PROPOSE_LABELS || params.method == PROPOSE_MASK)
-            cv::normalize(overlay, overlay, 0, 255, cv::NORM_MINMAX);
-        cage.draw(overlay, std::max(1, std::max(image.cols, image.rows) / 300));
-        imwriteAtomic(o.overlay, overlay);
-    }
+    if (!o.overlay.empty()) writeOverlay(o.overlay, image, cage, params.method);
     int deepest = 0;
     for (int p = 0; p < cage.polygonCount(); ++p) deepest = std::max(deepest, cage.depth(p));
     std::cout << "wrote " << o.output << " (" << plural(cage.polygonCount(), "polygon") << ", "

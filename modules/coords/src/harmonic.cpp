@@ -18,7 +18,8 @@
 //   - a link crossing a polygon is always cut, so regions on two sides of a polygon share no
 //     equation: they are separate systems, and coefficients are exactly 0 across polygons.
 // A node within kHarmonicOnEdgeTolerance of an edge is itself a Dirichlet node carrying the
-// edge's values, so nodes on an edge interpolate it exactly (DESIGN.md, interpolation).
+// edge's values, so nodes on an edge interpolate it exactly (docs/harmonic/README.md,
+// Discretisation).
 #include "harmonic.hpp"
 
 #include <Eigen/Sparse>
@@ -246,20 +247,23 @@ struct Region {
     std::unique_ptr<Factor> factor;
 };
 
-}  // namespace
+// A coefficient of the binding. The exact solution lies in [0, 1] (discrete maximum principle);
+// what falls outside by rounding is clamped, anything larger is left for the tests to see.
+void writeCoefficient(Mat& coefficients, int vertex, int node, double value) {
+    if (value < 0.0 && value > -1e-9) value = 0.0;
+    if (value > 1.0 && value < 1.0 + 1e-9) value = 1.0;
+    coefficients.at<float>(vertex, node) = static_cast<float>(value);
+}
 
-Binding bindHarmonic(const Multicage& multicage, int gridStep, HarmonicStats* stats,
-                     const BindProgress& progressCallback) {
-    ProgressReporter progress(progressCallback);
-    progress.report(0.0);
-    Binding out = emptyBinding(multicage, HARMONIC, gridStep);
-    out.minConditioning = 1.0;  // no cancellation: all weights are non-negative
-    out.worstNode = Point2f(0, 0);
-    const int c = out.coefficientCount(), N = out.nodeCount();
-    const Axis xs{out.gridSize.width, gridStep, out.imageSize.width};
-    const Axis ys{out.gridSize.height, gridStep, out.imageSize.height};
+void writeHat(Mat& coefficients, int node, const HatValue& h) {
+    writeCoefficient(coefficients, h.a, node, h.wa);
+    if (h.b != h.a) writeCoefficient(coefficients, h.b, node, 1.0 - h.wa);
+}
 
-    // 1. The Dirichlet boundary on the grid: user polygons and the frame, every edge closed.
+// Step 1. The Dirichlet boundary on the grid: user polygons and the frame (its vertices
+// numbered from firstFrameVertex), every edge closed.
+BoundaryMap boundaryOnGrid(const Multicage& multicage, const Axis& xs, const Axis& ys,
+                           int firstFrameVertex) {
     BoundaryMap boundary(xs, ys);
     const auto addPolygon = [&](const std::vector<Point2f>& v, int first) {
         const int n = static_cast<int>(v.size());
@@ -270,36 +274,23 @@ Binding bindHarmonic(const Multicage& multicage, int gridStep, HarmonicStats* st
     };
     for (int p = 0; p < multicage.polygonCount(); ++p)
         addPolygon(multicage.polygon(p), multicage.polygonOffset(p));
-    addPolygon(multicage.frame(), c - 4);
+    addPolygon(multicage.frame(), firstFrameVertex);
+    return boundary;
+}
 
-    out.coefficients = Mat::zeros(c, N, CV_32F);
-    const auto write = [&](int j, int node, double value) {
-        // The exact solution lies in [0, 1] (discrete maximum principle); what falls outside
-        // by rounding is clamped, anything larger is left for the tests to see.
-        if (value < 0.0 && value > -1e-9) value = 0.0;
-        if (value > 1.0 && value < 1.0 + 1e-9) value = 1.0;
-        out.coefficients.at<float>(j, node) = static_cast<float>(value);
-    };
-    const auto writeHat = [&](int node, const HatValue& h) {
-        write(h.a, node, h.wa);
-        if (h.b != h.a) write(h.b, node, 1.0 - h.wa);
-    };
-
-    // Dual cell widths (finite-volume weights): half the distance between the neighbouring
-    // grid lines, the frame counting as a line. Equal for a node's two opposite links.
-    std::vector<double> dualX(xs.count), dualY(ys.count);
-    for (int k = 0; k < xs.count; ++k) dualX[k] = 0.5 * (xs.position(k + 1) - xs.position(k - 1));
-    for (int k = 0; k < ys.count; ++k) dualY[k] = 0.5 * (ys.position(k + 1) - ys.position(k - 1));
-
-    // 2. Regions: unknown nodes joined by uncut links (flood fill).
+// Step 2. Regions: unknown nodes joined by uncut links (flood fill). Nodes on the boundary
+// get their Dirichlet values in `coefficients` and are counted in *dirichletNodes.
+std::vector<Region> findRegions(const BoundaryMap& boundary, const Axis& xs, const Axis& ys,
+                                Mat& coefficients, int* dirichletNodes) {
+    const int N = xs.count * ys.count;
     std::vector<int> label(N, -1);
     std::vector<Region> regions;
-    int dirichletNodes = 0;
+    *dirichletNodes = 0;
     std::vector<int> stack;
     for (int start = 0; start < N; ++start) {
         if (const Hit* h = boundary.dirichlet(start)) {
-            writeHat(start, h->value);
-            ++dirichletNodes;
+            writeHat(coefficients, start, h->value);
+            ++*dirichletNodes;
             continue;
         }
         if (label[start] >= 0) continue;
@@ -324,78 +315,99 @@ Binding bindHarmonic(const Multicage& multicage, int gridStep, HarmonicStats* st
             }
         }
     }
+    return regions;
+}
 
-    progress.report(0.5 * kAssemblyShare);
-    progress.throwIfCancelled();
+// What the stencil rows of every region read: the boundary, the grid, the dual cell widths
+// and each unknown node's local index in its region.
+struct StencilGrid {
+    const BoundaryMap& boundary;
+    const Axis &xs, &ys;
+    // Dual cell widths (finite-volume weights): half the distance between the neighbouring
+    // grid lines, the frame counting as a line. Equal for a node's two opposite links.
+    std::vector<double> dualX, dualY;
+    std::vector<int> local;  // per node: its index in its region, -1 on the boundary
+};
+
+// The stencil rows of one region. `column` maps a vertex to its right-hand side's column in
+// this region (-1: none yet); it comes back all -1.
+void assembleRegion(Region& region, const StencilGrid& g, std::vector<int>& column) {
+    const Axis &xs = g.xs, &ys = g.ys;
+    const auto addRhs = [&](int row, int vertex, double value) {
+        if (value == 0.0) return;
+        if (column[vertex] < 0) {
+            column[vertex] = static_cast<int>(region.vertices.size());
+            region.vertices.push_back(vertex);
+            region.rhs.emplace_back();
+        }
+        region.rhs[column[vertex]].emplace_back(row, value);
+    };
+    region.entries.reserve(region.nodes.size() * 3);
+    for (size_t row = 0; row < region.nodes.size(); ++row) {
+        const int i = region.nodes[row];
+        const int gx = i % xs.count, gy = i / xs.count;
+        const double spacing[4] = {
+            xs.position(gx + 1) - xs.position(gx), xs.position(gx) - xs.position(gx - 1),
+            ys.position(gy + 1) - ys.position(gy), ys.position(gy) - ys.position(gy - 1)};
+        const double width[4] = {g.dualY[gy], g.dualY[gy], g.dualX[gx], g.dualX[gx]};
+        const int next[4] = {i + 1, i - 1, i + xs.count, i - xs.count};
+        double diagonal = 0.0;
+        for (int d = 0; d < 4; ++d) {
+            const Hit* cut = g.boundary.linkHit(i, d);
+            // No cut and no neighbour only happens beyond the last node, and the frame
+            // always cuts there; a cut link ends on the boundary.
+            CV_DbgAssert(cut || (d == kEast    ? gx + 1 < xs.count
+                                 : d == kWest  ? gx > 0
+                                 : d == kSouth ? gy + 1 < ys.count
+                                               : gy > 0));
+            const Hit* end = cut ? cut : g.boundary.dirichlet(next[d]);
+            const double conductance = width[d] / (cut ? cut->dist : spacing[d]);
+            diagonal += conductance;
+            if (end) {
+                addRhs(static_cast<int>(row), end->value.a, conductance * end->value.wa);
+                if (end->value.b != end->value.a)
+                    addRhs(static_cast<int>(row), end->value.b,
+                           conductance * (1.0 - end->value.wa));
+            } else if (next[d] < i) {  // the lower triangle is all LDL^T reads
+                region.entries.emplace_back(static_cast<int>(row), g.local[next[d]], -conductance);
+            }
+        }
+        region.entries.emplace_back(static_cast<int>(row), static_cast<int>(row), diagonal);
+    }
+    for (int v : region.vertices) column[v] = -1;
+}
+
+// Step 3. Per region: the stencil rows. Cut links and links to Dirichlet nodes go to the
+// right-hand side, one column per vertex (of `vertexCount`) whose hat function is non-zero
+// there.
+void assembleStencils(std::vector<Region>& regions, const BoundaryMap& boundary, const Axis& xs,
+                      const Axis& ys, int vertexCount) {
+    StencilGrid g{boundary, xs, ys, {}, {}, {}};
+    g.dualX.resize(xs.count);
+    g.dualY.resize(ys.count);
+    for (int k = 0; k < xs.count; ++k) g.dualX[k] = 0.5 * (xs.position(k + 1) - xs.position(k - 1));
+    for (int k = 0; k < ys.count; ++k) g.dualY[k] = 0.5 * (ys.position(k + 1) - ys.position(k - 1));
     // Local indices in node order, so that local[j] < local[i] exactly when j < i.
-    std::vector<int> local(N, -1);
+    g.local.assign(static_cast<size_t>(xs.count) * ys.count, -1);
     for (Region& region : regions) {
         std::sort(region.nodes.begin(), region.nodes.end());
         for (size_t k = 0; k < region.nodes.size(); ++k)
-            local[region.nodes[k]] = static_cast<int>(k);
+            g.local[region.nodes[k]] = static_cast<int>(k);
     }
-
-    // 3. Per region: the stencil rows. Cut links and links to Dirichlet nodes go to the
-    // right-hand side, one column per vertex whose hat function is non-zero there.
     parallel_for_(Range(0, static_cast<int>(regions.size())), [&](const Range& range) {
-        std::vector<int> column(c, -1);
-        for (int r = range.start; r < range.end; ++r) {
-            Region& region = regions[r];
-            const auto addRhs = [&](int row, int vertex, double value) {
-                if (value == 0.0) return;
-                if (column[vertex] < 0) {
-                    column[vertex] = static_cast<int>(region.vertices.size());
-                    region.vertices.push_back(vertex);
-                    region.rhs.emplace_back();
-                }
-                region.rhs[column[vertex]].emplace_back(row, value);
-            };
-            region.entries.reserve(region.nodes.size() * 3);
-            for (size_t row = 0; row < region.nodes.size(); ++row) {
-                const int i = region.nodes[row];
-                const int gx = i % xs.count, gy = i / xs.count;
-                const double spacing[4] = {
-                    xs.position(gx + 1) - xs.position(gx), xs.position(gx) - xs.position(gx - 1),
-                    ys.position(gy + 1) - ys.position(gy), ys.position(gy) - ys.position(gy - 1)};
-                const double width[4] = {dualY[gy], dualY[gy], dualX[gx], dualX[gx]};
-                const int next[4] = {i + 1, i - 1, i + xs.count, i - xs.count};
-                double diagonal = 0.0;
-                for (int d = 0; d < 4; ++d) {
-                    const Hit* cut = boundary.linkHit(i, d);
-                    // No cut and no neighbour only happens beyond the last node, and the frame
-                    // always cuts there; a cut link ends on the boundary.
-                    CV_DbgAssert(cut || (d == kEast    ? gx + 1 < xs.count
-                                         : d == kWest  ? gx > 0
-                                         : d == kSouth ? gy + 1 < ys.count
-                                                       : gy > 0));
-                    const Hit* end = cut ? cut : boundary.dirichlet(next[d]);
-                    const double conductance = width[d] / (cut ? cut->dist : spacing[d]);
-                    diagonal += conductance;
-                    if (end) {
-                        addRhs(static_cast<int>(row), end->value.a, conductance * end->value.wa);
-                        if (end->value.b != end->value.a)
-                            addRhs(static_cast<int>(row), end->value.b,
-                                   conductance * (1.0 - end->value.wa));
-                    } else if (next[d] < i) {  // the lower triangle is all LDL^T reads
-                        region.entries.emplace_back(static_cast<int>(row), local[next[d]],
-                                                    -conductance);
-                    }
-                }
-                region.entries.emplace_back(static_cast<int>(row), static_cast<int>(row), diagonal);
-            }
-            for (int v : region.vertices) column[v] = -1;
-        }
+        std::vector<int> column(vertexCount, -1);
+        for (int r = range.start; r < range.end; ++r) assembleRegion(regions[r], g, column);
     });
+}
 
-    progress.report(kAssemblyShare);
-    progress.throwIfCancelled();
-
-    // 4. One factorisation per region (largest first, so the long one starts at once).
+// Step 4. One factorisation per region (largest first, so the long one starts at once).
+// Returns the regions in that order; adds the sizes of the systems to *stats.
+std::vector<int> factorise(std::vector<Region>& regions, ProgressReporter& progress,
+                           HarmonicStats* stats) {
     std::vector<int> order(regions.size());
     for (size_t r = 0; r < regions.size(); ++r) order[r] = static_cast<int>(r);
     std::sort(order.begin(), order.end(),
               [&](int a, int b) { return regions[a].nodes.size() > regions[b].nodes.size(); });
-    HarmonicStats s;
     std::mutex statsLock;
     std::atomic<bool> failed{false};
     // Progress by nodes factorised (the cost grows faster than that, so the large region's
@@ -417,8 +429,8 @@ Binding bindHarmonic(const Multicage& multicage, int gridStep, HarmonicStats* st
                 region.factor.reset(new Factor(A));
                 if (region.factor->info() != Eigen::Success) failed = true;
                 std::lock_guard<std::mutex> lock(statsLock);
-                s.matrixNonZeros += static_cast<size_t>(A.nonZeros());
-                s.factorNonZeros +=
+                stats->matrixNonZeros += static_cast<size_t>(A.nonZeros());
+                stats->factorNonZeros +=
                     static_cast<size_t>(region.factor->matrixL().nestedExpression().nonZeros());
                 factorised += region.nodes.size();
                 progress.report(kAssemblyShare + kFactorShare * double(factorised) / double(std::max<size_t>(1, unknownNodes)));
@@ -430,8 +442,35 @@ Binding bindHarmonic(const Multicage& multicage, int gridStep, HarmonicStats* st
         CV_Error(Error::StsInternal,
                  "multicage: harmonic coordinates: a Laplace system could not be factorised");
     progress.report(kAssemblyShare + kFactorShare);
+    return order;
+}
 
-    // 5. Solves in blocks of kBlock vertices per region, all sharing their region's factor.
+// Solves one block of up to kBlock vertices of `region` (its columns from `first`) and writes
+// their coefficients. Y and identity are the calling thread's scratch space.
+void solveColumns(const Region& region, int first, Mat& coefficients, std::vector<double>& Y,
+                  std::vector<int>& identity) {
+    const int n = static_cast<int>(region.nodes.size());
+    const int width = std::min(kBlock, static_cast<int>(region.vertices.size()) - first);
+    // Row r of the system is row P[r] of the factor (no permutation: identity).
+    const auto& perm = region.factor->permutationP().indices();
+    if (perm.size() == 0 && static_cast<int>(identity.size()) < n)
+        for (int r = static_cast<int>(identity.size()); r < n; ++r) identity.push_back(r);
+    const int* P = perm.size() ? perm.data() : identity.data();
+    Y.assign(static_cast<size_t>(n) * kBlock, 0.0);
+    for (int q = 0; q < width; ++q)
+        for (const auto& e : region.rhs[first + q])
+            Y[static_cast<size_t>(P[e.first]) * kBlock + q] += e.second;
+    solveBlock(*region.factor, Y.data());
+    for (int q = 0; q < width; ++q)
+        for (int row = 0; row < n; ++row)
+            writeCoefficient(coefficients, region.vertices[first + q], region.nodes[row],
+                             Y[static_cast<size_t>(P[row]) * kBlock + q]);
+}
+
+// Step 5. Solves in blocks of kBlock vertices per region, all sharing their region's factor,
+// regions in `order`. Returns the number of (region, vertex) right-hand sides solved.
+int solveAll(const std::vector<Region>& regions, const std::vector<int>& order,
+             ProgressReporter& progress, Mat& coefficients) {
     std::vector<std::pair<int, int>> jobs;  // (region, first column)
     int solves = 0;
     for (int r : order) {
@@ -447,25 +486,7 @@ Binding bindHarmonic(const Multicage& multicage, int gridStep, HarmonicStats* st
             std::vector<int> identity;
             for (int k = range.start; k < range.end; ++k) {
                 if (progress.cancelled()) return;
-                const Region& region = regions[jobs[k].first];
-                const int first = jobs[k].second, n = static_cast<int>(region.nodes.size());
-                const int width =
-                    std::min(kBlock, static_cast<int>(region.vertices.size()) - first);
-                // Row r of the system is row P[r] of the factor (no permutation: identity).
-                const auto& perm = region.factor->permutationP().indices();
-                if (perm.size() == 0 && static_cast<int>(identity.size()) < n)
-                    for (int r = static_cast<int>(identity.size()); r < n; ++r)
-                        identity.push_back(r);
-                const int* P = perm.size() ? perm.data() : identity.data();
-                Y.assign(static_cast<size_t>(n) * kBlock, 0.0);
-                for (int q = 0; q < width; ++q)
-                    for (const auto& e : region.rhs[first + q])
-                        Y[static_cast<size_t>(P[e.first]) * kBlock + q] += e.second;
-                solveBlock(*region.factor, Y.data());
-                for (int q = 0; q < width; ++q)
-                    for (int row = 0; row < n; ++row)
-                        write(region.vertices[first + q], region.nodes[row],
-                              Y[static_cast<size_t>(P[row]) * kBlock + q]);
+                solveColumns(regions[jobs[k].first], jobs[k].second, coefficients, Y, identity);
                 const size_t done = ++solvedJobs;
                 progress.report(kAssemblyShare + kFactorShare +
                                 (1.0 - kAssemblyShare - kFactorShare) * double(done) / double(jobs.size()));
@@ -473,12 +494,40 @@ Binding bindHarmonic(const Multicage& multicage, int gridStep, HarmonicStats* st
         },
         static_cast<double>(jobs.size()));
     progress.throwIfCancelled();
+    return solves;
+}
+
+}  // namespace
+
+Binding bindHarmonic(const Multicage& multicage, int gridStep, HarmonicStats* stats,
+                     const BindProgress& progressCallback) {
+    ProgressReporter progress(progressCallback);
+    progress.report(0.0);
+    Binding out = emptyBinding(multicage, HARMONIC, gridStep);
+    out.minConditioning = 1.0;  // no cancellation: all weights are non-negative
+    out.worstNode = Point2f(0, 0);
+    const int c = out.coefficientCount(), N = out.nodeCount();
+    const Axis xs{out.gridSize.width, gridStep, out.imageSize.width};
+    const Axis ys{out.gridSize.height, gridStep, out.imageSize.height};
+    out.coefficients = Mat::zeros(c, N, CV_32F);
+
+    const BoundaryMap boundary = boundaryOnGrid(multicage, xs, ys, c - 4);  // 1.
+    int dirichletNodes = 0;
+    std::vector<Region> regions =  // 2.
+        findRegions(boundary, xs, ys, out.coefficients, &dirichletNodes);
+    progress.report(0.5 * kAssemblyShare);
+    progress.throwIfCancelled();
+    assembleStencils(regions, boundary, xs, ys, c);  // 3.
+    progress.report(kAssemblyShare);
+    progress.throwIfCancelled();
+    HarmonicStats s;
+    const std::vector<int> order = factorise(regions, progress, &s);  // 4.
+    s.solves = solveAll(regions, order, progress, out.coefficients);  // 5.
 
     if (stats) {
         s.unknowns = N - dirichletNodes;
         s.dirichletNodes = dirichletNodes;
         s.components = static_cast<int>(regions.size());
-        s.solves = solves;
         *stats = s;
     }
     return out;

@@ -349,7 +349,7 @@ std::vector<Candidate> simplifyAll(std::vector<Region>& regions, const Work& w, 
     }
 }
 
-// Raises c's tolerance until it fits `cap` vertices (and `room`, when given).
+// Raises c's tolerance until it fits `cap` vertices.
 void fit(Candidate& c, const Work& w, int cap) {
     make(c, w);
     while (static_cast<int>(c.polygon.size()) > cap) {
@@ -510,6 +510,37 @@ Segmentation segmentForProposal(const Mat& image, const Work& w, const ProposePa
     return s;
 }
 
+// What new polygons may take: polygon slots, vertices in all, and vertices of one polygon.
+struct Budget {
+    int polygons, vertices, polygonVertices;
+};
+
+// How a proposal's result is checked: proposeMulticage promises a valid multicage (validate()),
+// protectFeatures the geometry its input had to have (validateGeometry()).
+enum class Check { VALID, GEOMETRY };
+
+// The tail both proposals share: the regions that fit the budget (in priority order) become
+// polygons, simplified within the budget and repaired against the polygons `cage` already
+// has; those that survive are added to it, and the result is oriented and checked. `depth`:
+// of the polygon the regions sit in (0 for a whole image); `who` names the public function in
+// the error an invalid result raises.
+Multicage addPolygons(Multicage cage, std::vector<Region> found, const Work& w,
+                      const Budget& budget, int depth, const char* who, Check check) {
+    std::vector<Region> regions = selectRegions(std::move(found), budget.polygons, budget.vertices);
+    std::vector<Candidate> cs = simplifyAll(regions, w, budget.vertices, budget.polygonVertices);
+    std::vector<Polygon> fixed;
+    for (int j = 0; j < cage.polygonCount(); ++j) fixed.push_back(cage.polygon(j));
+    repair(cs, fixed, w, budget.vertices, budget.polygonVertices, depth);
+    for (const Candidate& c : cs)
+        if (c.alive) cage.addPolygon(c.polygon);
+    cage.orient();
+    std::string why;
+    if (!(check == Check::VALID ? cage.validate(&why) : cage.validateGeometry(&why)))
+        CV_Error_(Error::StsInternal,
+                  ("multicage: %s made an invalid multicage: %s", who, why.c_str()));
+    return cage;
+}
+
 }  // namespace
 
 const char* proposeMethodName(int method) {
@@ -551,20 +582,9 @@ Multicage proposeOutlines(InputArray image, const ProposeParams& params,
     }
     const Mat cage = params.method == PROPOSE_LABELS ? cageMaskFromLabels(s.labels, w)
                                                      : cageMaskFromObjects(s.objects, w);
-    std::vector<Region> regions = selectRegions(nestedRegions(cage, params.maxDepth, w.minArea),
-                                                params.maxPolygons, params.maxVertices);
-    std::vector<Candidate> cs =
-        simplifyAll(regions, w, params.maxVertices, params.maxPolygonVertices);
-    repair(cs, {}, w, params.maxVertices, params.maxPolygonVertices, 0);
-    Multicage out(img.size());
-    for (const Candidate& c : cs)
-        if (c.alive) out.addPolygon(c.polygon);
-    out.orient();
-    std::string why;
-    if (!out.validate(&why))
-        CV_Error_(Error::StsInternal,
-                  ("multicage: proposeMulticage made an invalid multicage: %s", why.c_str()));
-    return out;
+    return addPolygons(Multicage(img.size()), nestedRegions(cage, params.maxDepth, w.minArea), w,
+                       Budget{params.maxPolygons, params.maxVertices, params.maxPolygonVertices}, 0,
+                       "proposeMulticage", Check::VALID);
 }
 
 Multicage protectImpl(InputArray image, const Multicage& cage, int polygon,
@@ -609,10 +629,7 @@ Multicage protectFeatures(InputArray image, const Multicage& cage, int polygon,
 }
 
 namespace {
-Multicage protectImpl(InputArray image, const Multicage& cage, int polygon,
-                      const ProposeParams& params, const std::vector<Rect>* knownFaces) {
-    checkParams(params);
-    const Mat img = image.getMat();
+void checkProtectInput(const Mat& img, const Multicage& cage, int polygon) {
     if (img.empty()) CV_Error(Error::StsBadArg, "multicage: protectFeatures: the image is empty");
     if (img.size() != cage.imageSize())
         CV_Error_(
@@ -627,12 +644,11 @@ Multicage protectImpl(InputArray image, const Multicage& cage, int polygon,
     if (!cage.validateGeometry(&why))
         CV_Error_(Error::StsBadArg,
                   ("multicage: protectFeatures: the multicage is not valid: %s", why.c_str()));
-    const int budget = params.maxVertices - cage.vertexCount();
-    const int slots = params.maxPolygons - cage.polygonCount();
-    Multicage out = cage;
-    if (budget < kMinPolygonVertices || slots < 1) return out;
+}
 
-    const Work w = resolve(img.size(), params);
+// Where protection may go, in work pixels: inside the polygon, outside the polygons already
+// inside it.
+Mat protectableArea(const Multicage& cage, int polygon, const Work& w) {
     auto toWorkPoints = [&](const Polygon& p) {
         std::vector<Point> q;
         const double sx = w.size.width / static_cast<double>(w.full.width);
@@ -642,7 +658,6 @@ Multicage protectImpl(InputArray image, const Multicage& cage, int polygon,
                            cvRound(((v.y + 0.5) * sy - 0.5) * 16));
         return q;
     };
-    // Where protection may go: inside the polygon, outside the polygons already inside it.
     Mat inside(w.size, CV_8U, Scalar(0));
     std::vector<std::vector<Point>> outline = {toWorkPoints(cage.polygon(polygon))};
     fillPoly(inside, outline, Scalar(255), LINE_8, 4);
@@ -652,16 +667,22 @@ Multicage protectImpl(InputArray image, const Multicage& cage, int polygon,
         std::vector<std::vector<Point>> inner = {toWorkPoints(cage.polygon(j))};
         fillPoly(inside, inner, Scalar(0), LINE_8, 4);
     }
-    const Mat insideDistance = distanceTo(inside);
-    // A protective polygon keeps a band of two margins to the moved polygon: the band is
-    // what absorbs the deformation, and a thin one would fold.
-    const float band = 2 * w.margin + w.gap;
-    const Mat allowed = insideDistance > (band + w.margin);
-    if (countNonZero(allowed) == 0) return out;
+    return inside;
+}
 
+// The faces inside the polygon (centre in the free area), in work pixels.
+struct FaceZones {
+    Mat mask;  // the faces, where a protective polygon may enclose them
+    Mat zone;  // around each face: where its polygon may go (a thinner band than for blobs)
+    std::vector<Point2f> centres;
+};
+
+// Faces inside the polygon get a thinner band than salient blobs, so that a face near the
+// outline is still enclosed whole. `knownFaces`: already detected (nullptr: detect here).
+FaceZones faceZones(const Mat& img, const ProposeParams& params,
+                    const std::vector<Rect>* knownFaces, const Mat& inside,
+                    const Mat& insideDistance, const Work& w) {
     const bool maskInput = params.method == PROPOSE_MASK || params.method == PROPOSE_LABELS;
-    // Faces inside the polygon (centre in the free area): a thinner band than for salient
-    // blobs, so that a face near the outline is still enclosed whole.
     std::vector<Rect> faces;
     if (!maskInput && params.protect != PROTECT_SALIENCY) {
         if (knownFaces)
@@ -670,65 +691,89 @@ Multicage protectImpl(InputArray image, const Multicage& cage, int polygon,
             faces = detectFaces(img, params);
     }
     const float faceBand = w.margin + 2 * w.gap;
-    Mat faceMask(w.size, CV_8U, Scalar(0)), faceZone(w.size, CV_8U, Scalar(0));
-    std::vector<Point2f> faceCentres;
+    FaceZones z;
+    z.mask = Mat(w.size, CV_8U, Scalar(0));
+    z.zone = Mat(w.size, CV_8U, Scalar(0));
     for (const Rect& f : faces) {
         const Point2f c((f.x + 0.5f * f.width) * w.size.width / w.full.width,
                         (f.y + 0.5f * f.height) * w.size.height / w.full.height);
         const Point ci(std::min(w.size.width - 1, std::max(0, cvFloor(c.x))),
                        std::min(w.size.height - 1, std::max(0, cvFloor(c.y))));
         if (!inside.at<uchar>(ci)) continue;
-        fillFace(faceMask, f, w.full, 0.f);
-        fillFace(faceZone, f, w.full, w.margin + 3 * w.gap);
-        faceCentres.push_back(c);
+        fillFace(z.mask, f, w.full, 0.f);
+        fillFace(z.zone, f, w.full, w.margin + 3 * w.gap);
+        z.centres.push_back(c);
     }
-    faceMask &= insideDistance > (faceBand + w.margin);
+    z.mask &= insideDistance > (faceBand + w.margin);
+    z.zone &= insideDistance > faceBand;
+    return z;
+}
 
-    Mat objects;
-    if (maskInput) {
-        objects = toWork(img != 0, w, INTER_NEAREST);
-    } else if (params.protect == PROTECT_FACES) {
-        objects = Mat::zeros(w.size, CV_8U);
-    } else {
-        const Mat img8 = to8Bit(img);
-        if (isConstant(img8)) return out;
-        const Mat work = toWork(img8, w, INTER_AREA);
-        const Rect roi = boundingRect(inside);
-        const int method = params.method == PROPOSE_AUTO ? PROPOSE_SALIENCY : params.method;
-        // Segment the polygon's bounding box only, thresholds computed inside the polygon:
-        // what stands out there, not in the whole image.
-        objects = Mat::zeros(w.size, CV_8U);
-        segmentImage(work(roi), method, params, w.scale, inside(roi)).copyTo(objects(roi));
-    }
-    objects &= allowed;
-    objects = cleanMask(objects, w.radius, w.minArea);
-    objects |= faceMask;
-    if (countNonZero(objects) == 0) return out;
+// The objects to protect inside the polygon (work size, 255 on objects, not yet cleaned);
+// empty for a constant image.
+Mat objectsInside(const Mat& img, const ProposeParams& params, const Mat& inside, const Work& w) {
+    const bool maskInput = params.method == PROPOSE_MASK || params.method == PROPOSE_LABELS;
+    if (maskInput) return toWork(img != 0, w, INTER_NEAREST);
+    if (params.protect == PROTECT_FACES) return Mat::zeros(w.size, CV_8U);
+    const Mat img8 = to8Bit(img);
+    if (isConstant(img8)) return Mat();
+    const Mat work = toWork(img8, w, INTER_AREA);
+    const Rect roi = boundingRect(inside);
+    const int method = params.method == PROPOSE_AUTO ? PROPOSE_SALIENCY : params.method;
+    // Segment the polygon's bounding box only, thresholds computed inside the polygon:
+    // what stands out there, not in the whole image.
+    Mat objects = Mat::zeros(w.size, CV_8U);
+    segmentImage(work(roi), method, params, w.scale, inside(roi)).copyTo(objects(roi));
+    return objects;
+}
+
+// The regions around the objects, each limited to `limit`, those with a face first: they get
+// the polygon slots and the budget first.
+std::vector<Region> protectiveRegions(const Mat& objects, const FaceZones& faces, const Mat& limit,
+                                      const Work& w) {
     Mat cageMask = cageMaskFromObjects(objects, w);
-    const Mat limit = (insideDistance > band) | (faceZone & (insideDistance > faceBand));
     cageMask &= limit;
     double minArea = w.minArea;
-    if (!faceCentres.empty()) minArea = std::min(minArea, 0.5 * countNonZero(faceMask) / faceCentres.size());
+    if (!faces.centres.empty())
+        minArea = std::min(minArea, 0.5 * countNonZero(faces.mask) / faces.centres.size());
     std::vector<Region> found = nestedRegions(cageMask, 1, minArea);
-    // Regions with a face come first: they get the polygon slots and the budget first.
     std::stable_partition(found.begin(), found.end(), [&](const Region& r) {
-        for (const Point2f& c : faceCentres)
+        for (const Point2f& c : faces.centres)
             if (pointPolygonTest(r.contour, c, false) >= 0) return true;
         return false;
     });
-    std::vector<Region> regions = selectRegions(found, slots, budget);
-    for (Region& r : regions) r.limit = limit;
-    std::vector<Candidate> cs = simplifyAll(regions, w, budget, params.maxPolygonVertices);
-    std::vector<Polygon> fixed;
-    for (int j = 0; j < cage.polygonCount(); ++j) fixed.push_back(cage.polygon(j));
-    repair(cs, fixed, w, budget, params.maxPolygonVertices, cage.depth(polygon));
-    for (const Candidate& c : cs)
-        if (c.alive) out.addPolygon(c.polygon);
-    out.orient();
-    if (!out.validateGeometry(&why))
-        CV_Error_(Error::StsInternal,
-                  ("multicage: protectFeatures made an invalid multicage: %s", why.c_str()));
-    return out;
+    for (Region& r : found) r.limit = limit;
+    return found;
+}
+
+Multicage protectImpl(InputArray image, const Multicage& cage, int polygon,
+                      const ProposeParams& params, const std::vector<Rect>* knownFaces) {
+    checkParams(params);
+    const Mat img = image.getMat();
+    checkProtectInput(img, cage, polygon);
+    const int budget = params.maxVertices - cage.vertexCount();
+    const int slots = params.maxPolygons - cage.polygonCount();
+    if (budget < kMinPolygonVertices || slots < 1) return cage;
+
+    const Work w = resolve(img.size(), params);
+    const Mat inside = protectableArea(cage, polygon, w);
+    const Mat insideDistance = distanceTo(inside);
+    // A protective polygon keeps a band of two margins to the moved polygon: the band is
+    // what absorbs the deformation, and a thin one would fold.
+    const float band = 2 * w.margin + w.gap;
+    const Mat allowed = insideDistance > (band + w.margin);
+    if (countNonZero(allowed) == 0) return cage;
+    const FaceZones faces = faceZones(img, params, knownFaces, inside, insideDistance, w);
+    Mat objects = objectsInside(img, params, inside, w);
+    if (objects.empty()) return cage;
+    objects &= allowed;
+    objects = cleanMask(objects, w.radius, w.minArea);
+    objects |= faces.mask;
+    if (countNonZero(objects) == 0) return cage;
+    const Mat limit = (insideDistance > band) | faces.zone;
+    return addPolygons(cage, protectiveRegions(objects, faces, limit, w), w,
+                       Budget{slots, budget, params.maxPolygonVertices}, cage.depth(polygon),
+                       "protectFeatures", Check::GEOMETRY);
 }
 }  // namespace
 
