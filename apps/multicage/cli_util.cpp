@@ -199,10 +199,10 @@ int coordinatesArg(const std::string& name) {
 
 void addDeformOptions(CLI::App* cmd, DeformOptions& o) {
     using namespace cv::multicage;
-    std::vector<std::string> backends;  // "auto (GPU if available, else CPU)", "cpu", "gpu"
+    std::vector<std::string> backends;  // "auto (a hardware GPU if there is one, else the CPU)", "cpu", "gpu"
     for (const std::string& name : backendNames())
         backends.push_back(
-            name == backendName(BACKEND_AUTO) ? name + " (GPU if available, else CPU)" : name);
+            name == backendName(BACKEND_AUTO) ? name + " (a hardware GPU if there is one, else the CPU: a software OpenGL is slower)" : name);
     std::vector<std::string> coordinates;  // "mvc (mean value)", "harmonic"
     for (int t = 0; const char* name = coordinateTypeName(t); ++t) {
         const std::string words = coordinateTypeDescription(t);

@@ -199,7 +199,9 @@ std::vector<Region> nestedRegions(const Mat& cageMask, int maxDepth, double minA
         const double area = contourArea(contours[i]);
         if ((hole >= 0 && !kept[hole]) || depth > maxDepth || area < minArea || area <= 0) continue;
         kept[i] = 1;
-        regions.push_back(Region{contours[i], depth, area});
+        Region r;
+        r.contour = contours[i], r.depth = depth, r.area = area;
+        regions.push_back(std::move(r));
     }
     std::stable_sort(regions.begin(), regions.end(),
                      [](const Region& a, const Region& b) { return a.area > b.area; });
