@@ -4,6 +4,7 @@
 
 #include <opencv2/multicage/deformer.hpp>
 
+#include <functional>
 #include <vector>
 
 namespace cv {
@@ -13,6 +14,18 @@ Ptr<Deformer> createCpuDeformer(const Mat& image, const Binding& binding, const 
 
 /** Throws a cv::Exception unless image is a non-empty 8U/16U/32F image with 1, 3 or 4 channels. */
 void checkImage(InputArray image);
+/** checkImage, and the given size and type (a Deformer's setImage and batches). */
+void checkSameImage(InputArray image, Size size, int type);
+/** The inputs of Deformer::deformBatch checked and converted: every pose completed with its
+frame corners (readPose), images empty or one per pose of this size and type. Errors name the item. */
+void batchInputs(InputArrayOfArrays poses, InputArrayOfArrays images,
+                 const std::function<std::vector<Point2f>(InputArray)>& readPose, Size size, int type,
+                 std::vector<std::vector<Point2f>>& posesOut, std::vector<Mat>& imagesOut);
+/** Throws e again, its message prefixed with "batch item k". */
+[[noreturn]] void rethrowForItem(const Exception& e, int k);
+/** dst (a std::vector<Mat> or another array of arrays) gets the items, without copies where it
+can take the matrices themselves. */
+void setBatchOutput(OutputArrayOfArrays dst, std::vector<Mat>& items);
 
 /** A matrix for a large buffer that stays with a Deformer. From 2 MB up it is backed by memory
 the kernel may give 2 MB pages (madvise MADV_HUGEPAGE; `owners` keeps the allocation alive):
