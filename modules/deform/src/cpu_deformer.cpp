@@ -57,6 +57,18 @@ public:
         const int count = static_cast<int>(poses.size());
         std::vector<Mat> out(count);
         for (Mat& m : out) m.create(image_.size(), image_.type());
+        if (count < 2 || getNumThreads() <= 1) {
+            // One item (or one thread): in this Deformer's own mesh and maps, the loops inside
+            // (apply, draw, remap) parallel as for deform().
+            for (int k = 0; k < count; ++k) {
+                const Mat& source = images.empty() ? image_ : images[k];
+                drawMapsFor(poses[k]);
+                mesh_.draw(mapx_, mapy_);
+                remap(source, out[k], mapx_, mapy_, INTER_LINEAR, BORDER_CONSTANT, border_);
+            }
+            setBatchOutput(dstIn, out);
+            return;
+        }
         // Items in parallel, each worker with its own mesh and maps (the binding is shared,
         // read only); nested parallel_for_ calls inside an item (apply, draw, remap) run
         // serially, so each item stays on its worker's core.

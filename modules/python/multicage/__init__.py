@@ -111,6 +111,8 @@ from ._multicage import (
     propose_multicage,
     propose_segmentation,
     protect_features,
+    random_pose,
+    validate_pose,
 )
 
 __all__ = [
@@ -133,4 +135,6 @@ __all__ = [
     "propose_multicage",
     "propose_segmentation",
     "protect_features",
+    "random_pose",
+    "validate_pose",
 ]
