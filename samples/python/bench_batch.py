@@ -8,6 +8,7 @@ Deformer.deform_many for the whole batch).
 The photos are the sample photos (samples/data) resized to SIZE x SIZE, cycled to COUNT images;
 one multicage is proposed on the first and used for all (a dataset of one framing); poses are
 multicage.random_pose(cage, AMPLITUDE, seed=k), drawn before timing (their cost is printed too).
+Each way keeps its COUNT outputs (as a data loader building a batch does).
 CPU backend; OpenCV's thread count is cv2.getNumThreads() (every core unless --threads).
 """
 
@@ -73,18 +74,18 @@ def main(argv=None):
     print(f"{'grid step':>9} | {'bind per image':>15} | {'one binding, deform(image=)':>27} | "
           f"{'one binding, deform_many':>24} | speed-up")
     for step in (int(s) for s in args.grid_steps.split(",")):
+        # Each way keeps its outputs, as a data loader building a batch does.
         def per_image():
-            for image, pose in zip(images, poses):
-                mc.Deformer(image, cage, backend="cpu", grid_step=step).deform(pose)
+            return [mc.Deformer(image, cage, backend="cpu", grid_step=step).deform(pose)
+                    for image, pose in zip(images, poses)]
 
         deformer = mc.Deformer(images[0], cage, backend="cpu", grid_step=step)
 
         def one_by_one():
-            for image, pose in zip(images, poses):
-                deformer.deform(pose, image=image)
+            return [deformer.deform(pose, image=image) for image, pose in zip(images, poses)]
 
         def batch():
-            deformer.deform_many(poses, images)
+            return deformer.deform_many(poses, images)
 
         rates = [args.count / best_of(args.repeats, run) for run in (per_image, one_by_one, batch)]
         print(f"{step:>9} | {rates[0]:>9.1f} img/s | {rates[1]:>21.1f} img/s | {rates[2]:>18.1f} img/s | "

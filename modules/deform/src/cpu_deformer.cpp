@@ -2,8 +2,12 @@
 
 #include <opencv2/imgproc.hpp>
 
+#include <climits>
 #include <memory>
 #include <mutex>
+#if defined(__linux__)
+#include <sys/mman.h>
+#endif
 
 namespace cv {
 namespace multicage {
@@ -55,8 +59,7 @@ public:
         std::vector<Mat> images;
         batchInputs(posesIn, imagesIn, [this](InputArray p) { return binding_.completePose(p); }, image_.size(), image_.type(), poses, images);
         const int count = static_cast<int>(poses.size());
-        std::vector<Mat> out(count);
-        for (Mat& m : out) m.create(image_.size(), image_.type());
+        std::vector<Mat> out = batchOutputs(count, image_.size(), image_.type());
         if (count < 2 || getNumThreads() <= 1) {
             // One item (or one thread): in this Deformer's own mesh and maps, the loops inside
             // (apply, draw, remap) parallel as for deform().
@@ -145,6 +148,31 @@ void checkSameImage(InputArray image, Size size, int type) {
         CV_Error_(Error::StsUnmatchedFormats,
                   ("multicage: the image is %s but the Deformer was made for %s images",
                    typeToString(image.type()).c_str(), typeToString(type).c_str()));
+}
+
+std::vector<Mat> batchOutputs(int count, Size size, int type) {
+    std::vector<Mat> out(count);
+    const size_t itemElems = size_t(size.area()) * CV_MAT_CN(type);
+    const size_t elemSize = CV_ELEM_SIZE1(type), bytes = itemElems * count * elemSize;
+#if defined(__linux__) && defined(MADV_HUGEPAGE)
+    constexpr size_t kHuge = size_t(2) << 20;
+    const size_t slack = kHuge / elemSize;
+    if (count > 1 && bytes >= kHuge && itemElems * count + slack <= size_t(INT_MAX)) {
+        // One block for the whole batch, in 2 MB pages where the kernel offers them; each output
+        // a view that keeps the block alive (reference counted like any Mat).
+        Mat block(1, static_cast<int>(itemElems * count + slack), CV_MAKETYPE(CV_MAT_DEPTH(type), 1));
+        const size_t skip = (alignPtr(block.data, static_cast<int>(kHuge)) - block.data) / elemSize;
+        madvise(block.data + skip * elemSize, (bytes / kHuge) * kHuge, MADV_HUGEPAGE);
+        for (int k = 0; k < count; ++k) {
+            const int begin = static_cast<int>(skip + itemElems * k);
+            out[k] = block.colRange(begin, begin + static_cast<int>(itemElems)).reshape(CV_MAT_CN(type), size.height);
+            CV_Assert(out[k].size() == size && out[k].type() == type);
+        }
+        return out;
+    }
+#endif
+    for (Mat& m : out) m.create(size, type);
+    return out;
 }
 
 [[noreturn]] void rethrowForItem(const Exception& e, int k) {
