@@ -8,6 +8,17 @@ namespace {
 
 using namespace cv::multicage;
 
+/** splitmix64 (Steele, Lea, Flood 2014): cv::RNG is a multiply-with-carry generator whose first
+draws from seeds s and s + 1 are nearly equal, so the seed a user gives is mixed first: seeds
+0, 1, 2, ... then give unrelated poses. */
+uint64_t mixSeed(uint64_t x) {
+    x += 0x9E3779B97F4A7C15ull;
+    x = (x ^ (x >> 30)) * 0xBF58476D1CE4E5B9ull;
+    x = (x ^ (x >> 27)) * 0x94D049BB133111EBull;
+    x ^= x >> 31;
+    return x ? x : 1;  // cv::RNG treats 0 as "use the default state"
+}
+
 /** A seed: a non-negative Python int (any size: taken modulo 2**64) or a numpy integer; None
 draws one from the operating system. */
 uint64_t seedArg(const py::handle& v) {
@@ -69,7 +80,9 @@ small jitter; vertices near the image border move less. Every pose keeps each po
 the polygons nested as at rest and disjoint, and folds no mesh triangle over: a draw that would
 is drawn again, then the amplitude is halved, and at last the rest pose is returned.
 
-seed          an integer: the same seed gives the same pose on every run; None: a random one
+seed          an integer: the same seed gives the same pose on every run (seeds 0, 1, 2, ...
+              give unrelated poses: the seed is mixed, splitmix64, before it seeds cv::RNG);
+              None: a random one
 binding       check fold-over on this Binding (the one the poses will deform with) ...
 deformer      ... or on this Deformer's binding; neither: a binding of about 160 nodes along
               the longer side, made once per thread and multicage
@@ -98,7 +111,7 @@ void defineAugment(py::module_& m) {
             optional(attempts, "attempts", params.attempts);
             optional(scaleDowns, "scale_downs", params.scaleDowns);
             optional(checkGridStep, "check_grid_step", params.checkGridStep);
-            cv::RNG rng(seedArg(seedObj));
+            cv::RNG rng(mixSeed(seedArg(seedObj)));
             Binding storage;
             const Binding* binding = checkBinding(cage, bindingObj, deformerObj, storage);
             std::vector<cv::Point2f> pose;
