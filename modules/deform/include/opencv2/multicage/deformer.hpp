@@ -130,8 +130,9 @@ rasteriser draws ((a,b,c) and (b,d,c) per cell), with the ring of nodes on the i
 (rasterizeMaps()) for points between the frame and the outer nodes. So a feature of the image at
 a point lands where the point lands, at any grid step (the inverse maps are this map's inverse
 wherever the pose does not fold the mesh). The mesh interpolates the coordinates between nodes,
-so a cage vertex that is not a node would land a little off its pose position (a few hundredths
-of a pixel at grid step 1, more at coarse steps); a correction, the tent function of the cells
+so a cage vertex that is not a node would land a little off its pose position (measured with 12 px
+random poses of butterfly.yml scaled to 517x371: up to 0.26 px at grid step 1, 0.42 at step 2,
+0.79 at 4, 1.2 at 8; none for a vertex on a node); a correction, the tent function of the cells
 around each cage vertex (1 at the vertex, 0 on the boundary of the one or two cells in x and y
 around it, so 0 at every node and wherever no cage vertex is near), weighted so that every cage
 vertex lands exactly on its pose position, removes that. It changes points only within the
