@@ -192,3 +192,17 @@ def test_set_image_replaces_the_image_and_travels_by_pickle(butterfly, cage, def
     assert np.array_equal(again.deform(pose), expected)
     with pytest.raises(ValueError, match="shape"):
         deformer.set_image(other[:50])
+
+
+def test_gpu_backend_batches_and_points(butterfly, cage, gpu):
+    if not gpu:
+        pytest.skip("no EGL context here")
+    d = mc.Deformer(butterfly, cage, backend="gpu", grid_step=2)
+    pose = mc.random_pose(cage, 10, seed=8)
+    other = others(butterfly)[1]
+    expected = mc.Deformer(other, d.binding, backend="gpu").deform(pose)
+    assert np.array_equal(d.deform(pose, image=other), expected)
+    assert np.array_equal(d.deform_many([pose], [other])[0], expected)
+    cpu = mc.Deformer(butterfly, d.binding, backend="cpu")
+    assert np.abs(d.transform_points(pose, cage.rest_pose()) - cpu.transform_points(pose, cage.rest_pose())).max() < 1e-3
+    assert np.array_equal(d.deform(pose), mc.Deformer(butterfly, d.binding, backend="gpu").deform(pose))
