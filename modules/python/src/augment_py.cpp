@@ -35,25 +35,30 @@ uint64_t seedArg(const py::handle& v) {
 }
 
 /** The poses' multicage from `cage`, `binding` or `deformer`, one of them. */
-const Binding* checkBinding(const Multicage& cage, const py::object& bindingObj, const py::object& deformerObj,
-                            Binding& storage) {
+const Binding* checkBinding(const Multicage& cage, const py::object& bindingObj,
+                            const py::object& deformerObj, Binding& storage) {
     if (!bindingObj.is_none() && !deformerObj.is_none())
-        throw py::value_error("binding, deformer: give one of them (the mesh fold-over is checked on), not both");
+        throw py::value_error(
+            "binding, deformer: give one of them (the mesh fold-over is checked on), not both");
     if (!bindingObj.is_none()) {
         if (!py::isinstance<Binding>(bindingObj))
-            throw py::type_error("binding: expected a multicage.Binding, got " + shortValue(bindingObj));
+            throw py::type_error("binding: expected a multicage.Binding, got " +
+                                 shortValue(bindingObj));
         storage = bindingObj.cast<const Binding&>();
     } else if (!deformerObj.is_none()) {
         if (!py::hasattr(deformerObj, "binding") || !py::hasattr(deformerObj, "deform_many"))
-            throw py::type_error("deformer: expected a multicage.Deformer, got " + shortValue(deformerObj));
+            throw py::type_error("deformer: expected a multicage.Deformer, got " +
+                                 shortValue(deformerObj));
         storage = deformerObj.attr("binding").cast<const Binding&>();
     } else {
         return nullptr;
     }
     if (storage.imageSize != cage.imageSize())
-        throw py::value_error("binding: made for a " + sizeString(storage.imageSize) + " image but the multicage is " +
-                              sizeString(cage.imageSize()) + " (a Deformer of a scaled multicage); draw for the "
-                              "multicage scaled to the image (cage.scaled(size)), or leave binding out");
+        throw py::value_error(
+            "binding: made for a " + sizeString(storage.imageSize) +
+            " image but the multicage is " + sizeString(cage.imageSize()) +
+            " (a Deformer of a scaled multicage); draw for the "
+            "multicage scaled to the image (cage.scaled(size)), or leave binding out");
     return &storage;
 }
 
@@ -68,7 +73,8 @@ void optional<int>(const py::object& v, const char* name, int& field) {
     if (!v.is_none()) field = intArg(v, name);
 }
 
-const char* kRandomPoseDoc = R"doc(A smooth random pose of cage: every vertex at most `amplitude` pixels from rest.
+const char* kRandomPoseDoc =
+    R"doc(A smooth random pose of cage: every vertex at most `amplitude` pixels from rest.
 
 random_pose(cage, amplitude, seed=None, *, binding=None, deformer=None, max_rotation=None,
             max_scale=None, jitter=None, frame_margin=None, attempts=None, scale_downs=None,
@@ -98,9 +104,10 @@ void defineAugment(py::module_& m) {
     m.def(
         "random_pose",
         [](const py::object& cageObj, const py::object& amplitudeObj, const py::object& seedObj,
-           const py::object& bindingObj, const py::object& deformerObj, const py::object& maxRotation,
-           const py::object& maxScale, const py::object& jitter, const py::object& frameMargin,
-           const py::object& attempts, const py::object& scaleDowns, const py::object& checkGridStep) {
+           const py::object& bindingObj, const py::object& deformerObj,
+           const py::object& maxRotation, const py::object& maxScale, const py::object& jitter,
+           const py::object& frameMargin, const py::object& attempts, const py::object& scaleDowns,
+           const py::object& checkGridStep) {
             const Multicage& cage = multicageArg(cageObj, "cage");
             const double amplitude = numberArg(amplitudeObj, "amplitude");
             RandomPoseParams params;
@@ -123,8 +130,9 @@ void defineAugment(py::module_& m) {
             return arrayFromPoints(pose);
         },
         py::arg("cage"), py::arg("amplitude"), py::arg("seed") = py::none(), py::kw_only(),
-        py::arg("binding") = py::none(), py::arg("deformer") = py::none(), py::arg("max_rotation") = py::none(),
-        py::arg("max_scale") = py::none(), py::arg("jitter") = py::none(), py::arg("frame_margin") = py::none(),
+        py::arg("binding") = py::none(), py::arg("deformer") = py::none(),
+        py::arg("max_rotation") = py::none(), py::arg("max_scale") = py::none(),
+        py::arg("jitter") = py::none(), py::arg("frame_margin") = py::none(),
         py::arg("attempts") = py::none(), py::arg("scale_downs") = py::none(),
         py::arg("check_grid_step") = py::none(), kRandomPoseDoc);
     m.def(

@@ -99,11 +99,11 @@ void defineBinding(py::module_& m) {
             "transform_points",
             [](const Binding& b, const py::object& pose, const py::object& points) {
                 const std::vector<cv::Point2f> p = pointsFromArray(pose, "pose");
-                return transformPointsArray(points, [&](const std::vector<cv::Point2f>& in,
-                                                        std::vector<cv::Point2f>& out) {
-                    py::gil_scoped_release release;
-                    transformPoints(b, p, in, out);
-                });
+                return transformPointsArray(
+                    points, [&](const std::vector<cv::Point2f>& in, std::vector<cv::Point2f>& out) {
+                        py::gil_scoped_release release;
+                        transformPoints(b, p, in, out);
+                    });
             },
             py::arg("pose"), py::arg("points"),
             "Where rest points (shape (..., 2)) land for a pose: as Deformer.transform_points, "

@@ -133,8 +133,9 @@ cv::Mat sameImage(PyDeformer& d, const py::handle& obj, const char* what, py::ob
     py::object mineKeep;
     const cv::Mat mine = imageFromArray(d.image, "image", mineKeep);
     if (m.size() != mine.size() || m.type() != mine.type())
-        throw py::value_error(std::string(what) + ": " + matDescription(m) + ", but the deformer was made for " +
-                              matDescription(mine) + "; make a Deformer for it (or bind once per size)");
+        throw py::value_error(std::string(what) + ": " + matDescription(m) +
+                              ", but the deformer was made for " + matDescription(mine) +
+                              "; make a Deformer for it (or bind once per size)");
     return m;
 }
 
@@ -146,17 +147,20 @@ py::list deformMany(PyDeformer& d, const py::object& posesObj, const py::object&
     std::vector<std::vector<cv::Point2f>> p;
     for (size_t k = 0; k < poses.size(); ++k) {
         const std::string what = "poses[" + std::to_string(k) + "]";
-        p.push_back(scalePose(pointsFromArray(poses[k], what.c_str()), d.vertexCount, d.cageSize, d.imageSize));
+        p.push_back(scalePose(pointsFromArray(poses[k], what.c_str()), d.vertexCount, d.cageSize,
+                              d.imageSize));
     }
     std::vector<cv::Mat> images;
     std::vector<py::object> keep;
     if (!imagesObj.is_none()) {
         if (py::isinstance<py::str>(imagesObj) || !py::hasattr(imagesObj, "__len__"))
-            throw py::type_error("images: expected None or a sequence of images, got " + shortValue(imagesObj));
+            throw py::type_error("images: expected None or a sequence of images, got " +
+                                 shortValue(imagesObj));
         const py::sequence seq = py::reinterpret_borrow<py::sequence>(imagesObj);
         if (seq.size() != poses.size())
             throw py::value_error("images: " + std::to_string(seq.size()) + " images for " +
-                                  std::to_string(poses.size()) + " poses; give one image per pose, or None");
+                                  std::to_string(poses.size()) +
+                                  " poses; give one image per pose, or None");
         keep.resize(seq.size());
         for (size_t k = 0; k < seq.size(); ++k) {
             const std::string what = "images[" + std::to_string(k) + "]";
@@ -167,8 +171,10 @@ py::list deformMany(PyDeformer& d, const py::object& posesObj, const py::object&
     {
         py::gil_scoped_release release;
         std::lock_guard<std::mutex> lock(d.mutex);
-        if (images.empty()) d.deformer->deformBatch(p, out);
-        else d.deformer->deformBatch(p, out, images);
+        if (images.empty())
+            d.deformer->deformBatch(p, out);
+        else
+            d.deformer->deformBatch(p, out, images);
     }
     py::list result;
     for (const cv::Mat& m : out) result.append(arrayFromMat(m));
@@ -331,16 +337,17 @@ void defineDeformerCalls(DeformerClass& cls) {
             "transform_points",
             [](PyDeformer& d, const py::object& pose, const py::object& points) {
                 const std::vector<cv::Point2f> p = d.pose(pose);
-                return transformPointsArray(points, [&](const std::vector<cv::Point2f>& in,
-                                                        std::vector<cv::Point2f>& out) {
-                    py::gil_scoped_release release;
-                    std::lock_guard<std::mutex> lock(d.mutex);
-                    d.deformer->transformPoints(p, in, out);
-                });
+                return transformPointsArray(
+                    points, [&](const std::vector<cv::Point2f>& in, std::vector<cv::Point2f>& out) {
+                        py::gil_scoped_release release;
+                        std::lock_guard<std::mutex> lock(d.mutex);
+                        d.deformer->transformPoints(p, in, out);
+                    });
             },
             py::arg("pose"), py::arg("points"),
             "Where rest points (keypoints, polygon annotations, box corners: an array of shape "
-            "(..., 2) of (x, y) in the image's pixels) land in the image deformed to pose; the same "
+            "(..., 2) of (x, y) in the image's pixels) land in the image deformed to pose; the "
+            "same "
             "shape, float32. A feature of the image at a point lands where the point lands (the "
             "image's own mesh, at any grid step); cage vertices land exactly on the pose. Points "
             "outside the image follow the frame (with the frame fixed, they stay).")
