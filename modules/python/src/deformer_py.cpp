@@ -269,6 +269,11 @@ memory_budget most bytes the coefficients may take (None: the library's 1 GiB; 0
 A pose is an Nx2 array of vertex_count points (or vertex_count + 4 with the frame corners
 last). The GIL is released while binding and deforming.
 
+Augmentation: deform(pose, image=other) deforms another image of the same shape and dtype with
+this binding, set_image(other) replaces the image, deform_many(poses, images=None) deforms a
+batch on all cores, transform_points(pose, points) moves keypoints, boxes and polygons with the
+image; multicage.random_pose(cage, amplitude, seed) draws valid random poses.
+
 A Deformer pickles (pickle, multiprocessing with 'spawn', Dask) as its image, its binding and
 these parameters, and is re-created from them without binding again; it keeps a read-only
 copy of the image for that. Unpickling raises multicage.Error where the deformer cannot be
