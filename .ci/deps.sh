@@ -14,6 +14,7 @@ $SUDO apt-get install -y -qq --no-install-recommends \
     libgif-dev \
     libgtest-dev libgmock-dev libbenchmark-dev \
     python3-dev pybind11-dev python3-numpy python3-opencv python3-pytest \
+    python3-dask python3-distributed \
     libglfw3-dev libimgui-dev xvfb xauth \
     > /dev/null
 echo "deps.sh: build and test dependencies installed"

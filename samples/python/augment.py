@@ -3,9 +3,10 @@
 
 Proposes a multicage around the objects of an image (or of its mask), then writes COUNT
 randomly deformed copies of the image and of its mask. Every vertex moves at most BOUND
-pixels; each polygon gets its own small rotation, scale, shift and jitter, and poses that
-make polygons cross or fold the image over are drawn again. The mask is deformed with the
-same inverse maps as the image (nearest neighbour), so labels stay aligned with pixels.
+pixels; poses come from multicage.random_pose: each polygon gets its own small rotation,
+scale, shift and jitter, and poses that would make polygons cross or fold the image over are
+drawn again. The mask is deformed with the same inverse maps as the image (nearest
+neighbour), so labels stay aligned with pixels.
 
 Outputs in OUT: NAME_000.png, NAME_000_mask.png, ..., and NAME_cage.yml holding the cage and
 every pose used (open it with `multicage deform IMAGE NAME_cage.yml --pose aug001`).
@@ -15,8 +16,6 @@ After install:      python3 <prefix>/share/multicage/samples/python/augment.py I
 """
 
 import argparse
-import copy
-import math
 import os
 import sys
 
@@ -68,36 +67,6 @@ def read_image(path, what):
     return image
 
 
-def random_pose(cage, rng, bound):
-    """A pose moving each polygon by its own small similarity transform plus jitter, every
-    vertex at most `bound` pixels from rest."""
-    rest = cage.rest_pose()
-    pose = rest.copy()
-    for i in range(cage.polygon_count):
-        start = cage.polygon_offset(i)
-        poly = rest[start:start + len(cage.polygon(i))].astype(np.float64)
-        centre = poly.mean(axis=0)
-        angle = math.radians(rng.uniform(-8.0, 8.0))
-        scale = rng.uniform(0.92, 1.08)
-        c, s = math.cos(angle) * scale, math.sin(angle) * scale
-        moved = (poly - centre) @ np.array([[c, s], [-s, c]]) + centre
-        moved += rng.uniform(-bound, bound, size=2)
-        moved += rng.uniform(-bound / 4, bound / 4, size=poly.shape)
-        shift = moved - poly
-        longest = np.linalg.norm(shift, axis=1).max()
-        if longest > bound:
-            shift *= bound / longest
-        pose[start:start + len(poly)] = (poly + shift).astype(np.float32)
-    # Squeezing the band between a polygon and the image frame pulls the border pixels
-    # inwards: no vertex gets closer to the frame than `bound`, or than it was at rest.
-    w, h = cage.image_size
-    for axis, size in ((0, w), (1, h)):
-        low = np.minimum(rest[:, axis], bound)
-        high = np.maximum(rest[:, axis], size - 1.0 - bound)
-        pose[:, axis] = np.clip(pose[:, axis], low, high)
-    return pose
-
-
 def fill_uncovered(mapx, mapy):
     """Pixels no deformed triangle covers (a fraction of a pixel at the image border) keep
     their own position, instead of the border value."""
@@ -106,16 +75,6 @@ def fill_uncovered(mapx, mapy):
     mapx[uncovered] = xs
     mapy[uncovered] = ys
     return int(uncovered.sum())
-
-
-def pose_is_clean(cage, deformer, pose):
-    """No two posed polygons cross or touch, and no mesh triangle is turned over."""
-    posed = copy.copy(cage)
-    for i in range(cage.polygon_count):
-        start = cage.polygon_offset(i)
-        posed.set_polygon(i, pose[start:start + len(cage.polygon(i))])
-    ok, _ = posed.validate_geometry()
-    return ok and deformer.folded_triangles(pose) == 0
 
 
 def main(argv=None):
@@ -144,17 +103,14 @@ def main(argv=None):
         sys.exit(f"augment.py: cannot propose a multicage: {e}")
 
     deformer = multicage.Deformer(image, cage, grid_step=args.grid_step, backend=args.backend)
-    rng = np.random.default_rng(args.seed)
     os.makedirs(args.output, exist_ok=True)
     stem = os.path.splitext(os.path.basename(args.image))[0]
     written = 0
     for k in range(args.count):
-        for _ in range(20):
-            pose = random_pose(cage, rng, args.bound)
-            if pose_is_clean(cage, deformer, pose):
-                break
-        else:
-            pose = cage.rest_pose()  # nothing clean found: fall back to the identity
+        # The library's random poses: smooth, every polygon simple, nested and disjoint as at
+        # rest, no fold-over on this deformer's mesh; copy k of --seed S has its own seed.
+        seed = None if args.seed is None else int(np.random.SeedSequence([args.seed, k]).generate_state(1, np.uint64)[0])
+        pose = multicage.random_pose(cage, args.bound, seed=seed, deformer=deformer)
         # One set of inverse maps for both: bilinear for the image, nearest neighbour for the
         # mask (labels are never blended), so every mask pixel stays on its image pixel.
         mapx, mapy = deformer.compute_maps(pose)

@@ -2,6 +2,13 @@
 
 #include <opencv2/imgproc.hpp>
 
+#include <climits>
+#include <memory>
+#include <mutex>
+#if defined(__linux__)
+#include <sys/mman.h>
+#endif
+
 namespace cv {
 namespace multicage {
 
@@ -41,7 +48,67 @@ public:
     const Binding& binding() const override { return binding_; }
     String getDefaultName() const override { return "multicage.CpuDeformer"; }
 
+    void setImage(InputArray image) override {
+        checkSameImage(image, image_.size(), image_.type());
+        image.getMat().copyTo(image_);
+    }
+
+    void deformBatch(InputArrayOfArrays posesIn, OutputArrayOfArrays dstIn,
+                     InputArrayOfArrays imagesIn) override {
+        std::vector<std::vector<Point2f>> poses;
+        std::vector<Mat> images;
+        batchInputs(posesIn, imagesIn, [this](InputArray p) { return binding_.completePose(p); }, image_.size(), image_.type(), poses, images);
+        const int count = static_cast<int>(poses.size());
+        std::vector<Mat> out = batchOutputs(count, image_.size(), image_.type());
+        if (count < 2 || getNumThreads() <= 1) {
+            // One item (or one thread): in this Deformer's own mesh and maps, the loops inside
+            // (apply, draw, remap) parallel as for deform().
+            for (int k = 0; k < count; ++k) {
+                const Mat& source = images.empty() ? image_ : images[k];
+                drawMapsFor(poses[k]);
+                mesh_.draw(mapx_, mapy_);
+                remap(source, out[k], mapx_, mapy_, INTER_LINEAR, BORDER_CONSTANT, border_);
+            }
+            setBatchOutput(dstIn, out);
+            return;
+        }
+        // Items in parallel, each worker with its own mesh and maps (the binding is shared,
+        // read only); nested parallel_for_ calls inside an item (apply, draw, remap) run
+        // serially, so each item stays on its worker's core.
+        std::mutex poolMutex;
+        parallel_for_(Range(0, count), [&](const Range& r) {
+            std::unique_ptr<Workspace> ws;
+            {
+                std::lock_guard<std::mutex> lock(poolMutex);
+                if (!pool_.empty()) ws = std::move(pool_.back()), pool_.pop_back();
+            }
+            if (!ws) ws.reset(new Workspace(binding_));
+            for (int k = r.start; k < r.end; ++k) {
+                Mat nodes = ws->mesh.nodes();
+                binding_.apply(poses[k], nodes);
+                ws->mesh.setFrame(&poses[k][poses[k].size() - 4]);
+                ws->mesh.draw(ws->mapx, ws->mapy);
+                remap(images.empty() ? image_ : images[k], out[k], ws->mapx, ws->mapy, INTER_LINEAR,
+                      BORDER_CONSTANT, border_);
+            }
+            std::lock_guard<std::mutex> lock(poolMutex);
+            pool_.push_back(std::move(ws));
+        }, count);
+        setBatchOutput(dstIn, out);
+    }
+
 private:
+    /** What one batch worker writes: its own mesh and maps. Kept between batches. */
+    struct Workspace {
+        explicit Workspace(const Binding& binding) {
+            mesh.reset(binding);
+            mapx.create(binding.imageSize, CV_32F);
+            mapy.create(binding.imageSize, CV_32F);
+        }
+        RasterMesh mesh;
+        Mat mapx, mapy;
+    };
+
     // Node positions into the mesh, and the ring onto the pose's frame.
     void drawMapsFor(InputArray pose) {
         const std::vector<Point2f> vertices = binding_.completePose(pose);
@@ -56,9 +123,97 @@ private:
     RasterMesh mesh_;
     Mat mapx_, mapy_;  // reused between poses
     Scalar border_;
+    std::vector<std::unique_ptr<Workspace>> pool_;  // batch workers' meshes and maps
 };
 
 }  // namespace
+
+void checkSameImage(InputArray image, Size size, int type) {
+    checkImage(image);
+    if (image.size() != size)
+        CV_Error_(Error::StsBadSize, ("multicage: the image is %dx%d but the Deformer was made for %dx%d "
+                                      "images; make a Deformer (or bind) for that size",
+                                      image.cols(), image.rows(), size.width, size.height));
+    if (image.type() != type)
+        CV_Error_(Error::StsUnmatchedFormats,
+                  ("multicage: the image is %s but the Deformer was made for %s images",
+                   typeToString(image.type()).c_str(), typeToString(type).c_str()));
+}
+
+std::vector<Mat> batchOutputs(int count, Size size, int type) {
+    std::vector<Mat> out(count);
+    const size_t itemElems = size_t(size.area()) * CV_MAT_CN(type);
+    const size_t elemSize = CV_ELEM_SIZE1(type), bytes = itemElems * count * elemSize;
+#if defined(__linux__) && defined(MADV_HUGEPAGE)
+    constexpr size_t kHuge = size_t(2) << 20;
+    const size_t slack = kHuge / elemSize;
+    if (count > 1 && bytes >= kHuge && itemElems * count + slack <= size_t(INT_MAX)) {
+        // One block for the whole batch, in 2 MB pages where the kernel offers them; each output
+        // a view that keeps the block alive (reference counted like any Mat).
+        Mat block(1, static_cast<int>(itemElems * count + slack), CV_MAKETYPE(CV_MAT_DEPTH(type), 1));
+        const size_t skip = (alignPtr(block.data, static_cast<int>(kHuge)) - block.data) / elemSize;
+        madvise(block.data + skip * elemSize, (bytes / kHuge) * kHuge, MADV_HUGEPAGE);
+        for (int k = 0; k < count; ++k) {
+            const int begin = static_cast<int>(skip + itemElems * k);
+            out[k] = block.colRange(begin, begin + static_cast<int>(itemElems)).reshape(CV_MAT_CN(type), size.height);
+            CV_Assert(out[k].size() == size && out[k].type() == type);
+        }
+        return out;
+    }
+#endif
+    for (Mat& m : out) m.create(size, type);
+    return out;
+}
+
+[[noreturn]] void rethrowForItem(const Exception& e, int k) {
+    std::string what = e.err;
+    const std::string prefix = "multicage: ";
+    if (what.compare(0, prefix.size(), prefix) == 0) what = what.substr(prefix.size());
+    CV_Error_(e.code, ("multicage: batch item %d: %s", k, what.c_str()));
+}
+
+void setBatchOutput(OutputArrayOfArrays dst, std::vector<Mat>& items) {
+    const int count = static_cast<int>(items.size());
+    if (dst.kind() == _InputArray::STD_VECTOR_MAT) {
+        dst.create(count, 1, items.empty() ? CV_8U : items[0].type());
+        for (int k = 0; k < count; ++k) dst.getMatRef(k) = items[k];
+        return;
+    }
+    dst.create(count, 1, items.empty() ? CV_8U : items[0].type());
+    for (int k = 0; k < count; ++k) {
+        dst.create(items[k].size(), items[k].type(), k);
+        Mat d = dst.getMat(k);
+        items[k].copyTo(d);
+    }
+}
+
+void batchInputs(InputArrayOfArrays posesIn, InputArrayOfArrays imagesIn,
+                 const std::function<std::vector<Point2f>(InputArray)>& readPose, Size size, int type,
+                 std::vector<std::vector<Point2f>>& poses, std::vector<Mat>& images) {
+    const int count = posesIn.empty() ? 0 : static_cast<int>(posesIn.total());
+    poses.resize(count);
+    for (int k = 0; k < count; ++k) {
+        try {
+            poses[k] = readPose(posesIn.getMat(k));
+        } catch (const Exception& e) {
+            rethrowForItem(e, k);
+        }
+    }
+    images.clear();
+    if (imagesIn.empty()) return;
+    if (static_cast<int>(imagesIn.total()) != count)
+        CV_Error_(Error::StsBadSize, ("multicage: the batch has %d poses but %d images (give one image "
+                                      "per pose, or none to deform the Deformer's own image)",
+                                      count, static_cast<int>(imagesIn.total())));
+    imagesIn.getMatVector(images);
+    for (int k = 0; k < count; ++k) {
+        try {
+            checkSameImage(images[k], size, type);
+        } catch (const Exception& e) {
+            rethrowForItem(e, k);
+        }
+    }
+}
 
 Ptr<Deformer> createCpuDeformer(const Mat& image, const Binding& binding, const DeformParams& params) {
     return makePtr<CpuDeformer>(image, binding, params);

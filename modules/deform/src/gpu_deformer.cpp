@@ -1,6 +1,10 @@
 // The headless GPU Deformer: a GLDeformer in the process's shared context, read back.
 #include "gpu_deformer.hpp"
 
+#include "cpu_deformer.hpp"
+
+#include <opencv2/multicage/internal/point_input.hpp>
+
 namespace cv {
 namespace multicage {
 
@@ -31,10 +35,12 @@ class GpuDeformer final : public Deformer {
         p.halfFloat = params.halfFloat;
         p.pipeline = params.pipeline;
         make(image, source, params, p);
+        image_ = image.clone();
     }
 
     void deform(InputArray pose, OutputArray dst) override {
         HeadlessGLContext::Scope scope(*context_);
+        restoreOwnImage();
         gl_->setPose(pose);
         gl_->render(border_);
         gl_->readOutput(dst);
@@ -47,6 +53,45 @@ class GpuDeformer final : public Deformer {
         gl_->readMaps(mapx, mapy);
     }
 
+    void setImage(InputArray image) override {
+        checkSameImage(image, image_.size(), image_.type());
+        HeadlessGLContext::Scope scope(*context_);
+        gl_->setImage(image);
+        image.getMat().copyTo(image_);
+        foreignImage_ = false;
+    }
+
+    // One item after another in the shared context; another image is uploaded into the
+    // image texture for its item, and the Deformer's own image goes back before the next
+    // deform() of it.
+    void deformBatch(InputArrayOfArrays posesIn, OutputArrayOfArrays dst,
+                     InputArrayOfArrays imagesIn) override {
+        std::vector<std::vector<Point2f>> poses;
+        std::vector<Mat> images;
+        // setPose checks each pose (count, finiteness): the binding is not read back for it.
+        batchInputs(posesIn, imagesIn, [](InputArray p) { return toPoints(p, "pose"); }, image_.size(),
+                    image_.type(), poses, images);
+        std::vector<Mat> out(poses.size());
+        {
+            HeadlessGLContext::Scope scope(*context_);
+            if (images.empty()) restoreOwnImage();
+            for (size_t k = 0; k < poses.size(); ++k) {
+                if (!images.empty()) {
+                    gl_->setImage(images[k]);
+                    foreignImage_ = true;
+                }
+                try {
+                    gl_->setPose(poses[k]);
+                } catch (const Exception& e) {
+                    rethrowForItem(e, static_cast<int>(k));
+                }
+                gl_->render(border_);
+                gl_->readOutput(out[k]);
+            }
+        }
+        setBatchOutput(dst, out);
+    }
+
     int backend() const override { return BACKEND_GPU; }
     // A GPU binding is read back only when asked for (240 MB at 1024x768 with 68 vertices):
     // creating the Deformer does not pay for it.
@@ -57,6 +102,11 @@ class GpuDeformer final : public Deformer {
     String getDefaultName() const override { return "multicage.GpuDeformer"; }
 
   private:
+    void restoreOwnImage() {  // under the context's scope
+        if (!foreignImage_) return;
+        gl_->setImage(image_);
+        foreignImage_ = false;
+    }
     void make(const Mat& image, const Binding& b, const DeformParams&, const GLDeformerParams& p) {
         gl_.reset(new GLDeformer(image, b, p));
     }
@@ -68,6 +118,8 @@ class GpuDeformer final : public Deformer {
     HeadlessGLContext* context_;
     std::unique_ptr<GLDeformer> gl_;
     Scalar border_;
+    Mat image_;                  // the Deformer's own image (the texture holds another after a batch)
+    bool foreignImage_ = false;  // the texture holds a batch's image, not image_
 };
 
 template <typename Source>

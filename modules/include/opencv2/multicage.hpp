@@ -12,5 +12,6 @@
 #include <opencv2/multicage/gpu.hpp>
 #include <opencv2/multicage/propose.hpp>
 #include <opencv2/multicage/animate.hpp>
+#include <opencv2/multicage/augment.hpp>
 
 #endif

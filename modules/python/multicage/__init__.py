@@ -20,7 +20,10 @@ Deformer follows the multicage's coordinates (a cage file's `coordinates:`) unle
 coordinates=; propose_multicage takes the CLI's options as keywords and raises
 NoObjectFoundError where the CLI says "no object found". gpu_available() says whether
 backend='gpu' works, auto_backend() what backend='auto' takes. Multicage, Pose, Binding and
-Deformer pickle (multiprocessing, Dask).
+Deformer pickle (multiprocessing, Dask). For augmentation: random_pose(cage, amplitude, seed)
+draws valid random poses, Deformer.transform_points moves keypoints with the image, and
+Deformer.deform(pose, image=...) and Deformer.deform_many deform other images of the same size
+with one binding.
 
 Errors reported by the library raise multicage.Error (a ValueError) with the library's
 message; wrong array types raise TypeError, wrong shapes ValueError. The GIL is released
@@ -111,6 +114,8 @@ from ._multicage import (
     propose_multicage,
     propose_segmentation,
     protect_features,
+    random_pose,
+    validate_pose,
 )
 
 __all__ = [
@@ -133,4 +138,6 @@ __all__ = [
     "propose_multicage",
     "propose_segmentation",
     "protect_features",
+    "random_pose",
+    "validate_pose",
 ]

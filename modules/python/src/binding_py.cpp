@@ -95,6 +95,19 @@ void defineBinding(py::module_& m) {
             },
             py::arg("pose"),
             "Deformed node positions for a pose, grid height x grid width x 2 float32.")
+        .def(
+            "transform_points",
+            [](const Binding& b, const py::object& pose, const py::object& points) {
+                const std::vector<cv::Point2f> p = pointsFromArray(pose, "pose");
+                return transformPointsArray(
+                    points, [&](const std::vector<cv::Point2f>& in, std::vector<cv::Point2f>& out) {
+                        py::gil_scoped_release release;
+                        transformPoints(b, p, in, out);
+                    });
+            },
+            py::arg("pose"), py::arg("points"),
+            "Where rest points (shape (..., 2)) land for a pose: as Deformer.transform_points, "
+            "for any image deformed with this binding.")
         .def("__repr__", [](const Binding& b) {
             return "<multicage.Binding " + std::string(coordinatesName(b.coordinates)) + ", " +
                    std::to_string(b.gridSize.width) + "x" + std::to_string(b.gridSize.height) +

@@ -162,6 +162,42 @@ std::string sizeString(cv::Size s) {
     return std::to_string(s.width) + "x" + std::to_string(s.height);
 }
 
+// --- points and images ----------------------------------------------------------------------
+
+py::array transformPointsArray(
+    const py::handle& points,
+    const std::function<void(const std::vector<cv::Point2f>&, std::vector<cv::Point2f>&)>& run) {
+    const py::module_ np = py::module_::import("numpy");
+    py::array a;
+    try {
+        a = np.attr("asarray")(points);
+    } catch (const py::error_already_set&) {
+        throw py::type_error("points: expected an array of shape (..., 2) of (x, y), got " +
+                             shortValue(points));
+    }
+    const char kind = a.dtype().kind();
+    if (kind != 'f' && kind != 'i' && kind != 'u')
+        throw py::type_error("points: expected real numbers (x, y), got " + shortValue(a));
+    if (a.ndim() < 1 || a.shape(a.ndim() - 1) != 2)
+        throw py::value_error("points: expected an array of shape (..., 2) of (x, y) points, got " +
+                              shortValue(a));
+    const py::object shape = a.attr("shape");
+    const py::object flat = a.attr("reshape")(-1, 2);
+    const std::vector<cv::Point2f> in = pointsFromArray(flat, "points");
+    std::vector<cv::Point2f> out;
+    run(in, out);
+    py::array result = arrayFromPoints(out);
+    return result.attr("reshape")(shape);
+}
+
+std::string matDescription(const cv::Mat& image) {
+    static const char* names[] = {"uint8", "int8",    "uint16",  "int16",
+                                  "int32", "float32", "float64", "float16"};
+    std::string shape = "(" + std::to_string(image.rows) + ", " + std::to_string(image.cols);
+    if (image.channels() > 1) shape += ", " + std::to_string(image.channels());
+    return "shape " + shape + ") and dtype " + names[image.depth()];
+}
+
 // --- pickling -------------------------------------------------------------------------------
 
 void checkState(const py::tuple& state, size_t size, const char* what) {

@@ -9,6 +9,7 @@
 #include <opencv2/multicage.hpp>
 #include <pybind11/stl.h>  // in every binding file, as pybind11 asks: one set of STL casters
 
+#include <functional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -64,6 +65,18 @@ void checkIndex(int i, int count, const char* what);
 py::tuple sizeTuple(cv::Size s);
 std::string sizeString(cv::Size s);
 
+// --- points and images ----------------------------------------------------------------------
+
+/** Deformer.transform_points and Binding.transform_points: points of shape (..., 2) (any real
+dtype; a TypeError or ValueError naming `points` otherwise), run(points, landed) without the GIL
+held by the caller's choice, the result in the same shape, float32. */
+py::array transformPointsArray(
+    const py::handle& points,
+    const std::function<void(const std::vector<cv::Point2f>&, std::vector<cv::Point2f>&)>& run);
+
+/** An image described for messages as numpy shows it: "shape (356, 493, 3) and dtype uint8". */
+std::string matDescription(const cv::Mat& image);
+
 // --- pickling -------------------------------------------------------------------------------
 // States are tuples of Python numbers, strings and numpy arrays (no raw C++ memory), first
 // a version number, so that a pickle travels between processes and machines (multiprocessing
@@ -83,6 +96,7 @@ void defineBinding(py::module_& m);      // binding_py.cpp: Binding and bind()
 void defineDeformer(py::module_& m);     // deformer_py.cpp: Deformer and deform_image()
 void defineCoordinates(py::module_& m);  // binding_py.cpp: mean_value_coordinates()
 void defineProposal(py::module_& m);     // propose_py.cpp
+void defineAugment(py::module_& m);      // augment_py.cpp: random_pose(), validate_pose()
 void defineGpu(py::module_& m);          // gpu_py.cpp: gpu_available(), auto_backend()
 
 }  // namespace multicage_py

@@ -126,6 +126,61 @@ std::unique_ptr<PyDeformer> makeDeformer(const py::handle& imageObj, const py::h
     return d;
 }
 
+/** An image argument checked against the deformer's image: same shape and dtype, else a
+ValueError naming both. */
+cv::Mat sameImage(PyDeformer& d, const py::handle& obj, const char* what, py::object& keep) {
+    const cv::Mat m = imageFromArray(obj, what, keep);
+    py::object mineKeep;
+    const cv::Mat mine = imageFromArray(d.image, "image", mineKeep);
+    if (m.size() != mine.size() || m.type() != mine.type())
+        throw py::value_error(std::string(what) + ": " + matDescription(m) +
+                              ", but the deformer was made for " + matDescription(mine) +
+                              "; make a Deformer for it (or bind once per size)");
+    return m;
+}
+
+/** Deformer.deform_many: the inputs converted under the GIL, the batch run without it. */
+py::list deformMany(PyDeformer& d, const py::object& posesObj, const py::object& imagesObj) {
+    if (py::isinstance<py::str>(posesObj) || !py::hasattr(posesObj, "__len__"))
+        throw py::type_error("poses: expected a sequence of poses, got " + shortValue(posesObj));
+    const py::sequence poses = py::reinterpret_borrow<py::sequence>(posesObj);
+    std::vector<std::vector<cv::Point2f>> p;
+    for (size_t k = 0; k < poses.size(); ++k) {
+        const std::string what = "poses[" + std::to_string(k) + "]";
+        p.push_back(scalePose(pointsFromArray(poses[k], what.c_str()), d.vertexCount, d.cageSize,
+                              d.imageSize));
+    }
+    std::vector<cv::Mat> images;
+    std::vector<py::object> keep;
+    if (!imagesObj.is_none()) {
+        if (py::isinstance<py::str>(imagesObj) || !py::hasattr(imagesObj, "__len__"))
+            throw py::type_error("images: expected None or a sequence of images, got " +
+                                 shortValue(imagesObj));
+        const py::sequence seq = py::reinterpret_borrow<py::sequence>(imagesObj);
+        if (seq.size() != poses.size())
+            throw py::value_error("images: " + std::to_string(seq.size()) + " images for " +
+                                  std::to_string(poses.size()) +
+                                  " poses; give one image per pose, or None");
+        keep.resize(seq.size());
+        for (size_t k = 0; k < seq.size(); ++k) {
+            const std::string what = "images[" + std::to_string(k) + "]";
+            images.push_back(sameImage(d, seq[k], what.c_str(), keep[k]));
+        }
+    }
+    std::vector<cv::Mat> out;
+    {
+        py::gil_scoped_release release;
+        std::lock_guard<std::mutex> lock(d.mutex);
+        if (images.empty())
+            d.deformer->deformBatch(p, out);
+        else
+            d.deformer->deformBatch(p, out, images);
+    }
+    py::list result;
+    for (const cv::Mat& m : out) result.append(arrayFromMat(m));
+    return result;
+}
+
 // --- pickling (the format: common.hpp) ----------------------------------------------------
 
 py::tuple deformerState(PyDeformer& d) {
@@ -214,6 +269,11 @@ memory_budget most bytes the coefficients may take (None: the library's 1 GiB; 0
 A pose is an Nx2 array of vertex_count points (or vertex_count + 4 with the frame corners
 last). The GIL is released while binding and deforming.
 
+Augmentation: deform(pose, image=other) deforms another image of the same shape and dtype with
+this binding, set_image(other) replaces the image, deform_many(poses, images=None) deforms a
+batch on all cores, transform_points(pose, points) moves keypoints, boxes and polygons with the
+image; multicage.random_pose(cage, amplitude, seed) draws valid random poses.
+
 A Deformer pickles (pickle, multiprocessing with 'spawn', Dask) as its image, its binding and
 these parameters, and is re-created from them without binding again; it keeps a read-only
 copy of the image for that. Unpickling raises multicage.Error where the deformer cannot be
@@ -225,17 +285,77 @@ using DeformerClass = py::class_<PyDeformer>;
 void defineDeformerCalls(DeformerClass& cls) {
     cls.def(
            "deform",
-           [](PyDeformer& d, const py::object& pose) {
+           [](PyDeformer& d, const py::object& pose, const py::object& image) {
                const std::vector<cv::Point2f> p = d.pose(pose);
                cv::Mat out;
-               {
+               if (image.is_none()) {
                    py::gil_scoped_release release;
                    std::lock_guard<std::mutex> lock(d.mutex);
                    d.deformer->deform(p, out);
+                   return arrayFromMat(out);
                }
-               return arrayFromMat(out);
+               py::object keep;
+               const cv::Mat other = sameImage(d, image, "image", keep);
+               std::vector<cv::Mat> outs;
+               {
+                   py::gil_scoped_release release;
+                   std::lock_guard<std::mutex> lock(d.mutex);
+                   d.deformer->deformBatch(std::vector<std::vector<cv::Point2f>>{p}, outs,
+                                           std::vector<cv::Mat>{other});
+               }
+               return arrayFromMat(outs[0]);
            },
-           py::arg("pose"), "The image deformed to pose: same shape and dtype as the input.")
+           py::arg("pose"), py::arg("image") = py::none(),
+           "The image deformed to pose: same shape and dtype as the input. image: another image "
+           "of the same shape and dtype to deform instead, with this deformer's binding (no "
+           "rebinding; the deformer keeps its own image).")
+        .def(
+            "deform_many",
+            [](PyDeformer& d, const py::object& poses, const py::object& images) {
+                return deformMany(d, poses, images);
+            },
+            py::arg("poses"), py::arg("images") = py::none(),
+            "Deforms a batch in one call, using all cores with the GIL released: a list of "
+            "images[k] (or this deformer's image when images is None) deformed to poses[k]. "
+            "poses: a sequence of poses (or a K x N x 2 array); images: None or a sequence of as "
+            "many images, each of this deformer's shape and dtype. The same pixels as deform() "
+            "one at a time. CPU backend: the items run in parallel, each worker with its own mesh "
+            "and maps on the shared binding; GPU: one after another.")
+        .def(
+            "set_image",
+            [](PyDeformer& d, const py::object& image) {
+                py::object keep;
+                const cv::Mat other = sameImage(d, image, "image", keep);
+                cv::Mat mine;
+                py::array copy = ownImage(image, mine);
+                {
+                    py::gil_scoped_release release;
+                    std::lock_guard<std::mutex> lock(d.mutex);
+                    d.deformer->setImage(other);
+                }
+                d.image = copy;  // what a pickle of the deformer carries from now on
+            },
+            py::arg("image"),
+            "Replaces the image this deformer deforms by another of the same shape and dtype, "
+            "keeping the binding (no rebinding).")
+        .def(
+            "transform_points",
+            [](PyDeformer& d, const py::object& pose, const py::object& points) {
+                const std::vector<cv::Point2f> p = d.pose(pose);
+                return transformPointsArray(
+                    points, [&](const std::vector<cv::Point2f>& in, std::vector<cv::Point2f>& out) {
+                        py::gil_scoped_release release;
+                        std::lock_guard<std::mutex> lock(d.mutex);
+                        d.deformer->transformPoints(p, in, out);
+                    });
+            },
+            py::arg("pose"), py::arg("points"),
+            "Where rest points (keypoints, polygon annotations, box corners: an array of shape "
+            "(..., 2) of (x, y) in the image's pixels) land in the image deformed to pose; the "
+            "same "
+            "shape, float32. A feature of the image at a point lands where the point lands (the "
+            "image's own mesh, at any grid step); cage vertices land exactly on the pose. Points "
+            "outside the image follow the frame (with the frame fixed, they stay).")
         .def(
             "compute_maps",
             [](PyDeformer& d, const py::object& pose) {

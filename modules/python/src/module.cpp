@@ -78,5 +78,6 @@ PYBIND11_MODULE(_multicage, m) {
     defineDeformer(m);
     defineCoordinates(m);
     defineProposal(m);
+    defineAugment(m);
     defineGpu(m);
 }
