@@ -545,6 +545,102 @@ TEST(ProposeFaces, StretchingTheOutlineLeavesEachFaceASimilarity) {
     }
 }
 
+namespace {
+// The inner polygon around face f (the deepest one holding the whole box), or -1.
+int facePolygonOf(const Multicage& cage, const cv::Rect& f) {
+    int best = -1;
+    for (int p = 0; p < cage.polygonCount(); ++p)
+        if (cage.depth(p) >= 2 && rectInside(f, cage.polygon(p)) &&
+            (best < 0 || cage.depth(p) > cage.depth(best)))
+            best = p;
+    return best;
+}
+
+// Least distance between two polygons' boundaries (vertex to edge, both ways).
+double boundaryDistance(const std::vector<cv::Point2f>& a, const std::vector<cv::Point2f>& b) {
+    double best = HUGE_VAL;
+    for (int pass = 0; pass < 2; ++pass) {
+        const auto& p = pass == 0 ? a : b;
+        const auto& q = pass == 0 ? b : a;
+        for (const cv::Point2f& v : p)
+            for (size_t i = 0; i < q.size(); ++i) {
+                const cv::Point2f e0 = q[i], e1 = q[(i + 1) % q.size()], d = e1 - e0;
+                const float t = std::max(0.f, std::min(1.f, (v - e0).dot(d) / std::max(1e-6f, d.dot(d))));
+                best = std::min(best, static_cast<double>(cv::norm(v - (e0 + t * d))));
+            }
+    }
+    return best;
+}
+}  // namespace
+
+// Item 2: a face's polygon hugs the face (a rounded box a small margin around the detected box),
+// holds its anchors, and no salient polygon comes near it or goes around it.
+TEST(ProposeFaces, FacePolygonHugsTheFaceHoldsItsAnchorsAndKeepsSalientPolygonsAway) {
+    if (!haveCascades()) GTEST_SKIP() << "opencv-data is not installed";
+    for (const char* name : kFacePhotos) {
+        SCOPED_TRACE(name);
+        const cv::Mat image = readFacePhoto(name);
+        std::vector<cv::Rect> faces;
+        const Multicage cage = proposeProtectedMulticage(image, facesParams(), &faces);
+        ASSERT_TRUE(cage.validate());
+        ASSERT_FALSE(faces.empty());
+        for (const cv::Rect& f : faces) {
+            const int face = facePolygonOf(cage, f);
+            ASSERT_GE(face, 0);
+            EXPECT_EQ(cage.depth(face), 2) << "only the outline is around the face's polygon";
+            const double area = std::abs(cv::contourArea(cage.polygon(face)));
+            std::cout << "[ faces    ] " << name << " face " << f << ": polygon " << area / f.area()
+                      << " x the box's area\n";
+            EXPECT_LE(area, 1.5 * f.area()) << "the polygon hugs the face";
+            int anchors = 0;
+            for (int p = 0; p < cage.polygonCount(); ++p) {
+                if (p == face) continue;
+                const std::vector<cv::Point2f>& q = cage.polygon(p);
+                if (cv::pointPolygonTest(cage.polygon(face), q[0], false) > 0) {
+                    ++anchors;  // inside the face's polygon: an anchor, inside the box
+                    EXPECT_EQ(cage.depth(p), 3);
+                    for (const cv::Point2f& v : q) EXPECT_TRUE(f.contains(cv::Point(v)));
+                } else if (cage.depth(p) == 2) {  // a salient polygon beside the face
+                    EXPECT_GE(boundaryDistance(q, cage.polygon(face)), 0.5 * f.width) << p;
+                }
+            }
+            EXPECT_EQ(anchors, 4);
+        }
+    }
+}
+
+// Item 2: faces close together get polygons that never cross: either one each, or one around
+// both (merged), and every face is inside exactly one.
+TEST(ProposeFaces, CloseFacesNeverGetCrossingPolygons) {
+    if (!haveCascades()) GTEST_SKIP() << "opencv-data is not installed";
+    const cv::Mat astronaut = readFacePhoto("astronaut.png");
+    const cv::Rect crop(150, 30, 150, 170);  // the face and hair
+    cv::Mat image(320, 480, CV_8UC3, cv::Scalar(200, 200, 205));
+    // The second face overlaps the first one's hair at -40 (their polygons' margins meet:
+    // one polygon around both), is 40 px apart at 40 (one each).
+    for (int gap : {-40, 0, 40}) {
+        SCOPED_TRACE(gap);
+        image.setTo(cv::Scalar(200, 200, 205));
+        astronaut(crop).copyTo(image(cv::Rect(60, 70, crop.width, crop.height)));
+        astronaut(crop).copyTo(image(cv::Rect(60 + crop.width + gap, 70 + gap / 2, crop.width, crop.height)));
+        std::vector<cv::Rect> faces;
+        const Multicage cage = proposeProtectedMulticage(image, facesParams(PROTECT_FACES), &faces);
+        std::string why;
+        ASSERT_TRUE(cage.validate(&why)) << why;
+        const std::vector<cv::Rect> found = detectFaces(image);
+        std::cout << "[ faces    ] two faces " << gap << " px apart: " << found.size()
+                  << " detected, " << faces.size() << " protected\n";
+        EXPECT_EQ(found.size(), 2u);
+        EXPECT_EQ(faces.size(), gap < 0 ? 1u : 2u) << "close faces share one polygon";
+        for (const cv::Rect& f : found) {
+            int inner = 0;
+            for (int p = 0; p < cage.polygonCount(); ++p)
+                inner += cage.depth(p) >= 2 && rectInside(f, cage.polygon(p));
+            EXPECT_EQ(inner, 1) << f;
+        }
+    }
+}
+
 TEST(ProposeFaces, MissingCascadeIsAnExceptionNamingThePackage) {
     ProposeParams params = facesParams(PROTECT_FACES);
     params.cascadeDir = "/nonexistent/cascades";

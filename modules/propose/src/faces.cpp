@@ -265,6 +265,22 @@ std::vector<Point2f> facePolygon(const Rect2d& box, double margin, int vertices)
     return p;  // t grows clockwise on screen (y down): signed area > 0
 }
 
+std::vector<std::vector<Point2f>> faceAnchors(const Rect2d& box) {
+    const double hw = 0.5 * box.width, hh = 0.5 * box.height;
+    const Point2d c(box.x + hw - 0.5, box.y + hh - 0.5);
+    // 0.4 of the shorter half side: gaps of at least 0.1 half sides between anchors, and
+    // between the anchors and the box.
+    const double r = 0.4 * std::min(hw, hh);
+    std::vector<std::vector<Point2f>> anchors;
+    for (const Point2d o : {Point2d(-0.5 * hw, -0.4 * hh), Point2d(0.5 * hw, -0.4 * hh),
+                            Point2d(-0.5 * hw, 0.5 * hh), Point2d(0.5 * hw, 0.5 * hh)}) {
+        const Point2d m = c + o;
+        anchors.push_back({Point2f(m.x, m.y - r), Point2f(m.x + r, m.y), Point2f(m.x, m.y + r),
+                           Point2f(m.x - r, m.y)});
+    }
+    return anchors;
+}
+
 std::vector<Rect> mergeNearFaces(std::vector<Rect> faces, double gap) {
     auto grown = [gap](const Rect& r) {
         // The polygon's extent: 2^(1/8) times the half sides plus the margin, plus the gap.

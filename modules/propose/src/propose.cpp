@@ -593,8 +593,21 @@ double faceRoom(const Rect& face) { return kFaceRoom * faceSize(face); }
 // with its polygon's room: the outline goes around it.
 Multicage outlinesOf(Segmentation s, Size size, const Work& w, const ProposeParams& params,
                      const std::vector<Rect>& faces) {
-    for (const Rect& f : faces)
-        fillWork(s.objects, facePolygon(f, faceMargin(f) + faceRoom(f), 32), w, Scalar(255));
+    if (!faces.empty()) {
+        Mat room = Mat::zeros(w.size, CV_8U);
+        for (const Rect& f : faces)
+            fillWork(room, facePolygon(f, faceMargin(f) + faceRoom(f), 32), w, Scalar(255));
+        // The room stops two margins short of the image border (the outline one margin from
+        // it): an outline along the border moves against the fixed frame a fraction of a pixel
+        // away, and the pixels between fold.
+        const int edge = cvCeil(2 * w.margin);
+        if (2 * edge < std::min(w.size.width, w.size.height)) {
+            Mat inner = Mat::zeros(w.size, CV_8U);
+            inner(Rect(edge, edge, w.size.width - 2 * edge, w.size.height - 2 * edge)).setTo(255);
+            room &= inner;
+        }
+        s.objects |= room;
+    }
     const Mat cage = params.method == PROPOSE_LABELS ? cageMaskFromLabels(s.labels, w)
                                                      : cageMaskFromObjects(s.objects, w);
     return addPolygons(Multicage(size), nestedRegions(cage, params.maxDepth, w.minArea), w,
@@ -645,8 +658,10 @@ Multicage proposeProtectedMulticage(InputArray image, const ProposeParams& param
     if (!faces.empty())  // leave the faces a share of the budget
         outlineParams.maxVertices = std::max(
             kMinPolygonVertices,
-            params.maxVertices - std::min(params.maxVertices / 2,
-                                          static_cast<int>(faces.size()) * kFaceVertices));
+            params.maxVertices -
+                std::min(params.maxVertices / 2,
+                         static_cast<int>(faces.size()) *
+                             (kFaceVertices + (params.faceAnchors ? 4 * kFaceAnchors : 0))));
     Multicage cage = outlinesOf(std::move(s), img.size(), w, outlineParams, faces);
     if (params.method == PROPOSE_MASK || params.method == PROPOSE_LABELS) return cage;
     const int top = cage.polygonCount();  // protectFeatures appends; only the outlines get it
@@ -756,8 +771,9 @@ std::vector<Rect> facesInside(const Mat& img, const ProposeParams& params,
 }
 
 // What the faces inside a polygon become. A face gets its own polygon (facePolygon) when one
-// fits, at its margin or a smaller one; otherwise it becomes a region like a salient blob,
-// clipped to where a polygon may go (mask, zone), and goes first in the budget.
+// fits, at its margin or a smaller one, and its anchors inside (faceAnchors) when the budget
+// allows; otherwise it becomes a region like a salient blob, clipped to where a polygon may go
+// (mask, zone), and goes first in the budget.
 struct FacePlan {
     std::vector<Polygon> polygons;  // placed, input pixels
     Mat keepOut;                    // work pixels: placed polygons and a band around them
@@ -790,6 +806,10 @@ FacePlan placeFaces(const std::vector<Rect>& faces, const Multicage& cage, int p
             fillWork(plan.keepOut, facePolygon(f, faceMargin(f) + kFaceKeepOut * faceSize(f), n), w,
                      Scalar(255));
             budget -= n, --slots;
+            if (params.faceAnchors && budget >= 4 * kFaceAnchors && slots >= kFaceAnchors) {
+                for (Polygon& a : faceAnchors(f)) plan.polygons.push_back(std::move(a));
+                budget -= 4 * kFaceAnchors, slots -= kFaceAnchors;
+            }
             continue;
         }
         fillWork(plan.mask, facePolygon(f, faceMargin(f), 16), w, Scalar(255));

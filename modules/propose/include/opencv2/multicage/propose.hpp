@@ -90,6 +90,10 @@ struct CV_EXPORTS ProposeParams {
     /** Keep only the faces in which haarcascade_eye.xml finds an eye (fewer false faces,
     misses faces with closed or hidden eyes). */
     bool faceEyes = false;
+    /** A face's polygon also holds four small fixed polygons (anchors, 16 vertices) spread
+    over the face: with mean value coordinates they cut what leaks into the face from a moved
+    outline by about a third. Off: the face's polygon only. */
+    bool faceAnchors = true;
     /** Faces are searched on a copy whose longer side is at most this (0: full size): the
     cascades' cost grows with area. The smallest face found is 24 pixels of the copy, 7.5% of
     the longer side at 320: smaller faces are too small for a polygon of their own anyway. */
