@@ -37,7 +37,9 @@ void segmentOnly(benchmark::State& state, const char* image, int method) {
     for (auto _ : state) cv::multicage::proposeSegmentation(img, mask, params);
 }
 
-// Issue 16: faces on messi5.jpg scaled to 1024x768 (cascades loaded before timing).
+// Issue 16: faces on messi5.jpg scaled to 1024x768 (cascades loaded before timing). The face
+// search runs beside the segmentation and on several threads: wall time (UseRealTime) is the
+// figure; the CPU column is the calling thread only.
 void detectFacesOnly(benchmark::State& state) {
     const cv::Mat img = sample1024("messi5.jpg");
     cv::multicage::detectFaces(img);
@@ -58,10 +60,16 @@ void proposeProtected(benchmark::State& state, int detector) {
 }
 
 using namespace cv::multicage;
-BENCHMARK(detectFacesOnly)->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(proposeProtected, faces_messi, PROTECT_FACES)->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(proposeProtected, all_messi, PROTECT_ALL)->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(proposeProtected, saliency_messi, PROTECT_SALIENCY)->Unit(benchmark::kMillisecond);
+BENCHMARK(detectFacesOnly)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_CAPTURE(proposeProtected, faces_messi, PROTECT_FACES)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+BENCHMARK_CAPTURE(proposeProtected, all_messi, PROTECT_ALL)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+BENCHMARK_CAPTURE(proposeProtected, saliency_messi, PROTECT_SALIENCY)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 BENCHMARK_CAPTURE(propose, threshold_smarties, "smarties.png", PROPOSE_THRESHOLD)
     ->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(propose, adaptive_smarties, "smarties.png", PROPOSE_ADAPTIVE)

@@ -1,13 +1,14 @@
 // Face detection for protectFeatures(PROTECT_FACES / PROTECT_ALL): OpenCV's Haar cascades
-// (Debian package opencv-data), loaded once per file and shared (detection is serialised per
-// cascade: CascadeClassifier keeps per-image state).
+// (Debian package opencv-data), and the polygon a face gets (faces.hpp).
+#include "faces.hpp"
+
+#include <cmath>
 #include <filesystem>
 #include <map>
 #include <memory>
 #include <mutex>
-#include <numeric>
+#include <opencv2/core/utility.hpp>
 #include <opencv2/imgproc.hpp>
-#include <opencv2/multicage/propose.hpp>
 #include <opencv2/objdetect.hpp>
 
 #include "segment.hpp"
@@ -38,15 +39,46 @@ std::string findCascade(const ProposeParams& params, const char* name) {
     return {};
 }
 
-struct Cascade {
-    std::mutex mutex;
-    CascadeClassifier classifier;
+// The classifiers of one cascade file. detectMultiScale keeps per-image state in the
+// classifier, so each search borrows one of its own; classifiers are loaded once per process
+// and kept (a second one is loaded only when two searches overlap, as the profile cascade's
+// two directions do).
+class CascadePool {
+public:
+    explicit CascadePool(std::string path) : path_(std::move(path)) {}
+
+    std::unique_ptr<CascadeClassifier> borrow() {
+        {
+            std::lock_guard<std::mutex> lock(mutex_);
+            if (!idle_.empty()) {
+                std::unique_ptr<CascadeClassifier> c = std::move(idle_.back());
+                idle_.pop_back();
+                return c;
+            }
+        }
+        auto c = std::make_unique<CascadeClassifier>();
+        if (!c->load(path_))
+            CV_Error_(Error::StsParseError,
+                      ("multicage: cannot read the face cascade %s (reinstall opencv-data)",
+                       path_.c_str()));
+        return c;
+    }
+
+    void giveBack(std::unique_ptr<CascadeClassifier> c) {
+        std::lock_guard<std::mutex> lock(mutex_);
+        idle_.push_back(std::move(c));
+    }
+
+private:
+    const std::string path_;
+    std::mutex mutex_;
+    std::vector<std::unique_ptr<CascadeClassifier>> idle_;
 };
 
-// The cascade `name`, loaded once; null when not installed. Throws when `required`.
-std::shared_ptr<Cascade> cascade(const ProposeParams& params, const char* name, bool required) {
+// The pool of cascade `name`; null when it is not installed. Throws when `required`.
+CascadePool* cascade(const ProposeParams& params, const char* name, bool required) {
     static std::mutex mutex;
-    static std::map<std::string, std::shared_ptr<Cascade>> cache;
+    static std::map<std::string, std::unique_ptr<CascadePool>> pools;
     const std::string path = findCascade(params, name);
     if (path.empty()) {
         if (!required) return nullptr;
@@ -57,23 +89,59 @@ std::shared_ptr<Cascade> cascade(const ProposeParams& params, const char* name, 
                                                    : params.cascadeDir.c_str()));
     }
     std::lock_guard<std::mutex> lock(mutex);
-    std::shared_ptr<Cascade>& c = cache[path];
-    if (!c) {
-        auto fresh = std::make_shared<Cascade>();
-        if (!fresh->classifier.load(path))
-            CV_Error_(Error::StsParseError,
-                      ("multicage: cannot read the face cascade %s (reinstall opencv-data)",
-                       path.c_str()));
-        c = fresh;
-    }
-    return c;
+    std::unique_ptr<CascadePool>& pool = pools[path];
+    if (!pool) pool = std::make_unique<CascadePool>(path);
+    return pool.get();
 }
 
-std::vector<Rect> detect(Cascade& c, const Mat& gray, int minNeighbors, Size minSize) {
+// One cascade run over the working copy (mirrored for the profile cascade's other direction).
+struct Search {
+    CascadePool* pool;
+    bool mirrored;
+    std::unique_ptr<CascadeClassifier> classifier;
     std::vector<Rect> found;
-    std::lock_guard<std::mutex> lock(c.mutex);
-    c.classifier.detectMultiScale(gray, found, 1.1, minNeighbors, CASCADE_SCALE_IMAGE, minSize);
-    return found;
+};
+
+void run(Search& s, const Mat& gray, const Mat& mirrored) {
+    const Mat& img = s.mirrored ? mirrored : gray;
+    // Scale steps of 20% (half the pyramid levels of OpenCV's sample's 10%: 40% less time),
+    // a face where at least 2 windows agree, and the cascades' own 24 pixels as the smallest
+    // face. What the coarser search lets through in a colour photo the skin test throws out;
+    // on the samples it finds the faces of messi5.jpg, astronaut.png and camera.png, and none
+    // on the five other photos.
+    s.classifier->detectMultiScale(img, s.found, 1.2, 2, CASCADE_SCALE_IMAGE, Size(24, 24));
+    if (s.mirrored)
+        for (Rect& r : s.found) r.x = img.cols - r.x - r.width;
+}
+
+// True when the image has colour (not grey stored in three channels): mean chroma distance
+// from grey above 2 levels.
+bool hasColour(const Mat& ycrcb) {
+    Mat deviation;
+    absdiff(ycrcb, Scalar(0, 128, 128), deviation);
+    const Scalar d = mean(deviation);
+    return d[1] + d[2] > 2.0;
+}
+
+// In a colour photo the middle of a face is skin: Chai and Ngan's (1999) YCrCb box
+// (133 <= Cr <= 173, 77 <= Cb <= 127), and clearly reddish (Cr - Cb >= 12, not grey). Haar
+// cascades also fire on crowds and clothing: on messi5.jpg a 78x78 box on the shoulder has
+// 10% skin in its middle, the face 99%.
+bool skinInMiddle(const Mat& ycrcb, const Rect& box) {
+    const Rect middle =
+        Rect(box.x + box.width / 4, box.y + box.height / 4, std::max(1, box.width / 2),
+             std::max(1, box.height / 2)) &
+        Rect(Point(), ycrcb.size());
+    if (middle.empty()) return false;
+    int skin = 0;
+    for (int y = middle.y; y < middle.br().y; ++y) {
+        const Vec3b* p = ycrcb.ptr<Vec3b>(y);
+        for (int x = middle.x; x < middle.br().x; ++x) {
+            const int cr = p[x][1], cb = p[x][2];
+            skin += cr >= 133 && cr <= 173 && cb >= 77 && cb <= 127 && cr - cb >= 12;
+        }
+    }
+    return skin >= 0.3 * middle.area();
 }
 
 // Rectangles that overlap, merged into their bounding boxes until none overlap.
@@ -88,8 +156,26 @@ std::vector<Rect> mergeOverlapping(std::vector<Rect> rects) {
                     merged = true;
                 }
     }
-    std::sort(rects.begin(), rects.end(), [](const Rect& a, const Rect& b) { return a.area() > b.area(); });
+    std::sort(rects.begin(), rects.end(),
+              [](const Rect& a, const Rect& b) { return a.area() > b.area(); });
     return rects;
+}
+
+// Keeps the faces in which the eye cascade finds an eye in the upper part.
+std::vector<Rect> withEyes(const ProposeParams& params, const std::vector<Rect>& faces,
+                           const Mat& gray) {
+    CascadePool* pool = cascade(params, kEye, true);
+    std::unique_ptr<CascadeClassifier> eye = pool->borrow();
+    std::vector<Rect> confirmed;
+    for (const Rect& f : faces) {
+        const Rect upper = Rect(f.x, f.y, f.width, f.height * 6 / 10) & Rect(Point(), gray.size());
+        const int least = std::max(8, f.width / 8);
+        std::vector<Rect> eyes;
+        eye->detectMultiScale(gray(upper), eyes, 1.1, 3, CASCADE_SCALE_IMAGE, Size(least, least));
+        if (!eyes.empty()) confirmed.push_back(f);
+    }
+    pool->giveBack(std::move(eye));
+    return confirmed;
 }
 
 }  // namespace
@@ -99,37 +185,45 @@ String faceCascadeFile(const ProposeParams& params) { return findCascade(params,
 std::vector<Rect> detectFaces(InputArray image, const ProposeParams& params) {
     const Mat img = image.getMat();
     if (img.empty()) CV_Error(Error::StsBadArg, "multicage: detectFaces: the image is empty");
-    const std::shared_ptr<Cascade> frontal = cascade(params, kFrontal, true);
-    const std::shared_ptr<Cascade> profile = cascade(params, kProfile, false);
-    Mat gray = propose_detail::to8Bit(img);
-    if (gray.channels() == 3) cvtColor(gray, gray, COLOR_BGR2GRAY);
-    if (gray.channels() == 4) cvtColor(gray, gray, COLOR_BGRA2GRAY);
+    std::vector<Search> searches;
+    searches.push_back({cascade(params, kFrontal, true), false, nullptr, {}});
+    if (CascadePool* profile = cascade(params, kProfile, false)) {
+        // The profile cascade knows faces looking one way: the mirror image finds the others.
+        searches.push_back({profile, false, nullptr, {}});
+        searches.push_back({profile, true, nullptr, {}});
+    }
+    for (Search& s : searches) s.classifier = s.pool->borrow();  // load errors before searching
+
+    Mat small = propose_detail::to8Bit(img);
     const int longer = std::max(img.cols, img.rows);
     const double scale = params.faceWorkingSize > 0 && longer > params.faceWorkingSize
                              ? longer / static_cast<double>(params.faceWorkingSize)
                              : 1.0;
     if (scale > 1.0)
-        resize(gray, gray, Size(cvRound(img.cols / scale), cvRound(img.rows / scale)), 0, 0,
+        resize(small, small, Size(cvRound(img.cols / scale), cvRound(img.rows / scale)), 0, 0,
                INTER_AREA);
+    Mat gray, ycrcb;
+    if (small.channels() == 3) {
+        cvtColor(small, gray, COLOR_BGR2GRAY);
+        cvtColor(small, ycrcb, COLOR_BGR2YCrCb);
+        if (!hasColour(ycrcb)) ycrcb.release();
+    } else {
+        gray = small;
+    }
     equalizeHist(gray, gray);
-    std::vector<Rect> found = detect(*frontal, gray, 3, Size(24, 24));
-    if (profile) {
-        for (const Rect& r : detect(*profile, gray, 4, Size(24, 24))) found.push_back(r);
-        Mat flipped;
-        flip(gray, flipped, 1);  // the profile cascade knows faces looking one way
-        for (const Rect& r : detect(*profile, flipped, 4, Size(24, 24)))
-            found.emplace_back(gray.cols - r.x - r.width, r.y, r.width, r.height);
+    Mat mirrored;
+    flip(gray, mirrored, 1);
+    // The searches are independent: run them side by side.
+    parallel_for_(Range(0, static_cast<int>(searches.size())), [&](const Range& r) {
+        for (int i = r.start; i < r.end; ++i) run(searches[i], gray, mirrored);
+    });
+    std::vector<Rect> found;
+    for (Search& s : searches) {
+        for (const Rect& r : s.found)
+            if (ycrcb.empty() || skinInMiddle(ycrcb, r)) found.push_back(r);
+        s.pool->giveBack(std::move(s.classifier));
     }
-    if (params.faceEyes && !found.empty()) {
-        const std::shared_ptr<Cascade> eye = cascade(params, kEye, true);
-        std::vector<Rect> confirmed;
-        for (const Rect& f : found) {
-            const Rect upper = Rect(f.x, f.y, f.width, f.height * 6 / 10) & Rect(Point(), gray.size());
-            const int least = std::max(8, f.width / 8);
-            if (!detect(*eye, gray(upper), 3, Size(least, least)).empty()) confirmed.push_back(f);
-        }
-        found.swap(confirmed);
-    }
+    if (params.faceEyes && !found.empty()) found = withEyes(params, found, gray);
     for (Rect& r : found) {
         const Rect2d s(r.x * scale, r.y * scale, r.width * scale, r.height * scale);
         r = Rect(Point(cvFloor(s.x), cvFloor(s.y)), Point(cvCeil(s.br().x), cvCeil(s.br().y))) &
@@ -148,6 +242,71 @@ int parseProtectDetector(const String& name) {
         if (name == protectDetectorName(d)) return d;
     return -1;
 }
+
+namespace propose_detail {
+
+double faceMargin(const Rect& face) {
+    return std::max(2.0, 0.02 * std::max(face.width, face.height));
+}
+
+std::vector<Point2f> facePolygon(const Rect2d& box, double margin, int vertices) {
+    CV_Assert(vertices >= 4 && vertices % 4 == 0);
+    // The superellipse |x/a|^8 + |y/b|^8 = 1 through the box's corners has semi-axes 2^(1/8)
+    // times the half sides, and its point at parameter t = 45 degrees is the corner.
+    const double k = std::pow(2.0, 1.0 / kFaceExponent);
+    const double a = k * 0.5 * box.width + margin, b = k * 0.5 * box.height + margin;
+    const Point2d c(box.x + 0.5 * box.width - 0.5, box.y + 0.5 * box.height - 0.5);
+    const double phase = std::fmod(vertices / 8.0, 1.0);  // i + phase = n / 8 lands on 45 degrees
+    auto along = [](double cs) { return std::copysign(std::pow(std::abs(cs), 2.0 / kFaceExponent), cs); };
+    std::vector<Point2f> p;
+    for (int i = 0; i < vertices; ++i) {
+        const double t = 2 * CV_PI * (i + phase) / vertices;
+        p.emplace_back(static_cast<float>(c.x + a * along(std::cos(t))),
+                       static_cast<float>(c.y + b * along(std::sin(t))));
+    }
+    return p;  // t grows clockwise on screen (y down): signed area > 0
+}
+
+std::vector<std::vector<Point2f>> faceAnchors(const Rect2d& box) {
+    const double hw = 0.5 * box.width, hh = 0.5 * box.height;
+    const Point2d c(box.x + hw - 0.5, box.y + hh - 0.5);
+    // 0.4 of the shorter half side: gaps of at least 0.1 half sides between anchors, and
+    // between the anchors and the box.
+    const double r = 0.4 * std::min(hw, hh);
+    std::vector<std::vector<Point2f>> anchors;
+    for (const Point2d o : {Point2d(-0.5 * hw, -0.4 * hh), Point2d(0.5 * hw, -0.4 * hh),
+                            Point2d(-0.5 * hw, 0.5 * hh), Point2d(0.5 * hw, 0.5 * hh)}) {
+        const Point2d m = c + o;
+        anchors.push_back({Point2f(m.x, m.y - r), Point2f(m.x + r, m.y), Point2f(m.x, m.y + r),
+                           Point2f(m.x - r, m.y)});
+    }
+    return anchors;
+}
+
+std::vector<Rect> mergeNearFaces(std::vector<Rect> faces, double gap) {
+    auto grown = [gap](const Rect& r) {
+        // The polygon's extent: 2^(1/8) times the half sides plus the margin, plus the gap.
+        const double k = std::pow(2.0, 1.0 / kFaceExponent), m = faceMargin(r) + gap;
+        const double hw = k * 0.5 * r.width + m, hh = k * 0.5 * r.height + m;
+        const Point2d c(r.x + 0.5 * r.width, r.y + 0.5 * r.height);
+        return Rect2d(c.x - hw, c.y - hh, 2 * hw, 2 * hh);
+    };
+    for (bool merged = true; merged;) {
+        merged = false;
+        for (size_t i = 0; i < faces.size() && !merged; ++i)
+            for (size_t j = i + 1; j < faces.size() && !merged; ++j)
+                if ((grown(faces[i]) & grown(faces[j])).area() > 0) {
+                    faces[i] |= faces[j];
+                    faces.erase(faces.begin() + static_cast<long>(j));
+                    merged = true;
+                }
+    }
+    std::sort(faces.begin(), faces.end(),
+              [](const Rect& a, const Rect& b) { return a.area() > b.area(); });
+    return faces;
+}
+
+}  // namespace propose_detail
 
 }  // namespace multicage
 }  // namespace cv

@@ -9,11 +9,13 @@
 #include <algorithm>
 #include <cmath>
 #include <deque>
+#include <future>
 #include <numeric>
 #include <opencv2/imgproc.hpp>
 #include <opencv2/multicage/propose.hpp>
 
 #include <opencv2/multicage/internal/geometry.hpp>
+#include "faces.hpp"
 #include "segment.hpp"
 
 namespace cv {
@@ -25,6 +27,11 @@ using namespace propose_detail;
 namespace {
 
 constexpr int kMinPolygonVertices = 4;  // the bounding-box fallback needs 4
+// Around a face's polygon, in face sizes (faceSize): the room the outline leaves (faceRoom),
+// and the band no salient polygon may enter (faces take precedence, and a fixed polygon
+// beside the face weakens its polygon's shield; see placeFaces).
+constexpr double kFaceRoom = 2.0;
+constexpr double kFaceKeepOut = 1.0;
 
 void checkParams(const ProposeParams& p) {
     auto bad = [](const char* what, double value, const char* want) {
@@ -48,18 +55,6 @@ void checkParams(const ProposeParams& p) {
         bad("protect", p.protect, "a ProtectDetector");
     if (p.faceWorkingSize != 0 && p.faceWorkingSize < 48)
         bad("faceWorkingSize", p.faceWorkingSize, "0 or >= 48");
-}
-
-// A face's protected zone in work pixels: the ellipse through the corners of its box (same
-// aspect), grown by `grow`.
-void fillFace(Mat& mask, const Rect& face, const Size full, float grow) {
-    const double sx = mask.cols / static_cast<double>(full.width);
-    const double sy = mask.rows / static_cast<double>(full.height);
-    const Point2d c((face.x + 0.5 * face.width - 0.5) * sx + 0.5 * (sx - 1),
-                    (face.y + 0.5 * face.height - 0.5) * sy + 0.5 * (sy - 1));
-    const double k = 0.5 * 1.45;  // > 1/sqrt(2): the box's corners are inside
-    const Size axes(cvCeil(k * face.width * sx + grow), cvCeil(k * face.height * sy + grow));
-    ellipse(mask, Point(cvRound(c.x), cvRound(c.y)), axes, 0, 0, 360, Scalar(255), FILLED);
 }
 
 // The parameters in pixels of the working copy.
@@ -368,7 +363,8 @@ void fit(Candidate& c, const Work& w, int cap) {
 // - two crossing siblings are first refined the same way, then merged into one polygon
 //   around both (the convex hull of their regions), so that no object is left uncaged;
 // - a polygon that came to contain a sibling (a large tolerance grows polygons) swallows it:
-//   the sibling is dropped, as its region is inside.
+//   the sibling is dropped, as its region is inside;
+// - a polygon that contains a fixed one is dropped.
 // `depthOffset` is the depth of the polygon the regions sit in (0 for a whole image).
 void repair(std::vector<Candidate>& cs, const std::vector<Polygon>& fixed, const Work& w,
             int budget, int cap, int depthOffset) {
@@ -395,6 +391,12 @@ void repair(std::vector<Candidate>& cs, const std::vector<Polygon>& fixed, const
         if (!geometry::findCrossing(all, &x)) {
             const std::vector<int> depth = geometry::depths(all);
             bool changed = false;
+            // A new polygon around a fixed one (a ring-shaped region closes around it) would
+            // swallow it: the fixed one wins (in protectFeatures, faces placed first).
+            for (size_t k = fixed.size(); k < all.size() && !changed; ++k)
+                for (size_t f = 0; f < fixed.size() && !changed; ++f)
+                    if (geometry::contains(all[k], all[f][0]))
+                        cs[index[k]].alive = false, changed = true;
             for (size_t k = fixed.size(); k < all.size() && !changed; ++k) {
                 const Candidate& c = cs[index[k]];
                 if (depth[k] <= c.region->depth + depthOffset) continue;
@@ -567,26 +569,57 @@ void proposeSegmentation(InputArray image, OutputArray mask, const ProposeParams
 }
 
 namespace {
-// proposeMulticage; the outlines also enclose every face in `faces` with room (two bands) for
-// the face's own protective polygon inside.
-Multicage proposeOutlines(InputArray image, const ProposeParams& params,
-                          const std::vector<Rect>& faces) {
-    checkParams(params);
-    const Mat img = image.getMat();
-    if (img.empty()) CV_Error(Error::StsBadArg, "multicage: proposeMulticage: the image is empty");
-    const Work w = resolve(img.size(), params);
-    Segmentation s = segmentForProposal(img, w, params);
-    // Room around a face: a wider band between the face's polygon and the outline lets less
-    // of the outline's motion through to the face (mean value coordinates are global).
-    for (const Rect& f : faces) {
-        const float size = 0.5f * (f.width + f.height) / static_cast<float>(w.scale);
-        fillFace(s.objects, f, w.full, std::max(4 * w.margin + 2 * w.gap, 0.6f * size));
+// Fills a polygon given in input pixels into a work-size mask.
+void fillWork(Mat& mask, const Polygon& p, const Work& w, const Scalar& value) {
+    const double sx = w.size.width / static_cast<double>(w.full.width);
+    const double sy = w.size.height / static_cast<double>(w.full.height);
+    std::vector<std::vector<Point>> q(1);
+    for (Point2f v : p)
+        q[0].emplace_back(cvRound(((v.x + 0.5) * sx - 0.5) * 16),
+                          cvRound(((v.y + 0.5) * sy - 0.5) * 16));
+    fillPoly(mask, q, value, LINE_8, 4);
+}
+
+// Room between a face's polygon and the outline around it, in input pixels. Mean value
+// coordinates are global: the outline's motion leaks through the face's polygon into the face
+// (a partial stretch plus a bump that is zero on the polygon), in proportion to the polygon's
+// size over its distance to the outline. Measured on three photos (docs/faces/README.md), with
+// the outline stretched 20% the face's similarity residual is 1.0-1.6 px at 0.6 face sizes of
+// room, 0.5-1.1 px at 1.5 and 0.45-0.9 px at 2 (less where the image border stops the room).
+// The room is a rounded box too: the outline then keeps its distance at the face's corners.
+double faceRoom(const Rect& face) { return kFaceRoom * faceSize(face); }
+
+// The outlines of a segmentation (proposeMulticage's tail). Every face in `faces` is enclosed
+// with its polygon's room: the outline goes around it.
+Multicage outlinesOf(Segmentation s, Size size, const Work& w, const ProposeParams& params,
+                     const std::vector<Rect>& faces) {
+    if (!faces.empty()) {
+        Mat room = Mat::zeros(w.size, CV_8U);
+        for (const Rect& f : faces)
+            fillWork(room, facePolygon(f, faceMargin(f) + faceRoom(f), 32), w, Scalar(255));
+        // The room stops two margins short of the image border (the outline one margin from
+        // it): an outline along the border moves against the fixed frame a fraction of a pixel
+        // away, and the pixels between fold.
+        const int edge = cvCeil(2 * w.margin);
+        if (2 * edge < std::min(w.size.width, w.size.height)) {
+            Mat inner = Mat::zeros(w.size, CV_8U);
+            inner(Rect(edge, edge, w.size.width - 2 * edge, w.size.height - 2 * edge)).setTo(255);
+            room &= inner;
+        }
+        s.objects |= room;
     }
     const Mat cage = params.method == PROPOSE_LABELS ? cageMaskFromLabels(s.labels, w)
                                                      : cageMaskFromObjects(s.objects, w);
-    return addPolygons(Multicage(img.size()), nestedRegions(cage, params.maxDepth, w.minArea), w,
+    return addPolygons(Multicage(size), nestedRegions(cage, params.maxDepth, w.minArea), w,
                        Budget{params.maxPolygons, params.maxVertices, params.maxPolygonVertices}, 0,
                        "proposeMulticage", Check::VALID);
+}
+
+bool wantsFaces(const ProposeParams& params) {
+    const bool maskInput = params.method == PROPOSE_MASK || params.method == PROPOSE_LABELS;
+    // PROTECT_ALL goes on without cascades (salient features only); PROTECT_FACES says why not.
+    return !maskInput && params.protect != PROTECT_SALIENCY &&
+           (params.protect == PROTECT_FACES || !faceCascadeFile(params).empty());
 }
 
 Multicage protectImpl(InputArray image, const Multicage& cage, int polygon,
@@ -594,7 +627,11 @@ Multicage protectImpl(InputArray image, const Multicage& cage, int polygon,
 }  // namespace
 
 Multicage proposeMulticage(InputArray image, const ProposeParams& params) {
-    return proposeOutlines(image, params, {});
+    checkParams(params);
+    const Mat img = image.getMat();
+    if (img.empty()) CV_Error(Error::StsBadArg, "multicage: proposeMulticage: the image is empty");
+    const Work w = resolve(img.size(), params);
+    return outlinesOf(segmentForProposal(img, w, params), img.size(), w, params, {});
 }
 
 Multicage proposeProtectedMulticage(InputArray image, const ProposeParams& params) {
@@ -605,23 +642,31 @@ Multicage proposeProtectedMulticage(InputArray image, const ProposeParams& param
                                     std::vector<Rect>* facesOut) {
     checkParams(params);
     if (facesOut) facesOut->clear();
-    const bool maskInput = params.method == PROPOSE_MASK || params.method == PROPOSE_LABELS;
-    std::vector<Rect> faces;
-    if (!maskInput && params.protect != PROTECT_SALIENCY &&
-        (params.protect == PROTECT_FACES || !faceCascadeFile(params).empty()))
-        faces = detectFaces(image, params);
+    const Mat img = image.getMat();
+    if (img.empty()) CV_Error(Error::StsBadArg, "multicage: proposeMulticage: the image is empty");
+    // The face search and the segmentation do not need each other: side by side they take
+    // the longer of the two (the cascades on one core, GrabCut on the other).
+    std::future<std::vector<Rect>> search;
+    if (wantsFaces(params))
+        search = std::async(std::launch::async, [&img, &params] { return detectFaces(img, params); });
+    const Work w = resolve(img.size(), params);
+    Segmentation s = segmentForProposal(img, w, params);
+    const std::vector<Rect> faces =
+        search.valid() ? mergeNearFaces(search.get(), w.margin * w.scale) : std::vector<Rect>();
     if (facesOut) *facesOut = faces;
     ProposeParams outlineParams = params;
     if (!faces.empty())  // leave the faces a share of the budget
         outlineParams.maxVertices = std::max(
             kMinPolygonVertices,
-            params.maxVertices - std::min(params.maxVertices / 2,
-                                          static_cast<int>(faces.size()) * 12));
-    Multicage cage = proposeOutlines(image, outlineParams, faces);
-    if (maskInput) return cage;
+            params.maxVertices -
+                std::min(params.maxVertices / 2,
+                         static_cast<int>(faces.size()) *
+                             (kFaceVertices + (params.faceAnchors ? 4 * kFaceAnchors : 0))));
+    Multicage cage = outlinesOf(std::move(s), img.size(), w, outlineParams, faces);
+    if (params.method == PROPOSE_MASK || params.method == PROPOSE_LABELS) return cage;
     const int top = cage.polygonCount();  // protectFeatures appends; only the outlines get it
     for (int p = 0; p < top; ++p)
-        if (cage.depth(p) == 1) cage = protectImpl(image, cage, p, params, &faces);
+        if (cage.depth(p) == 1) cage = protectImpl(img, cage, p, params, &faces);
     return cage;
 }
 
@@ -648,67 +693,136 @@ void checkProtectInput(const Mat& img, const Multicage& cage, int polygon) {
                   ("multicage: protectFeatures: the multicage is not valid: %s", why.c_str()));
 }
 
+// The polygons nested directly or deeper inside polygon `polygon`.
+std::vector<int> nestedIn(const Multicage& cage, int polygon) {
+    std::vector<int> inner;
+    const Polygon outer = cage.polygon(polygon);
+    for (int j = 0; j < cage.polygonCount(); ++j)
+        if (j != polygon && geometry::contains(outer, cage.polygon(j)[0])) inner.push_back(j);
+    return inner;
+}
+
 // Where protection may go, in work pixels: inside the polygon, outside the polygons already
 // inside it.
 Mat protectableArea(const Multicage& cage, int polygon, const Work& w) {
-    auto toWorkPoints = [&](const Polygon& p) {
-        std::vector<Point> q;
-        const double sx = w.size.width / static_cast<double>(w.full.width);
-        const double sy = w.size.height / static_cast<double>(w.full.height);
-        for (Point2f v : p)
-            q.emplace_back(cvRound(((v.x + 0.5) * sx - 0.5) * 16),
-                           cvRound(((v.y + 0.5) * sy - 0.5) * 16));
-        return q;
-    };
     Mat inside(w.size, CV_8U, Scalar(0));
-    std::vector<std::vector<Point>> outline = {toWorkPoints(cage.polygon(polygon))};
-    fillPoly(inside, outline, Scalar(255), LINE_8, 4);
-    const Polygon outer = cage.polygon(polygon);
-    for (int j = 0; j < cage.polygonCount(); ++j) {
-        if (j == polygon || !geometry::contains(outer, cage.polygon(j)[0])) continue;
-        std::vector<std::vector<Point>> inner = {toWorkPoints(cage.polygon(j))};
-        fillPoly(inside, inner, Scalar(0), LINE_8, 4);
-    }
+    fillWork(inside, cage.polygon(polygon), w, Scalar(255));
+    for (int j : nestedIn(cage, polygon)) fillWork(inside, cage.polygon(j), w, Scalar(0));
     return inside;
 }
 
-// The faces inside the polygon (centre in the free area), in work pixels.
-struct FaceZones {
-    Mat mask;  // the faces, where a protective polygon may enclose them
-    Mat zone;  // around each face: where its polygon may go (a thinner band than for blobs)
-    std::vector<Point2f> centres;
+// Least distance between the boundaries of two polygons that do not cross.
+double boundaryDistance(const Polygon& a, const Polygon& b) {
+    auto toSegment = [](Point2d p, Point2d q0, Point2d q1) {
+        const Point2d d = q1 - q0;
+        const double len2 = d.dot(d);
+        const double t = len2 > 0 ? std::min(1.0, std::max(0.0, (p - q0).dot(d) / len2)) : 0.0;
+        return norm(p - (q0 + t * d));
+    };
+    double best = HUGE_VAL;
+    for (int pass = 0; pass < 2; ++pass) {
+        const Polygon& p = pass == 0 ? a : b;
+        const Polygon& q = pass == 0 ? b : a;
+        for (const Point2f& v : p)
+            for (size_t i = 0; i < q.size(); ++i)
+                best = std::min(best, toSegment(v, q[i], q[(i + 1) % q.size()]));
+    }
+    return best;
+}
+
+// True when `face` lies strictly inside the image and inside polygon `polygon`, outside the
+// polygons nested in it and the faces already placed, at least `band` pixels from each.
+bool faceFits(const Polygon& face, const Multicage& cage, int polygon,
+              const std::vector<Polygon>& placed, double band) {
+    const Size size = cage.imageSize();
+    for (const Point2f& v : face)
+        if (!(v.x > 0.f && v.y > 0.f && v.x < size.width - 1.f && v.y < size.height - 1.f))
+            return false;
+    if (!geometry::contains(cage.polygon(polygon), face[0])) return false;
+    std::vector<Polygon> near = placed;
+    near.push_back(cage.polygon(polygon));
+    for (int j : nestedIn(cage, polygon)) near.push_back(cage.polygon(j));
+    for (const Polygon& q : near) {
+        if (q != cage.polygon(polygon) &&
+            (geometry::contains(q, face[0]) || geometry::contains(face, q[0])))
+            return false;
+        if (geometry::findCrossing({q, face}, nullptr) || boundaryDistance(q, face) < band)
+            return false;
+    }
+    return true;
+}
+
+// The faces protectFeatures protects inside a polygon: those with their centre in the free
+// area. `knownFaces`: already detected (nullptr: detect here).
+std::vector<Rect> facesInside(const Mat& img, const ProposeParams& params,
+                              const std::vector<Rect>* knownFaces, const Mat& inside,
+                              const Work& w) {
+    std::vector<Rect> faces, in;
+    if (knownFaces)
+        faces = *knownFaces;
+    else if (wantsFaces(params))
+        faces = mergeNearFaces(detectFaces(img, params), w.margin * w.scale);
+    for (const Rect& f : faces) {
+        const Point c(std::min(w.size.width - 1, cvFloor((f.x + 0.5 * f.width) / w.scale)),
+                      std::min(w.size.height - 1, cvFloor((f.y + 0.5 * f.height) / w.scale)));
+        if (inside.at<uchar>(c)) in.push_back(f);
+    }
+    return in;
+}
+
+// What the faces inside a polygon become. A face gets its own polygon (facePolygon) when one
+// fits, at its margin or a smaller one, and its anchors inside (faceAnchors) when the budget
+// allows; otherwise it becomes a region like a salient blob, clipped to where a polygon may go
+// (mask, zone), and goes first in the budget.
+struct FacePlan {
+    std::vector<Polygon> polygons;  // placed, input pixels
+    Mat keepOut;                    // work pixels: placed polygons and a band around them
+    Mat mask, zone;                 // the faces that became regions, and where theirs may go
+    std::vector<Point2f> centres;   // of those faces, work pixels
 };
 
-// Faces inside the polygon get a thinner band than salient blobs, so that a face near the
-// outline is still enclosed whole. `knownFaces`: already detected (nullptr: detect here).
-FaceZones faceZones(const Mat& img, const ProposeParams& params,
-                    const std::vector<Rect>* knownFaces, const Mat& inside,
-                    const Mat& insideDistance, const Work& w) {
-    const bool maskInput = params.method == PROPOSE_MASK || params.method == PROPOSE_LABELS;
-    std::vector<Rect> faces;
-    if (!maskInput && params.protect != PROTECT_SALIENCY) {
-        if (knownFaces)
-            faces = *knownFaces;
-        else if (params.protect == PROTECT_FACES || !faceCascadeFile(params).empty())
-            faces = detectFaces(img, params);
-    }
-    const float faceBand = w.margin + 2 * w.gap;
-    FaceZones z;
-    z.mask = Mat(w.size, CV_8U, Scalar(0));
-    z.zone = Mat(w.size, CV_8U, Scalar(0));
+FacePlan placeFaces(const std::vector<Rect>& faces, const Multicage& cage, int polygon,
+                    const ProposeParams& params, const Mat& insideDistance, const Work& w) {
+    const float faceBand = w.margin + 2 * w.gap;  // work pixels, as for blobs but thinner
+    FacePlan plan;
+    plan.keepOut = Mat::zeros(w.size, CV_8U);
+    plan.mask = Mat::zeros(w.size, CV_8U);
+    plan.zone = Mat::zeros(w.size, CV_8U);
+    int budget = params.maxVertices - cage.vertexCount();
+    int slots = params.maxPolygons - cage.polygonCount();
     for (const Rect& f : faces) {
-        const Point2f c((f.x + 0.5f * f.width) * w.size.width / w.full.width,
-                        (f.y + 0.5f * f.height) * w.size.height / w.full.height);
-        const Point ci(std::min(w.size.width - 1, std::max(0, cvFloor(c.x))),
-                       std::min(w.size.height - 1, std::max(0, cvFloor(c.y))));
-        if (!inside.at<uchar>(ci)) continue;
-        fillFace(z.mask, f, w.full, 0.f);
-        fillFace(z.zone, f, w.full, w.margin + 3 * w.gap);
-        z.centres.push_back(c);
+        const int n = std::min({kFaceVertices, params.maxPolygonVertices, budget}) / 4 * 4;
+        if (n < 4 || slots < 1) break;
+        Polygon placed;
+        for (double m : {faceMargin(f), 0.5 * faceMargin(f), 0.0}) {
+            Polygon p = facePolygon(f, m, n);
+            if (faceFits(p, cage, polygon, plan.polygons, faceBand * w.scale)) {
+                placed = std::move(p);
+                break;
+            }
+        }
+        if (!placed.empty()) {
+            plan.polygons.push_back(placed);
+            fillWork(plan.keepOut, facePolygon(f, faceMargin(f) + kFaceKeepOut * faceSize(f), n), w,
+                     Scalar(255));
+            budget -= n, --slots;
+            if (params.faceAnchors && budget >= 4 * kFaceAnchors && slots >= kFaceAnchors) {
+                for (Polygon& a : faceAnchors(f)) plan.polygons.push_back(std::move(a));
+                budget -= 4 * kFaceAnchors, slots -= kFaceAnchors;
+            }
+            continue;
+        }
+        fillWork(plan.mask, facePolygon(f, faceMargin(f), 16), w, Scalar(255));
+        fillWork(plan.zone, facePolygon(f, faceMargin(f) + (w.margin + 3 * w.gap) * w.scale, 16),
+                 w, Scalar(255));
+        plan.centres.emplace_back((f.x + 0.5f * f.width) / w.scale,
+                                  (f.y + 0.5f * f.height) / w.scale);
     }
-    z.mask &= insideDistance > (faceBand + w.margin);
-    z.zone &= insideDistance > faceBand;
-    return z;
+    // Salient polygons keep a band from the faces' polygons.
+    plan.keepOut = distanceTo(~plan.keepOut) <= 2 * w.margin + w.gap;
+    plan.mask &= insideDistance > (faceBand + w.margin);
+    plan.zone &= insideDistance > faceBand;
+    return plan;
 }
 
 // The objects to protect inside the polygon (work size, 255 on objects, not yet cleaned);
@@ -731,7 +845,7 @@ Mat objectsInside(const Mat& img, const ProposeParams& params, const Mat& inside
 
 // The regions around the objects, each limited to `limit`, those with a face first: they get
 // the polygon slots and the budget first.
-std::vector<Region> protectiveRegions(const Mat& objects, const FaceZones& faces, const Mat& limit,
+std::vector<Region> protectiveRegions(const Mat& objects, const FacePlan& faces, const Mat& limit,
                                       const Work& w) {
     Mat cageMask = cageMaskFromObjects(objects, w);
     cageMask &= limit;
@@ -753,27 +867,32 @@ Multicage protectImpl(InputArray image, const Multicage& cage, int polygon,
     checkParams(params);
     const Mat img = image.getMat();
     checkProtectInput(img, cage, polygon);
-    const int budget = params.maxVertices - cage.vertexCount();
-    const int slots = params.maxPolygons - cage.polygonCount();
-    if (budget < kMinPolygonVertices || slots < 1) return cage;
+    if (params.maxVertices - cage.vertexCount() < kMinPolygonVertices ||
+        params.maxPolygons - cage.polygonCount() < 1)
+        return cage;
 
     const Work w = resolve(img.size(), params);
     const Mat inside = protectableArea(cage, polygon, w);
     const Mat insideDistance = distanceTo(inside);
+    const FacePlan faces = placeFaces(facesInside(img, params, knownFaces, inside, w), cage,
+                                      polygon, params, insideDistance, w);
+    Multicage out = cage;  // faces first: the salient features get what is left
+    for (const Polygon& p : faces.polygons) out.addPolygon(p);
+    out.orient();
+    const int budget = params.maxVertices - out.vertexCount();
+    const int slots = params.maxPolygons - out.polygonCount();
+    if (budget < kMinPolygonVertices || slots < 1) return out;
     // A protective polygon keeps a band of two margins to the moved polygon: the band is
     // what absorbs the deformation, and a thin one would fold.
     const float band = 2 * w.margin + w.gap;
-    const Mat allowed = insideDistance > (band + w.margin);
-    if (countNonZero(allowed) == 0) return cage;
-    const FaceZones faces = faceZones(img, params, knownFaces, inside, insideDistance, w);
     Mat objects = objectsInside(img, params, inside, w);
-    if (objects.empty()) return cage;
-    objects &= allowed;
+    if (objects.empty()) return out;
+    objects &= (insideDistance > (band + w.margin)) & ~faces.keepOut;
     objects = cleanMask(objects, w.radius, w.minArea);
     objects |= faces.mask;
-    if (countNonZero(objects) == 0) return cage;
-    const Mat limit = (insideDistance > band) | faces.zone;
-    return addPolygons(cage, protectiveRegions(objects, faces, limit, w), w,
+    if (countNonZero(objects) == 0) return out;
+    const Mat limit = ((insideDistance > band) | faces.zone) & ~faces.keepOut;
+    return addPolygons(out, protectiveRegions(objects, faces, limit, w), w,
                        Budget{slots, budget, params.maxPolygonVertices}, cage.depth(polygon),
                        "protectFeatures", Check::GEOMETRY);
 }

@@ -233,7 +233,17 @@ Mat segmentGrabCut(const Mat& img, const ProposeParams& params, double scale, co
                    params.rect.x, params.rect.y, params.rect.width, params.rect.height));
     Mat labels(small.size(), CV_8U, Scalar(GC_BGD)), bgd, fgd;
     labels(rect).setTo(GC_PR_FGD);
-    grabCut(small, labels, rect, bgd, fgd, params.grabCutIterations, GC_INIT_WITH_MASK);
+    {
+        // GrabCut seeds its colour models with k-means++ from cv::theRNG(): a fixed seed makes
+        // the proposal a function of the image (not of what ran before on this thread), and the
+        // caller's generator is put back as it was.
+        struct SeededRng {
+            RNG saved = theRNG();
+            SeededRng() { theRNG() = RNG(0x6d756c7469636167ULL); }
+            ~SeededRng() { theRNG() = saved; }
+        } seeded;
+        grabCut(small, labels, rect, bgd, fgd, params.grabCutIterations, GC_INIT_WITH_MASK);
+    }
     Mat mask = (labels == GC_FGD) | (labels == GC_PR_FGD);
     if (mask.size() != img.size()) {
         resize(mask, mask, img.size(), 0, 0, INTER_LINEAR);

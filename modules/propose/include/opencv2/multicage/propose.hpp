@@ -43,12 +43,17 @@ enum ProtectDetector {
     PROTECT_SALIENCY = 0,
     /** Faces: frontal and profile (both directions) faces found by cv::CascadeClassifier with
     OpenCV's Haar cascades (Debian package opencv-data), optionally confirmed by an eye inside
-    (ProposeParams::faceEyes). Each face becomes an ellipse-like polygon a margin around it;
-    overlapping detections merge. No cascade file: cv::Exception (StsObjectNotFound) naming
-    the package. No face found: nothing added. */
+    (ProposeParams::faceEyes). Each face becomes a rounded box hugging it (a superellipse a
+    small margin around the detected box), nested in the polygon around it and crossing no
+    other; faces whose polygons would overlap merge. proposeProtectedMulticage() leaves the
+    face two face sizes of room to the outline, so that moving the outline leaves the face a
+    similarity (within 1 px with mean value coordinates, exactly with harmonic ones). No
+    cascade file: cv::Exception (StsObjectNotFound) naming the package. No face found: nothing
+    added. */
     PROTECT_FACES = 1,
-    /** Faces first (they get the budget first), then salient blobs. No cascade installed:
-    salient blobs only, no error (faceCascadeFile() tells). */
+    /** Faces first (they get the budget first), then salient blobs, kept a face size away
+    from the faces' polygons (never around them). No cascade installed: salient blobs only, no
+    error (faceCascadeFile() tells). */
     PROTECT_ALL = 2
 };
 
@@ -85,9 +90,14 @@ struct CV_EXPORTS ProposeParams {
     /** Keep only the faces in which haarcascade_eye.xml finds an eye (fewer false faces,
     misses faces with closed or hidden eyes). */
     bool faceEyes = false;
+    /** A face's polygon also holds four small fixed polygons (anchors, 16 vertices) spread
+    over the face: with mean value coordinates they cut what leaks into the face from a moved
+    outline by about a third. Off: the face's polygon only. */
+    bool faceAnchors = true;
     /** Faces are searched on a copy whose longer side is at most this (0: full size): the
-    cascades' cost grows with area; the smallest face found is 24 pixels of the copy. */
-    int faceWorkingSize = 640;
+    cascades' cost grows with area. The smallest face found is 24 pixels of the copy, 7.5% of
+    the longer side at 320: smaller faces are too small for a polygon of their own anyway. */
+    int faceWorkingSize = 320;
 };
 
 /** Proposes a valid, oriented multicage that encloses the objects of an image.
@@ -144,8 +154,9 @@ CV_EXPORTS Multicage protectFeatures(InputArray image, const Multicage& cage, in
 
 /** Faces in an image, as protectFeatures() with PROTECT_FACES finds them: frontal and
 profile (both directions) detections on a copy at most params.faceWorkingSize wide or high,
-histogram-equalised, optionally confirmed by an eye (params.faceEyes); overlapping detections
-merged into their bounding box. Rectangles in input pixels, largest first. Throws
+histogram-equalised; in a colour image only boxes whose middle is mostly skin-coloured
+(Haar cascades also fire on crowds and clothing); optionally confirmed by an eye
+(params.faceEyes); overlapping detections merged into their bounding box. Rectangles in input pixels, largest first. Throws
 cv::Exception (StsObjectNotFound) when the frontal cascade is not installed: "... install
 the Debian package opencv-data, or set ProposeParams::cascadeDir". */
 CV_EXPORTS std::vector<Rect> detectFaces(InputArray image,
