@@ -80,7 +80,9 @@ struct CV_EXPORTS ProposeParams {
     polygons are scaled back. Segmentation does not need more, and time falls with area. */
     int workingSize = 512;
     Rect rect;  //!< GrabCut's initial rectangle (empty: found automatically)
-    int grabCutIterations = 4;
+    /** GrabCut's iterations. 2: on six photos (docs/propose/README.md) the mask after 2 is
+    the mask after 4 (intersection over union 0.98-1.0), in 25-45% less time. */
+    int grabCutIterations = 2;
     int grabCutMaxSide = 240;  //!< GrabCut's own working size (its cost is per pixel)
     int protect = PROTECT_SALIENCY;  //!< ProtectDetector: what protectFeatures() protects
     /** Folder holding haarcascade_frontalface_alt2.xml, haarcascade_profileface.xml and
