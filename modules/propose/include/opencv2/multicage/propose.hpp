@@ -94,7 +94,7 @@ struct CV_EXPORTS ProposeParams {
     bool faceEyes = false;
     /** A face's polygon also holds four small fixed polygons (anchors, 16 vertices) spread
     over the face: with mean value coordinates they cut what leaks into the face from a moved
-    outline by about a third. Off: the face's polygon only. */
+    outline by a quarter to a third. Off: the face's polygon only. */
     bool faceAnchors = true;
     /** Faces are searched on a copy whose longer side is at most this (0: full size): the
     cascades' cost grows with area. The smallest face found is 24 pixels of the copy, 7.5% of
