@@ -601,7 +601,8 @@ TEST(ProposeFaces, FacePolygonHugsTheFaceHoldsItsAnchorsAndKeepsSalientPolygonsA
                     EXPECT_EQ(cage.depth(p), 3);
                     for (const cv::Point2f& v : q) EXPECT_TRUE(f.contains(cv::Point(v)));
                 } else if (cage.depth(p) == 2) {  // a salient polygon beside the face
-                    EXPECT_GE(boundaryDistance(q, cage.polygon(face)), 0.5 * f.width) << p;
+                    EXPECT_GE(boundaryDistance(q, cage.polygon(face)), 0.25 * (f.width + f.height))
+                        << p;
                 }
             }
             EXPECT_EQ(anchors, 4);

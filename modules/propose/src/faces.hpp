@@ -45,9 +45,9 @@ corners of the mouth are: fixed polygons nested in the face's polygon.
 Why: with mean value coordinates the leak through the face's polygon is zero on the polygon
 and largest far from it, in the middle of the face; four anchors spread over the face leave
 no point of it far from a fixed boundary. Measured (docs/faces/README.md): the face's
-residual falls by a third (astronaut.png 0.87 -> 0.54 px); one central anchor gains 5%, a
-large one loses (it and the face's polygon have opposite orientations, and their weights
-cancel inside it, as with any ring of two nested polygons). Input pixels. */
+residual falls by a quarter to a third (astronaut.png 1.01 -> 0.77 px); one central anchor
+gains 5%, a large one loses (it and the face's polygon have opposite orientations, and their
+weights cancel inside it, as with any ring of two nested polygons). Input pixels. */
 std::vector<std::vector<Point2f>> faceAnchors(const Rect2d& box);
 
 /** Faces whose polygons, grown by `gap` pixels, would overlap are one face: merged into their

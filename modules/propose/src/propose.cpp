@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <cmath>
 #include <deque>
+#include <functional>
 #include <future>
 #include <numeric>
 #include <opencv2/imgproc.hpp>
@@ -17,6 +18,7 @@
 #include <opencv2/multicage/internal/geometry.hpp>
 #include "faces.hpp"
 #include "segment.hpp"
+#include <time.h>
 
 namespace cv {
 namespace multicage {
@@ -525,18 +527,21 @@ enum class Check { VALID, GEOMETRY };
 
 // The tail both proposals share: the regions that fit the budget (in priority order) become
 // polygons, simplified within the budget and repaired against the polygons `cage` already
-// has; those that survive are added to it, and the result is oriented and checked. `depth`:
+// has; those that survive (and that `accept`, when given, accepts) are added to it, and the
+// result is oriented and checked. `depth`:
 // of the polygon the regions sit in (0 for a whole image); `who` names the public function in
 // the error an invalid result raises.
 Multicage addPolygons(Multicage cage, std::vector<Region> found, const Work& w,
-                      const Budget& budget, int depth, const char* who, Check check) {
+                      const Budget& budget, int depth, const char* who, Check check,
+                      const std::function<bool(const Polygon&)>& accept = nullptr) {
     std::vector<Region> regions = selectRegions(std::move(found), budget.polygons, budget.vertices);
     std::vector<Candidate> cs = simplifyAll(regions, w, budget.vertices, budget.polygonVertices);
     std::vector<Polygon> fixed;
     for (int j = 0; j < cage.polygonCount(); ++j) fixed.push_back(cage.polygon(j));
     repair(cs, fixed, w, budget.vertices, budget.polygonVertices, depth);
+    // Dropping polygons from disjoint ones leaves them disjoint: `accept` cannot break them.
     for (const Candidate& c : cs)
-        if (c.alive) cage.addPolygon(c.polygon);
+        if (c.alive && (!accept || accept(c.polygon))) cage.addPolygon(c.polygon);
     cage.orient();
     std::string why;
     if (!(check == Check::VALID ? cage.validate(&why) : cage.validateGeometry(&why)))
@@ -775,7 +780,9 @@ std::vector<Rect> facesInside(const Mat& img, const ProposeParams& params,
 // allows; otherwise it becomes a region like a salient blob, clipped to where a polygon may go
 // (mask, zone), and goes first in the budget.
 struct FacePlan {
-    std::vector<Polygon> polygons;  // placed, input pixels
+    std::vector<Polygon> polygons;  // placed (faces and their anchors), input pixels
+    std::vector<char> isFace;       // per polygon: a face's (not an anchor)
+    std::vector<double> sizes;      // per polygon: its face's size
     Mat keepOut;                    // work pixels: placed polygons and a band around them
     Mat mask, zone;                 // the faces that became regions, and where theirs may go
     std::vector<Point2f> centres;   // of those faces, work pixels
@@ -803,11 +810,15 @@ FacePlan placeFaces(const std::vector<Rect>& faces, const Multicage& cage, int p
         }
         if (!placed.empty()) {
             plan.polygons.push_back(placed);
+            plan.isFace.push_back(1), plan.sizes.push_back(faceSize(f));
             fillWork(plan.keepOut, facePolygon(f, faceMargin(f) + kFaceKeepOut * faceSize(f), n), w,
                      Scalar(255));
             budget -= n, --slots;
             if (params.faceAnchors && budget >= 4 * kFaceAnchors && slots >= kFaceAnchors) {
-                for (Polygon& a : faceAnchors(f)) plan.polygons.push_back(std::move(a));
+                for (Polygon& a : faceAnchors(f)) {
+                    plan.polygons.push_back(std::move(a));
+                    plan.isFace.push_back(0), plan.sizes.push_back(faceSize(f));
+                }
                 budget -= 4 * kFaceAnchors, slots -= kFaceAnchors;
             }
             continue;
@@ -892,9 +903,18 @@ Multicage protectImpl(InputArray image, const Multicage& cage, int polygon,
     objects |= faces.mask;
     if (countNonZero(objects) == 0) return out;
     const Mat limit = ((insideDistance > band) | faces.zone) & ~faces.keepOut;
+    // The mask keeps salient regions a face size from the faces' polygons; what simplifying
+    // or merging brings within half of that is dropped.
+    auto clearOfFaces = [&faces](const Polygon& p) {
+        for (size_t i = 0; i < faces.polygons.size(); ++i)
+            if (faces.isFace[i] && boundaryDistance(p, faces.polygons[i]) <
+                                       0.5 * kFaceKeepOut * faces.sizes[i])
+                return false;
+        return true;
+    };
     return addPolygons(out, protectiveRegions(objects, faces, limit, w), w,
                        Budget{slots, budget, params.maxPolygonVertices}, cage.depth(polygon),
-                       "protectFeatures", Check::GEOMETRY);
+                       "protectFeatures", Check::GEOMETRY, clearOfFaces);
 }
 }  // namespace
 
