@@ -653,6 +653,10 @@ Multicage proposeProtectedMulticage(InputArray image, const ProposeParams& param
     // The face search and the segmentation do not need each other: side by side they take
     // the longer of the two (the cascades on one core, GrabCut on the other).
     std::future<std::vector<Rect>> search;
+    // Without the cascade, PROTECT_FACES fails now (the exception names the package), not
+    // after the segmentation.
+    if (params.protect == PROTECT_FACES && faceCascadeFile(params).empty())
+        detectFaces(img, params);
     if (wantsFaces(params))
         search =
             std::async(std::launch::async, [&img, &params] { return detectFaces(img, params); });
