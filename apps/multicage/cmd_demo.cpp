@@ -69,15 +69,16 @@ std::vector<cv::Point2f> stretchInside(const cv::multicage::Multicage& cage, int
 }
 
 void printProposal(const cv::multicage::Multicage& cage, double ms, const char* what) {
-    std::cout << "  proposed a multicage in " << cvRound(ms) << " ms: "
-              << plural(cage.polygonCount(), "polygon") << ", "
+    std::cout << "  proposed a multicage in " << cvRound(ms)
+              << " ms: " << plural(cage.polygonCount(), "polygon") << ", "
               << plural(cage.vertexCount(), "vertex", "vertices") << " (" << what << ")\n";
 }
 
 Scene butterflyScene() {
     using namespace cv::multicage;
     Scene s{"butterfly.jpg", decodeEmbeddedImage("butterfly.jpg"), {}, {}, 2};
-    std::cout << "multicage demo: " << s.name << " (" << s.image.cols << "x" << s.image.rows << ")\n";
+    std::cout << "multicage demo: " << s.name << " (" << s.image.cols << "x" << s.image.rows
+              << ")\n";
     // The multicage is proposed from the image: an outer polygon around the butterfly, then
     // inner polygons protecting the salient features inside it.
     const auto t = std::chrono::steady_clock::now();
@@ -102,20 +103,20 @@ int outlineAround(const cv::multicage::Multicage& cage, const cv::Rect& face) {
 Scene facesScene() {
     using namespace cv::multicage;
     Scene s{"messi5.jpg", decodeEmbeddedImage("messi5.jpg"), {}, {}, 1};  // thin: a small face
-    std::cout << "multicage demo --faces: " << s.name << " (" << s.image.cols << "x"
-              << s.image.rows << ")\n";
+    std::cout << "multicage demo --faces: " << s.name << " (" << s.image.cols << "x" << s.image.rows
+              << ")\n";
     ProposeParams params;
     params.protect = PROTECT_FACES;  // the face only: the rest of the body takes the stretch
     if (faceCascadeFile(params).empty())
         throw Failure(std::string("demo --faces needs OpenCV's face cascades (") +
-                      MULTICAGE_DEBIAN_CASCADE_DIR +
-                      "): install the Debian package opencv-data");
+                      MULTICAGE_DEBIAN_CASCADE_DIR + "): install the Debian package opencv-data");
     const auto t = std::chrono::steady_clock::now();
     s.cage = proposeProtectedMulticage(s.image, params, &s.faces);
     if (s.faces.empty()) throw Failure("no face found in the demo image " + s.name);
     const int outline = outlineAround(s.cage, s.faces[0]);
     if (outline < 0) throw Failure("internal error: the face has no outline around it");
-    printProposal(s.cage, msSince(t), "an outline around the player, a rounded box hugging the face");
+    printProposal(s.cage, msSince(t),
+                  "an outline around the player, a rounded box hugging the face");
     // The pose: the body's outline stretched 20% wider about its centre; the face's polygon
     // stays at rest.
     s.cage.addPose("stretch", stretchInside(s.cage, outline, 1.2f, 1.0f), 1.0);
@@ -127,7 +128,8 @@ Scene facesScene() {
 double similarityResidual(const std::vector<cv::Point2f>& rest,
                           const std::vector<cv::Point2f>& moved) {
     cv::Point2d cp(0, 0), cq(0, 0);
-    for (size_t i = 0; i < rest.size(); ++i) cp += cv::Point2d(rest[i]), cq += cv::Point2d(moved[i]);
+    for (size_t i = 0; i < rest.size(); ++i)
+        cp += cv::Point2d(rest[i]), cq += cv::Point2d(moved[i]);
     cp *= 1.0 / rest.size(), cq *= 1.0 / rest.size();
     double a = 0, b = 0, n = 0;
     for (size_t i = 0; i < rest.size(); ++i) {
@@ -159,10 +161,11 @@ void printFaceResiduals(const Scene& s, const cv::multicage::Binding& binding,
                 after.push_back(moved.at<cv::Point2f>(gy, gx));
             }
         if (rest.size() < 3) continue;
-        std::printf("  face at %d,%d (%dx%d) stays a face: %.2f px from a similarity "
-                    "(%s coordinates)\n",
-                    f.x, f.y, f.width, f.height, similarityResidual(rest, after),
-                    cv::multicage::coordinateTypeDescription(binding.coordinates));
+        std::printf(
+            "  face at %d,%d (%dx%d) stays a face: %.2f px from a similarity "
+            "(%s coordinates)\n",
+            f.x, f.y, f.width, f.height, similarityResidual(rest, after),
+            cv::multicage::coordinateTypeDescription(binding.coordinates));
     }
     std::fflush(stdout);
 }
@@ -176,9 +179,11 @@ void writeOutputs(const std::string& dir, const Scene& s, const cv::Mat& deforme
     s.cage.posed(pose.vertices).draw(posed, s.lineWidth);
     cv::Mat sideBySide;
     cv::hconcat(overlay, posed, sideBySide);
-    const std::vector<std::pair<std::string, cv::Mat>> outputs = {
-        {"input.png", s.image}, {"overlay.png", overlay}, {"deformed.png", deformed},
-        {"deformed_overlay.png", posed}, {"side_by_side.png", sideBySide}};
+    const std::vector<std::pair<std::string, cv::Mat>> outputs = {{"input.png", s.image},
+                                                                  {"overlay.png", overlay},
+                                                                  {"deformed.png", deformed},
+                                                                  {"deformed_overlay.png", posed},
+                                                                  {"side_by_side.png", sideBySide}};
     for (const auto& [name, img] : outputs) imwriteAtomic((fs::path(dir) / name).string(), img);
     s.cage.save((fs::path(dir) / "cage.yml").string());
     std::cout << "  wrote " << dir << "/{input,overlay,deformed,deformed_overlay,side_by_side}.png"
@@ -188,8 +193,9 @@ void writeOutputs(const std::string& dir, const Scene& s, const cv::Mat& deforme
 
 void runDemo(const DemoOptions& o) {
     using namespace cv::multicage;
-    const std::string dir =
-        !o.outDir.empty() ? o.outDir : o.faces ? "multicage-demo-faces" : "multicage-demo";
+    const std::string dir = !o.outDir.empty() ? o.outDir
+                            : o.faces         ? "multicage-demo-faces"
+                                              : "multicage-demo";
     std::filesystem::create_directories(dir);
     const Scene s = o.faces ? facesScene() : butterflyScene();
     std::string stepChange;

@@ -644,6 +644,39 @@ TEST(ProposeFaces, CloseFacesNeverGetCrossingPolygons) {
     }
 }
 
+// protectFeatures on a user's cage: a face with room gets its polygon and anchors; a face
+// its polygon cannot fit around (the user's polygon hugs the face) still gets a valid inner
+// polygon, clipped to where one may go, and never one crossing the user's.
+TEST(ProposeFaces, ProtectFeaturesFitsTheFaceInTheUsersPolygon) {
+    if (!haveCascades()) GTEST_SKIP() << "opencv-data is not installed";
+    const cv::Mat image = readFacePhoto("astronaut.png");
+    const std::vector<cv::Rect> faces = detectFaces(image);
+    ASSERT_EQ(faces.size(), 1u);
+    const cv::Rect f = faces[0];
+    for (int room : {80, 6}) {
+        SCOPED_TRACE(room);
+        const cv::Rect r = cv::Rect(f.x - room, f.y - room, f.width + 2 * room, f.height + 2 * room) &
+                           cv::Rect(2, 2, image.cols - 4, image.rows - 4);
+        Multicage cage(image.size());
+        cage.addPolygon(std::vector<cv::Point2f>{cv::Point2f(r.x, r.y), cv::Point2f(r.br().x, r.y),
+                                                 cv::Point2f(r.br().x, r.br().y),
+                                                 cv::Point2f(r.x, r.br().y)});
+        cage.orient();
+        const Multicage out = protectFeatures(image, cage, 0, facesParams(PROTECT_FACES));
+        std::cout << "[ faces    ] user polygon " << room << " px around the face: "
+                  << out.polygonCount() - 1 << " inner polygon(s)\n";
+        std::string why;
+        ASSERT_TRUE(out.validate(&why)) << why;
+        EXPECT_EQ(out.polygon(0), cage.polygon(0));
+        ASSERT_GE(out.polygonCount(), 2);
+        for (int p = 1; p < out.polygonCount(); ++p) EXPECT_GE(out.depth(p), 2);
+        if (room == 80) {
+            EXPECT_EQ(out.polygonCount(), 1 + 1 + 4) << "the face's polygon and its anchors";
+            EXPECT_TRUE(rectInside(f, out.polygon(1)));
+        }
+    }
+}
+
 TEST(ProposeFaces, MissingCascadeIsAnExceptionNamingThePackage) {
     ProposeParams params = facesParams(PROTECT_FACES);
     params.cascadeDir = "/nonexistent/cascades";

@@ -44,7 +44,7 @@ std::string findCascade(const ProposeParams& params, const char* name) {
 // and kept (a second one is loaded only when two searches overlap, as the profile cascade's
 // two directions do).
 class CascadePool {
-public:
+  public:
     explicit CascadePool(std::string path) : path_(std::move(path)) {}
 
     std::unique_ptr<CascadeClassifier> borrow() {
@@ -69,7 +69,7 @@ public:
         idle_.push_back(std::move(c));
     }
 
-private:
+  private:
     const std::string path_;
     std::mutex mutex_;
     std::vector<std::unique_ptr<CascadeClassifier>> idle_;
@@ -82,11 +82,12 @@ CascadePool* cascade(const ProposeParams& params, const char* name, bool require
     const std::string path = findCascade(params, name);
     if (path.empty()) {
         if (!required) return nullptr;
-        CV_Error_(Error::StsObjectNotFound,
-                  ("multicage: no face cascade %s in %s: the Debian package opencv-data "
-                   "provides it (apt-get install opencv-data), or set the cascade folder",
-                   name, params.cascadeDir.empty() ? MULTICAGE_DEBIAN_CASCADE_DIR
-                                                   : params.cascadeDir.c_str()));
+        CV_Error_(
+            Error::StsObjectNotFound,
+            ("multicage: no face cascade %s in %s: the Debian package opencv-data "
+             "provides it (apt-get install opencv-data), or set the cascade folder",
+             name,
+             params.cascadeDir.empty() ? MULTICAGE_DEBIAN_CASCADE_DIR : params.cascadeDir.c_str()));
     }
     std::lock_guard<std::mutex> lock(mutex);
     std::unique_ptr<CascadePool>& pool = pools[path];
@@ -128,10 +129,9 @@ bool hasColour(const Mat& ycrcb) {
 // cascades also fire on crowds and clothing: on messi5.jpg a 78x78 box on the shoulder has
 // 10% skin in its middle, the face 99%.
 bool skinInMiddle(const Mat& ycrcb, const Rect& box) {
-    const Rect middle =
-        Rect(box.x + box.width / 4, box.y + box.height / 4, std::max(1, box.width / 2),
-             std::max(1, box.height / 2)) &
-        Rect(Point(), ycrcb.size());
+    const Rect middle = Rect(box.x + box.width / 4, box.y + box.height / 4,
+                             std::max(1, box.width / 2), std::max(1, box.height / 2)) &
+                        Rect(Point(), ycrcb.size());
     if (middle.empty()) return false;
     int skin = 0;
     for (int y = middle.y; y < middle.br().y; ++y) {
@@ -180,7 +180,9 @@ std::vector<Rect> withEyes(const ProposeParams& params, const std::vector<Rect>&
 
 }  // namespace
 
-String faceCascadeFile(const ProposeParams& params) { return findCascade(params, kFrontal); }
+String faceCascadeFile(const ProposeParams& params) {
+    return findCascade(params, kFrontal);
+}
 
 std::vector<Rect> detectFaces(InputArray image, const ProposeParams& params) {
     const Mat img = image.getMat();
@@ -257,7 +259,9 @@ std::vector<Point2f> facePolygon(const Rect2d& box, double margin, int vertices)
     const double a = k * 0.5 * box.width + margin, b = k * 0.5 * box.height + margin;
     const Point2d c(box.x + 0.5 * box.width - 0.5, box.y + 0.5 * box.height - 0.5);
     const double phase = std::fmod(vertices / 8.0, 1.0);  // i + phase = n / 8 lands on 45 degrees
-    auto along = [](double cs) { return std::copysign(std::pow(std::abs(cs), 2.0 / kFaceExponent), cs); };
+    auto along = [](double cs) {
+        return std::copysign(std::pow(std::abs(cs), 2.0 / kFaceExponent), cs);
+    };
     std::vector<Point2f> p;
     for (int i = 0; i < vertices; ++i) {
         const double t = 2 * CV_PI * (i + phase) / vertices;

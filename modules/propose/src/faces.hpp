@@ -14,7 +14,9 @@ not on how finely the shape is cut: see facePolygon). */
 constexpr int kFaceVertices = 12;
 
 /** A face's size: the mean of its box's sides. */
-inline double faceSize(const Rect& face) { return 0.5 * (face.width + face.height); }
+inline double faceSize(const Rect& face) {
+    return 0.5 * (face.width + face.height);
+}
 
 /** Distance in input pixels from a face's box corners to its polygon: 2% of the box's longer
 side, at least 2 px. Along the sides the polygon bulges further out (9% of the half side). */

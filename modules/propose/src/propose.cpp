@@ -18,7 +18,6 @@
 #include <opencv2/multicage/internal/geometry.hpp>
 #include "faces.hpp"
 #include "segment.hpp"
-#include <time.h>
 
 namespace cv {
 namespace multicage {
@@ -592,7 +591,9 @@ void fillWork(Mat& mask, const Polygon& p, const Work& w, const Scalar& value) {
 // the outline stretched 20% the face's similarity residual is 1.0-1.6 px at 0.6 face sizes of
 // room, 0.5-1.1 px at 1.5 and 0.45-0.9 px at 2 (less where the image border stops the room).
 // The room is a rounded box too: the outline then keeps its distance at the face's corners.
-double faceRoom(const Rect& face) { return kFaceRoom * faceSize(face); }
+double faceRoom(const Rect& face) {
+    return kFaceRoom * faceSize(face);
+}
 
 // The outlines of a segmentation (proposeMulticage's tail). Every face in `faces` is enclosed
 // with its polygon's room: the outline goes around it.
@@ -652,8 +653,13 @@ Multicage proposeProtectedMulticage(InputArray image, const ProposeParams& param
     // The face search and the segmentation do not need each other: side by side they take
     // the longer of the two (the cascades on one core, GrabCut on the other).
     std::future<std::vector<Rect>> search;
+    // Without the cascade, PROTECT_FACES fails now (the exception names the package), not
+    // after the segmentation.
+    if (params.protect == PROTECT_FACES && faceCascadeFile(params).empty())
+        detectFaces(img, params);
     if (wantsFaces(params))
-        search = std::async(std::launch::async, [&img, &params] { return detectFaces(img, params); });
+        search =
+            std::async(std::launch::async, [&img, &params] { return detectFaces(img, params); });
     const Work w = resolve(img.size(), params);
     Segmentation s = segmentForProposal(img, w, params);
     const std::vector<Rect> faces =
@@ -824,8 +830,8 @@ FacePlan placeFaces(const std::vector<Rect>& faces, const Multicage& cage, int p
             continue;
         }
         fillWork(plan.mask, facePolygon(f, faceMargin(f), 16), w, Scalar(255));
-        fillWork(plan.zone, facePolygon(f, faceMargin(f) + (w.margin + 3 * w.gap) * w.scale, 16),
-                 w, Scalar(255));
+        fillWork(plan.zone, facePolygon(f, faceMargin(f) + (w.margin + 3 * w.gap) * w.scale, 16), w,
+                 Scalar(255));
         plan.centres.emplace_back((f.x + 0.5f * f.width) / w.scale,
                                   (f.y + 0.5f * f.height) / w.scale);
     }
@@ -907,8 +913,8 @@ Multicage protectImpl(InputArray image, const Multicage& cage, int polygon,
     // or merging brings within half of that is dropped.
     auto clearOfFaces = [&faces](const Polygon& p) {
         for (size_t i = 0; i < faces.polygons.size(); ++i)
-            if (faces.isFace[i] && boundaryDistance(p, faces.polygons[i]) <
-                                       0.5 * kFaceKeepOut * faces.sizes[i])
+            if (faces.isFace[i] &&
+                boundaryDistance(p, faces.polygons[i]) < 0.5 * kFaceKeepOut * faces.sizes[i])
                 return false;
         return true;
     };
