@@ -1,6 +1,6 @@
-"""Fixtures for the Python module's tests. Run by ctest (Python.Pytest), which sets
-PYTHONPATH to the module in the build tree and MULTICAGE_CLI to the `multicage` tool built
-beside it; run by hand: PYTHONPATH=<build>/python MULTICAGE_CLI=<build>/bin/multicage
+"""Fixtures for the Python module's tests. Run by ctest (one test per file: Python.test_api,
+...), which sets PYTHONPATH to the module in the build tree and MULTICAGE_CLI to the
+`multicage` tool built beside it; run by hand: PYTHONPATH=<build>/python MULTICAGE_CLI=<build>/bin/multicage
 /usr/bin/python3 -m pytest -q tests/python"""
 
 import os
