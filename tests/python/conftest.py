@@ -26,7 +26,7 @@ def cli():
         pytest.skip("MULTICAGE_CLI is not set to the built multicage tool")
 
     def run(*args):
-        r = subprocess.run([path, *map(str, args)], capture_output=True, text=True, timeout=120)
+        r = subprocess.run([path, *map(str, args)], capture_output=True, text=True, timeout=600)
         assert r.returncode == 0, f"multicage {' '.join(map(str, args))} failed:\n{r.stderr}"
         return r
 
