@@ -6,7 +6,7 @@ HxWx3 BGR or HxWx4 BGRA), points are Nx2 arrays of (x, y) with pixel (x, y) at i
 sizes are (width, height).
 
     import cv2, multicage
-    image = cv2.imread("samples/data/butterfly.jpg")     # paths from the source folder
+    image = multicage.imread("samples/data/butterfly.jpg")  # paths from the source folder
     cage = multicage.propose_multicage(image)            # or Multicage.load("samples/butterfly.yml")
     deformer = multicage.Deformer(image, cage, backend="cpu")
     pose = cage.rest_pose(); pose[:, 1] -= 10            # move every vertex up 10 px
@@ -24,6 +24,10 @@ Deformer pickle (multiprocessing, Dask). For augmentation: random_pose(cage, amp
 draws valid random poses, Deformer.transform_points moves keypoints with the image, and
 Deformer.deform(pose, image=...) and Deformer.deform_many deform other images of the same size
 with one binding.
+
+imread(path) reads an image as the CLI does: a truncated JPEG or PNG, an empty file or one
+that is not an image raises multicage.Error naming the file (cv2.imread decodes a cut file
+with a warning, or returns None).
 
 Errors reported by the library raise multicage.Error (a ValueError) with the library's
 message; wrong array types raise TypeError, wrong shapes ValueError. The GIL is released
@@ -109,6 +113,7 @@ from ._multicage import (
     bind,
     deform_image,
     gpu_available,
+    imread,
     mean_value_coordinates,
     propose_defaults,
     propose_multicage,
@@ -133,6 +138,7 @@ __all__ = [
     "bind",
     "deform_image",
     "gpu_available",
+    "imread",
     "mean_value_coordinates",
     "propose_defaults",
     "propose_multicage",
