@@ -107,6 +107,7 @@ from ._multicage import (
     __version__,
     auto_backend,
     bind,
+    content_aware_resize,
     deform_image,
     gpu_available,
     mean_value_coordinates,
@@ -115,6 +116,7 @@ from ._multicage import (
     propose_segmentation,
     protect_features,
     random_pose,
+    resize_pose,
     validate_pose,
 )
 
@@ -131,6 +133,7 @@ __all__ = [
     "ProposeMethod",
     "auto_backend",
     "bind",
+    "content_aware_resize",
     "deform_image",
     "gpu_available",
     "mean_value_coordinates",
@@ -139,5 +142,6 @@ __all__ = [
     "propose_segmentation",
     "protect_features",
     "random_pose",
+    "resize_pose",
     "validate_pose",
 ]

@@ -98,6 +98,7 @@ void defineCoordinates(py::module_& m);  // binding_py.cpp: mean_value_coordinat
 void defineProposal(py::module_& m);     // propose_py.cpp
 void defineAugment(py::module_& m);      // augment_py.cpp: random_pose(), validate_pose()
 void defineGpu(py::module_& m);          // gpu_py.cpp: gpu_available(), auto_backend()
+void defineResize(py::module_& m);       // resize_py.cpp: resize_pose(), content_aware_resize()
 
 }  // namespace multicage_py
 

@@ -80,4 +80,5 @@ PYBIND11_MODULE(_multicage, m) {
     defineProposal(m);
     defineAugment(m);
     defineGpu(m);
+    defineResize(m);
 }
