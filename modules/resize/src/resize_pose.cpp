@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <functional>
 
 namespace cv {
 namespace multicage {
@@ -104,17 +105,41 @@ Point2f frameScaling(Point2f p, Size image, Size target) {
                    float((p.y + 0.5) * target.height / image.height - 0.5));
 }
 
-bool validPose(const Multicage& cage, const std::vector<Point2f>& pose, Size target, const Binding& binding) {
+bool validGeometry(const Multicage& cage, const std::vector<Point2f>& pose, Size target) {
     Multicage moved(target);
     for (int i = 0; i < cage.polygonCount(); ++i) {
         const int begin = cage.polygonOffset(i), n = static_cast<int>(cage.polygon(i).size());
         moved.addPolygon(std::vector<Point2f>(pose.begin() + begin, pose.begin() + begin + n));
     }
-    if (!moved.validateGeometry()) return false;
-    Mat positions;
-    binding.apply(pose, positions);
-    return countFoldedTriangles(positions, binding.nodes()) == 0;
+    return moved.validateGeometry();
 }
+
+/** The poses blend(t) of one stage, t in [0, 1], checked cheaply: a pose is affine in t, and so
+are the node positions (Binding::apply is linear in the pose), so the mesh at any t is
+P0 + t (P1 - P0) from two applies. */
+class BlendCheck {
+  public:
+    BlendCheck(const Multicage& cage, const Binding& binding, Size target,
+               std::function<std::vector<Point2f>(double)> blend)
+        : cage_(cage), binding_(binding), target_(target), blend_(std::move(blend)) {
+        binding.apply(blend_(0), p0_);
+        binding.apply(blend_(1), p1_);
+        subtract(p1_, p0_, p1_);  // the change from t = 0 to t = 1
+        rest_ = binding.nodes();
+    }
+    bool valid(double t) {
+        if (!validGeometry(cage_, blend_(t), target_)) return false;
+        scaleAdd(p1_, t, p0_, at_);
+        return countFoldedTriangles(at_, rest_) == 0;
+    }
+
+  private:
+    const Multicage& cage_;
+    const Binding& binding_;
+    Size target_;
+    std::function<std::vector<Point2f>(double)> blend_;
+    Mat p0_, p1_, at_, rest_;
+};
 
 }  // namespace
 
@@ -199,16 +224,29 @@ std::vector<Point2f> resizePose(const Multicage& cage, const Binding& binding, S
         }
         return pose;
     };
-    if (validPose(cage, similar, newSize, binding)) return similar;
+    // The similarities as they are, when they fold nothing and cross nothing (one apply here;
+    // the stages below two each).
+    if (validGeometry(cage, similar, newSize)) {
+        Mat positions;
+        binding.apply(similar, positions);
+        if (countFoldedTriangles(positions, binding.nodes()) == 0) return similar;
+    }
     // Subjects that would cross, or a fold: the least blend towards the frame's scaling that is
     // valid, outlines first (what they protect keeps its shape), then everything (t = 0 of
     // stage 2 is the frame's scaling itself: always valid). Bisection to 1/256.
     for (bool whole : {false, true}) {
-        if (!whole && !validPose(cage, blend(0, false), newSize, binding)) continue;
+        BlendCheck check(cage, binding, newSize, [&](double t) { return blend(t, whole); });
+        if (!whole && !check.valid(0)) continue;
         double good = 0, bad = 1;
         for (int it = 0; it < 8; ++it) {
             const double t = 0.5 * (good + bad);
-            (validPose(cage, blend(t, whole), newSize, binding) ? good : bad) = t;
+            (check.valid(t) ? good : bad) = t;
+        }
+        // The mesh at `good` was found by interpolating positions; rounding may differ by an
+        // ulp from apply() itself: confirm, stepping back where a near-flat triangle flips.
+        for (Mat positions; good > 0; good = std::max(0.0, good - 1.0 / 256)) {
+            binding.apply(blend(good, whole), positions);
+            if (countFoldedTriangles(positions, binding.nodes()) == 0) break;
         }
         CV_LOG_INFO(nullptr, "multicage: resize: subjects would cross or the mesh fold; "
                                  << (whole ? "the pose" : "the outlines") << " go " << good
