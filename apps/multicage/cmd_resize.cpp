@@ -1,10 +1,9 @@
 // multicage resize IMAGE -o OUT --size WxH: content-aware resizing (docs/resize/README.md).
-#include <iostream>
 #include <filesystem>
-#include <regex>
-
+#include <iostream>
 #include <opencv2/imgproc.hpp>
 #include <opencv2/multicage/resize.hpp>
+#include <regex>
 
 #include "cli_util.hpp"
 
@@ -35,10 +34,13 @@ double parseAspect(const std::string& text) {
         number(R"(\s*(\d+(?:\.\d+)?)\s*)");
     std::smatch m;
     double a = 0;
-    if (std::regex_match(text, m, ratio)) a = std::stod(m[1]) / std::max(1e-12, std::stod(m[2]));
-    else if (std::regex_match(text, m, number)) a = std::stod(m[1]);
+    if (std::regex_match(text, m, ratio))
+        a = std::stod(m[1]) / std::max(1e-12, std::stod(m[2]));
+    else if (std::regex_match(text, m, number))
+        a = std::stod(m[1]);
     if (!(a > 0) || !std::isfinite(a))
-        throw Failure("--aspect: '" + text + "' is not a ratio W:H (e.g. 16:9) or a number (e.g. 1.78)");
+        throw Failure("--aspect: '" + text +
+                      "' is not a ratio W:H (e.g. 16:9) or a number (e.g. 1.78)");
     return a;
 }
 
@@ -54,9 +56,11 @@ std::vector<cv::Size> targetSizes(const ResizeCommandOptions& o, cv::Size image)
         sizes.push_back(cv::Size(std::max(1, cvRound(a * image.height)), image.height));
     } else if (oneSide) {
         // A side not given keeps the image's: --width 1536 widens, --height narrows the other way.
-        sizes.push_back(cv::Size(o.width > 0 ? o.width : image.width, o.height > 0 ? o.height : image.height));
+        sizes.push_back(
+            cv::Size(o.width > 0 ? o.width : image.width, o.height > 0 ? o.height : image.height));
     }
-    if (sizes.empty()) throw Failure("no target size: give --size WxH (or --width, --height, --aspect)");
+    if (sizes.empty())
+        throw Failure("no target size: give --size WxH (or --width, --height, --aspect)");
     return sizes;
 }
 
@@ -69,8 +73,8 @@ std::string outputFor(const std::string& output, cv::Size size, bool several) {
 }
 
 // The cage at rest on the image, and resized on the output, side by side.
-cv::Mat overlayPicture(const cv::Mat& image, const cv::multicage::Multicage& cage, const cv::Mat& out,
-                       const std::vector<cv::Point2f>& pose) {
+cv::Mat overlayPicture(const cv::Mat& image, const cv::multicage::Multicage& cage,
+                       const cv::Mat& out, const std::vector<cv::Point2f>& pose) {
     using namespace cv::multicage;
     auto bgr = [](const cv::Mat& m) {
         cv::Mat c;
@@ -101,7 +105,8 @@ void runResize(const ResizeCommandOptions& o) {
     ResizeParams rp;
     if (!o.protect.empty()) {
         rp.protect = parseProtectDetector(o.protect);
-        if (rp.protect < 0) throw Failure("--protect: '" + o.protect + "' is not saliency, faces or all");
+        if (rp.protect < 0)
+            throw Failure("--protect: '" + o.protect + "' is not saliency, faces or all");
     }
     // Every size and output checked before any work: a bad one writes nothing.
     const std::vector<cv::Size> sizes = targetSizes(o, image.size());
@@ -109,7 +114,8 @@ void runResize(const ResizeCommandOptions& o) {
         try {
             checkResizeSize(image.size(), s, rp.maxScale);
         } catch (const cv::Exception& e) {
-            throw Failure(e.err.substr(e.err.find("resize: ") == std::string::npos ? 0 : e.err.find("resize: ") + 8));
+            throw Failure(e.err.substr(
+                e.err.find("resize: ") == std::string::npos ? 0 : e.err.find("resize: ") + 8));
         }
         checkImageOutput(outputFor(o.output, s, sizes.size() > 1));
     }
@@ -136,12 +142,16 @@ void runResize(const ResizeCommandOptions& o) {
     const Binding& binding = deformer->binding();
     const double bindMs = msSince(tb);
     if (!o.quiet)
-        std::cout << "multicage resize: " << o.image << " " << image.cols << "x" << image.rows << ", "
-                  << (o.cage.empty() ? "proposed multicage (" + std::to_string(cvRound(proposeMs)) + " ms)" : o.cage)
-                  << ": " << plural(cage.polygonCount(), "polygon") << ", " << plural(cage.vertexCount(), "vertex", "vertices")
-                  << "; " << coordinateTypeDescription(binding.coordinates) << " coordinates, grid step " << binding.gridStep
-                  << (stepChange.empty() ? "" : " (" + stepChange + ")") << ", bind " << cvRound(bindMs) << " ms"
-                  << std::endl;
+        std::cout << "multicage resize: " << o.image << " " << image.cols << "x" << image.rows
+                  << ", "
+                  << (o.cage.empty()
+                          ? "proposed multicage (" + std::to_string(cvRound(proposeMs)) + " ms)"
+                          : o.cage)
+                  << ": " << plural(cage.polygonCount(), "polygon") << ", "
+                  << plural(cage.vertexCount(), "vertex", "vertices") << "; "
+                  << coordinateTypeDescription(binding.coordinates) << " coordinates, grid step "
+                  << binding.gridStep << (stepChange.empty() ? "" : " (" + stepChange + ")")
+                  << ", bind " << cvRound(bindMs) << " ms" << std::endl;
     for (size_t k = 0; k < sizes.size(); ++k) {
         const auto ts = std::chrono::steady_clock::now();
         const std::vector<cv::Point2f> pose = resizePose(cage, binding, sizes[k], rp);
@@ -150,11 +160,13 @@ void runResize(const ResizeCommandOptions& o) {
         const double ms = msSince(ts);
         const std::string path = outputFor(o.output, sizes[k], sizes.size() > 1);
         writeImage("resize", path, out);
-        if (k == 0 && !o.overlay.empty()) writeImage("resize", o.overlay, overlayPicture(image, cage, out, pose));
+        if (k == 0 && !o.overlay.empty())
+            writeImage("resize", o.overlay, overlayPicture(image, cage, out, pose));
         std::cout << "wrote " << path << " (" << out.cols << "x" << out.rows << ", pose and deform "
                   << cvRound(ms) << " ms, " << backendName(deformer->backend()) << ")" << std::endl;
     }
-    if (!o.overlay.empty()) std::cout << "wrote " << o.overlay << " (the cage at rest and resized)" << std::endl;
+    if (!o.overlay.empty())
+        std::cout << "wrote " << o.overlay << " (the cage at rest and resized)" << std::endl;
     if (!o.quiet) std::cout << "total " << cvRound(msSince(t0)) << " ms" << std::endl;
 }
 }  // namespace
@@ -166,24 +178,33 @@ void addResizeCommand(CLI::App& app) {
         "Resize IMAGE to another size or aspect ratio keeping faces and subjects in shape "
         "(content-aware resizing).\n"
         "The image is bound once to a multicage (proposed: an outline around each subject, inner "
-        "polygons around faces and features; or --cage), then each size is one pose: the frame goes "
-        "to the new frame, each subject and what it holds moves by a similarity (it keeps its size in "
+        "polygons around faces and features; or --cage), then each size is one pose: the frame "
+        "goes "
+        "to the new frame, each subject and what it holds moves by a similarity (it keeps its size "
+        "in "
         "pixels where the new frame allows), and the background absorbs the aspect change. Several "
         "--size bind once and write OUT_WxH.ext each.\n"
         "Examples:\n"
         "  multicage resize photo.jpg -o wide.png --aspect 16:9\n"
-        "  multicage resize photo.jpg -o out.png --size 1536x768 --size 717x768 --overlay cage.png");
+        "  multicage resize photo.jpg -o out.png --size 1536x768 --size 717x768 --overlay "
+        "cage.png");
     cmd->add_option("IMAGE", o->image, "Input image")->required()->check(CLI::ExistingFile);
-    cmd->add_option("-o,--output", o->output, "Output image (with several sizes: OUT_WxH.ext each)")->required();
+    cmd->add_option("-o,--output", o->output, "Output image (with several sizes: OUT_WxH.ext each)")
+        ->required();
     cmd->add_option("--size", o->sizes, "Target size WxH; repeat for several sizes (one binding)");
-    cmd->add_option("--width", o->width, "Target width (the height stays, unless --height)")->check(wholeNumber(1, 1 << 20));
-    cmd->add_option("--height", o->height, "Target height (the width stays, unless --width)")->check(wholeNumber(1, 1 << 20));
+    cmd->add_option("--width", o->width, "Target width (the height stays, unless --height)")
+        ->check(wholeNumber(1, 1 << 20));
+    cmd->add_option("--height", o->height, "Target height (the width stays, unless --width)")
+        ->check(wholeNumber(1, 1 << 20));
     cmd->add_option("--aspect", o->aspect, "Target aspect ratio W:H (e.g. 16:9); the height stays");
-    cmd->add_option("--cage", o->cage, "Multicage file to use instead of the proposal (scaled to the image)")
+    cmd->add_option("--cage", o->cage,
+                    "Multicage file to use instead of the proposal (scaled to the image)")
         ->check(CLI::ExistingFile);
-    cmd->add_option("--overlay", o->overlay, "Also write the cage at rest and resized, side by side (first size)");
+    cmd->add_option("--overlay", o->overlay,
+                    "Also write the cage at rest and resized, side by side (first size)");
     cmd->add_option("--protect", o->protect,
-                    "What the proposal protects inside each outline: saliency, faces or all (default: the proposal's)");
+                    "What the proposal protects inside each outline: saliency, faces or all "
+                    "(default: the proposal's)");
     addDeformOptions(cmd, o->deform);
     cmd->add_flag("-q,--quiet", o->quiet, "Print only the files written");
     cmd->callback([o]() { runResize(*o); });

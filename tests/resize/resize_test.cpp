@@ -1,12 +1,11 @@
 // Content-aware resizing (issue 25): outputs of another size, the resize pose, faces, bad input.
-#include <opencv2/imgcodecs.hpp>
-#include <opencv2/imgproc.hpp>
-#include <opencv2/multicage/resize.hpp>
-
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+#include <opencv2/multicage/resize.hpp>
 
 #include "testing.hpp"
 
@@ -18,7 +17,8 @@ namespace {
 // The sizes a user asks for most: wider (16:9 from 4:3), narrower, both sides, a thumbnail.
 std::vector<cv::Size> targetsFor(cv::Size s) {
     return {cv::Size(cvRound(1.5 * s.width), s.height), cv::Size(cvRound(0.7 * s.width), s.height),
-            cv::Size(s.width, cvRound(1.3 * s.height)), cv::Size(cvRound(0.5 * s.width), cvRound(0.4 * s.height)),
+            cv::Size(s.width, cvRound(1.3 * s.height)),
+            cv::Size(cvRound(0.5 * s.width), cvRound(0.4 * s.height)),
             cv::Size(cvRound(2.0 * s.width), cvRound(1.2 * s.height))};
 }
 
@@ -35,7 +35,8 @@ Multicage movedCage(const Multicage& cage, const std::vector<cv::Point2f>& pose,
 // inside the first: a cage a person would draw on a 320x240 image.
 Multicage portraitCage() {
     Multicage cage(cv::Size(320, 240));
-    cage.addPolygon(std::vector<cv::Point2f>{{60, 238}, {70, 120}, {110, 60}, {150, 120}, {165, 238}});
+    cage.addPolygon(
+        std::vector<cv::Point2f>{{60, 238}, {70, 120}, {110, 60}, {150, 120}, {165, 238}});
     cage.addPolygon(std::vector<cv::Point2f>{{95, 110}, {125, 110}, {125, 140}, {95, 140}});
     cage.addPolygon(std::vector<cv::Point2f>{{220, 60}, {280, 60}, {280, 140}, {220, 140}});
     cage.orient();
@@ -71,7 +72,8 @@ TEST(ResizeOutput, AFrameOnAnotherSizeRendersThatSizeFullyCovered) {
             ASSERT_EQ(out.type(), image.type());
             ASSERT_EQ(mapx.size(), target);
             EXPECT_EQ(cv::countNonZero(mapx < -1), 0) << "uncovered pixels at " << target;
-            // The maps point into the image, and transformPoints takes each source back to its pixel.
+            // The maps point into the image, and transformPoints takes each source back to its
+            // pixel.
             std::vector<cv::Point2f> sources, pixels;
             // (Not the outermost pixels: the ring clamps their sources to the image.)
             for (int y = 3; y < target.height - 2; y += 17)
@@ -82,7 +84,8 @@ TEST(ResizeOutput, AFrameOnAnotherSizeRendersThatSizeFullyCovered) {
             std::vector<cv::Point2f> landed;
             d->transformPoints(pose, sources, landed);
             double worst = 0;
-            for (size_t k = 0; k < landed.size(); ++k) worst = std::max(worst, double(cv::norm(landed[k] - pixels[k])));
+            for (size_t k = 0; k < landed.size(); ++k)
+                worst = std::max(worst, double(cv::norm(landed[k] - pixels[k])));
             EXPECT_LT(worst, 0.01) << backendName(backend) << " " << target;
         }
     }
@@ -141,24 +144,29 @@ TEST(ResizePose, OutlinesAndWhatTheyHoldMoveBySimilarities) {
         EXPECT_EQ(pose.back(), cv::Point2f(-0.5f, target.height - 0.5f));
         EXPECT_EQ(pose[pose.size() - 3], cv::Point2f(target.width - 0.5f, -0.5f));
         // Cut by the bottom border: its gap to the bottom scales with the frame (stays on it).
-        EXPECT_NEAR(target.height - 0.5 - pose[0].y, (240 - 0.5 - 238) * std::min(double(target.height) / 240, 1.0), 0.5);
+        EXPECT_NEAR(target.height - 0.5 - pose[0].y,
+                    (240 - 0.5 - 238) * std::min(double(target.height) / 240, 1.0), 0.5);
         // Taller, both sides, thumbnails: the similarities fold this mesh (mean value
         // coordinates leak the frame's stretch into the subject cut by the border) and the pose
         // is blended; wider and narrower it is not.
         if (target.height != 240) continue;
         // Outline 0 and the feature 1 it holds: one similarity, no rotation, scale in range
         // (the outline's vertices on the bottom border slide along it with the frame).
-        const double sx = double(target.width) / cage.imageSize().width, sy = double(target.height) / cage.imageSize().height;
+        const double sx = double(target.width) / cage.imageSize().width,
+                     sy = double(target.height) / cage.imageSize().height;
         std::vector<cv::Point2f> rest, moved;
         for (int p : {0, 1})
             for (int k = 0; k < static_cast<int>(cage.polygon(p).size()); ++k)
                 if (cage.polygon(p)[k].y < 230)
-                    rest.push_back(cage.polygon(p)[k]), moved.push_back(pose[cage.polygonOffset(p) + k]);
+                    rest.push_back(cage.polygon(p)[k]),
+                        moved.push_back(pose[cage.polygonOffset(p) + k]);
         EXPECT_LT(multicage_testing::similarityResidual(rest, moved), 1e-3) << target;
         const double scale = cv::norm(moved[1] - moved[0]) / cv::norm(rest[1] - rest[0]);
         EXPECT_LE(scale, std::max(sx, sy) + 1e-4) << target;
-        EXPECT_NEAR(moved[2].y - moved[1].y, scale * (rest[2].y - rest[1].y), 1e-3) << "no rotation";
-        EXPECT_NEAR(target.height - 0.5 - pose[0].y, (240 - 0.5 - 238) * std::min(sy, 1.0), 0.05) << target;
+        EXPECT_NEAR(moved[2].y - moved[1].y, scale * (rest[2].y - rest[1].y), 1e-3)
+            << "no rotation";
+        EXPECT_NEAR(target.height - 0.5 - pose[0].y, (240 - 0.5 - 238) * std::min(sy, 1.0), 0.05)
+            << target;
         // Where 1 lies between the frame's two scales the subject keeps its size in pixels.
         if (std::min(sx, sy) <= 1 && std::max(sx, sy) >= 1 && target.width >= 0.7 * 320)
             EXPECT_NEAR(scale, 1.0, 1e-4) << target;
@@ -175,7 +183,8 @@ TEST(ResizePose, CrowdedSubjectsStillGiveAValidFoldFreePose) {
     }
     cage.orient();
     const Binding binding = bind(cage, MEAN_VALUE, 2);
-    for (const cv::Size& target : {cv::Size(120, 200), cv::Size(60, 200), cv::Size(300, 40), cv::Size(900, 200)}) {
+    for (const cv::Size& target :
+         {cv::Size(120, 200), cv::Size(60, 200), cv::Size(300, 40), cv::Size(900, 200)}) {
         const std::vector<cv::Point2f> pose = resizePose(cage, binding, target);
         std::string why;
         EXPECT_TRUE(movedCage(cage, pose, target).validate(&why)) << target << ": " << why;
@@ -218,8 +227,9 @@ std::string slurp(const std::string& path) {
     return std::string(std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>());
 }
 CliRun runCli(const std::string& dir, const std::string& args) {
-    const int status = std::system(
-        (std::string(MULTICAGE_CLI_PATH) + " " + args + " > " + dir + "/out.txt 2> " + dir + "/err.txt").c_str());
+    const int status = std::system((std::string(MULTICAGE_CLI_PATH) + " " + args + " > " + dir +
+                                    "/out.txt 2> " + dir + "/err.txt")
+                                       .c_str());
     return {status, slurp(dir + "/out.txt"), slurp(dir + "/err.txt")};
 }
 }  // namespace
@@ -232,7 +242,9 @@ TEST(ResizeCli, WritesEachSizeAndRefusesBadOnesWithoutOutput) {
     cage.save(dir + "/cage.yml");
     cv::imwrite(dir + "/in.png", testImage(cage.imageSize()));
     const std::string in = dir + "/in.png --cage " + dir + "/cage.yml --backend cpu";
-    CliRun r = runCli(dir, "resize " + in + " -o " + dir + "/out.png --size 480x240 --size 224x240 --overlay " + dir + "/ov.png");
+    CliRun r =
+        runCli(dir, "resize " + in + " -o " + dir +
+                        "/out.png --size 480x240 --size 224x240 --overlay " + dir + "/ov.png");
     ASSERT_EQ(r.status, 0) << r.err;
     EXPECT_EQ(cv::imread(dir + "/out_480x240.png").size(), cv::Size(480, 240));
     EXPECT_EQ(cv::imread(dir + "/out_224x240.png").size(), cv::Size(224, 240));
@@ -240,7 +252,8 @@ TEST(ResizeCli, WritesEachSizeAndRefusesBadOnesWithoutOutput) {
     r = runCli(dir, "resize " + in + " -o " + dir + "/a.png --aspect 16:9");
     ASSERT_EQ(r.status, 0) << r.err;
     EXPECT_EQ(cv::imread(dir + "/a.png").size(), cv::Size(427, 240));
-    for (const std::string bad : {"--size 0x240", "--size 12x", "--size 4000x240", "--width 0", "--aspect 0:1"}) {
+    for (const std::string bad :
+         {"--size 0x240", "--size 12x", "--size 4000x240", "--width 0", "--aspect 0:1"}) {
         r = runCli(dir, "resize " + in + " -o " + dir + "/bad.png " + bad);
         EXPECT_NE(r.status, 0) << bad;
         EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << bad << ": " << r.err;

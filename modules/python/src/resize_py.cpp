@@ -1,7 +1,7 @@
 // resize_pose() and content_aware_resize(): content-aware resizing (resize.hpp).
-#include "common.hpp"
-
 #include <opencv2/multicage/resize.hpp>
+
+#include "common.hpp"
 
 namespace multicage_py {
 namespace {
@@ -16,11 +16,16 @@ ResizeParams resizeParams(const py::kwargs& kwargs) {
         const std::string key = item.first.cast<std::string>();
         const py::handle v = item.second;
         if (v.is_none()) continue;
-        if (key == "coordinates") p.coordinates = parseCoordinates(v);
-        else if (key == "grid_step") p.gridStep = intArg(v, key);
-        else if (key == "backend") p.backend = parseBackend(v);
-        else if (key == "margin") p.margin = static_cast<float>(numberArg(v, key));
-        else if (key == "max_scale") p.maxScale = numberArg(v, key);
+        if (key == "coordinates")
+            p.coordinates = parseCoordinates(v);
+        else if (key == "grid_step")
+            p.gridStep = intArg(v, key);
+        else if (key == "backend")
+            p.backend = parseBackend(v);
+        else if (key == "margin")
+            p.margin = static_cast<float>(numberArg(v, key));
+        else if (key == "max_scale")
+            p.maxScale = numberArg(v, key);
         else if (key == "protect") {
             if (py::isinstance<py::str>(v)) {
                 const std::string name = v.cast<std::string>();
@@ -28,7 +33,8 @@ ResizeParams resizeParams(const py::kwargs& kwargs) {
                 if (p.protect < 0)
                     throw py::value_error("protect: '" + name + "' is not saliency, faces or all");
             } else {
-                throw py::type_error("protect: expected 'saliency', 'faces' or 'all', got " + shortValue(v));
+                throw py::type_error("protect: expected 'saliency', 'faces' or 'all', got " +
+                                     shortValue(v));
             }
         } else {
             throw py::type_error("content_aware_resize: unexpected keyword '" + key +
@@ -63,7 +69,8 @@ valid and fold-free. Deformer.deform, compute_maps and transform_points answer i
 Keywords: grid_step (the fold check's), max_scale (8: the largest growth of a side).)doc");
     m.def(
         "content_aware_resize",
-        [](const py::handle& imageObj, const py::handle& size, const py::object& cageObj, const py::kwargs& kwargs) {
+        [](const py::handle& imageObj, const py::handle& size, const py::object& cageObj,
+           const py::kwargs& kwargs) {
             py::object keep;
             const cv::Mat image = imageFromArray(imageObj, "image", keep);
             const cv::Size newSize = sizeFromObject(size, "size");

@@ -16,7 +16,8 @@ void contentAwareResize(InputArray image, Size newSize, OutputArray dst, const M
     if (image.empty()) CV_Error(Error::StsBadArg, "multicage: resize: the image is empty");
     checkResizeSize(image.size(), newSize, params.maxScale);
     // An empty cage means the default proposal; a cage drawn on another size follows the image.
-    Multicage rest = cage.imageSize().area() == 0 && cage.polygonCount() == 0 ? resizeCage(image, params) : cage;
+    Multicage rest =
+        cage.imageSize().area() == 0 && cage.polygonCount() == 0 ? resizeCage(image, params) : cage;
     if (rest.imageSize() != image.size()) rest = rest.scaled(image.size());
     DeformParams deform;
     deform.coordinates = params.coordinates;

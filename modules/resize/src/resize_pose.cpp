@@ -1,14 +1,12 @@
 // The resize pose (docs/resize/README.md): the frame to the new frame, each outline and what it
 // holds by one similarity, the background absorbing the aspect change.
-#include <opencv2/multicage/resize.hpp>
-
-#include <opencv2/core/utils/logger.hpp>
-#include <opencv2/imgproc.hpp>
-
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <functional>
+#include <opencv2/core/utils/logger.hpp>
+#include <opencv2/imgproc.hpp>
+#include <opencv2/multicage/resize.hpp>
 
 namespace cv {
 namespace multicage {
@@ -57,11 +55,16 @@ double placeLow(const Axis& a, double s, double tol) {
     const double length = s * a.extent();
     const bool low = a.gapLow() <= tol, high = a.gapHigh() <= tol;
     double start;
-    if (low && !high) start = a.gapLow() * a.scale();  // stays on the low border
-    else if (high && !low) start = a.newSize - a.gapHigh() * a.scale() - length;
-    else start = 0.5 * (a.lo + a.hi) * a.scale() - 0.5 * length;  // the frame's scaling of the centre
+    if (low && !high)
+        start = a.gapLow() * a.scale();  // stays on the low border
+    else if (high && !low)
+        start = a.newSize - a.gapHigh() * a.scale() - length;
+    else
+        start =
+            0.5 * (a.lo + a.hi) * a.scale() - 0.5 * length;  // the frame's scaling of the centre
     // Inside the new frame with the kept gaps (fitScale() made room for them).
-    const double first = keptGap(a.gapLow(), a), last = a.newSize - keptGap(a.gapHigh(), a) - length;
+    const double first = keptGap(a.gapLow(), a),
+                 last = a.newSize - keptGap(a.gapHigh(), a) - length;
     return std::min(std::max(start, first), std::max(first, last));
 }
 
@@ -147,8 +150,10 @@ void checkResizeSize(Size imageSize, Size newSize, double maxScale) {
     if (imageSize.width < 1 || imageSize.height < 1)
         CV_Error(Error::StsBadSize, "multicage: resize: the image is empty");
     if (newSize.width < 1 || newSize.height < 1)
-        CV_Error_(Error::StsOutOfRange, ("multicage: resize: the size %dx%d is not a size (both sides must be at "
-                                         "least 1 pixel)", newSize.width, newSize.height));
+        CV_Error_(Error::StsOutOfRange,
+                  ("multicage: resize: the size %dx%d is not a size (both sides must be at "
+                   "least 1 pixel)",
+                   newSize.width, newSize.height));
     const double limitW = maxScale * imageSize.width, limitH = maxScale * imageSize.height;
     if (newSize.width > limitW || newSize.height > limitH)
         CV_Error_(Error::StsOutOfRange,
@@ -163,7 +168,9 @@ std::vector<Point2f> resizePose(const Multicage& cage, const Binding& binding, S
     const Size image = cage.imageSize();
     checkResizeSize(image, newSize, params.maxScale);
     std::string why;
-    if (!cage.validate(&why)) CV_Error_(Error::StsBadArg, ("multicage: resize: the multicage is not valid: %s", why.c_str()));
+    if (!cage.validate(&why))
+        CV_Error_(Error::StsBadArg,
+                  ("multicage: resize: the multicage is not valid: %s", why.c_str()));
     if (binding.imageSize != image || binding.coefficientCount() != cage.vertexCount() + 4)
         CV_Error(Error::StsBadArg, "multicage: resize: the binding is not of this multicage");
 
@@ -207,7 +214,8 @@ std::vector<Point2f> resizePose(const Multicage& cage, const Binding& binding, S
         Point2f c;
         for (const Point2f& p : poly) c += p;
         centre[i] = c * (1.f / poly.size());
-        for (int k = 0; k < static_cast<int>(poly.size()); ++k) owner[cage.polygonOffset(i) + k] = i;
+        for (int k = 0; k < static_cast<int>(poly.size()); ++k)
+            owner[cage.polygonOffset(i) + k] = i;
     }
     // Stage 1 (t in [0, 1]): outlines go t of the way from the frame's scaling to their
     // similarity; inner polygons keep their similarity (same scale), carried along with their
@@ -259,7 +267,9 @@ std::vector<Point2f> resizePose(const Multicage& cage, const Binding& binding, S
 std::vector<Point2f> resizePose(const Multicage& cage, Size newSize, const ResizeParams& params) {
     checkResizeSize(cage.imageSize(), newSize, params.maxScale);
     std::string why;
-    if (!cage.validate(&why)) CV_Error_(Error::StsBadArg, ("multicage: resize: the multicage is not valid: %s", why.c_str()));
+    if (!cage.validate(&why))
+        CV_Error_(Error::StsBadArg,
+                  ("multicage: resize: the multicage is not valid: %s", why.c_str()));
     return resizePose(cage, bind(cage, MEAN_VALUE, params.gridStep), newSize, params);
 }
 

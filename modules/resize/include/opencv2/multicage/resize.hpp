@@ -53,7 +53,8 @@ the second form with the Deformer's binding to resize many times). */
 CV_EXPORTS std::vector<Point2f> resizePose(const Multicage& cage, Size newSize,
                                            const ResizeParams& params = ResizeParams());
 /** resizePose() checking folds on this binding (Deformer::binding()): no binding made. */
-CV_EXPORTS std::vector<Point2f> resizePose(const Multicage& cage, const Binding& binding, Size newSize,
+CV_EXPORTS std::vector<Point2f> resizePose(const Multicage& cage, const Binding& binding,
+                                           Size newSize,
                                            const ResizeParams& params = ResizeParams());
 
 /** Resizes image to newSize keeping what the multicage protects: binds image to cage (an empty
