@@ -108,6 +108,7 @@ void addDeformCommand(CLI::App& app);
 void addProposeCommand(CLI::App& app);
 void addBenchCommand(CLI::App& app);
 void addAnimateCommand(CLI::App& app);
+void addResizeCommand(CLI::App& app);
 
 }  // namespace multicage_cli
 

@@ -16,6 +16,7 @@ int main(int argc, char** argv) {
     multicage_cli::addDemoCommand(app);
     multicage_cli::addDeformCommand(app);
     multicage_cli::addProposeCommand(app);
+    multicage_cli::addResizeCommand(app);
     multicage_cli::addAnimateCommand(app);
     multicage_cli::addBenchCommand(app);
     // "multicage deform: ..." names the subcommand that failed.
@@ -31,7 +32,7 @@ int main(int argc, char** argv) {
         known = known || sub->get_name() == argv[1];
     if (!known) {
         std::cerr << "multicage: unknown command '" << argv[1]
-                  << "' (demo, propose, deform, animate, bench; see multicage --help)" << std::endl;
+                  << "' (demo, propose, resize, deform, animate, bench; see multicage --help)" << std::endl;
         return 2;
     }
     try {

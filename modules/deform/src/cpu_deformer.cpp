@@ -24,8 +24,8 @@ public:
         image_ = hugePageMat(image.size(), image.type(), owners_);
         image.copyTo(image_);
         mesh_.reset(binding);
-        mapx_ = hugePageMat(image.size(), CV_32F, owners_);
-        mapy_ = hugePageMat(image.size(), CV_32F, owners_);
+        mapx_ = hugePageMat(image.size(), CV_32F, mapOwners_);
+        mapy_ = hugePageMat(image.size(), CV_32F, mapOwners_);
         mapx_.setTo(Scalar::all(0));
         mapy_.setTo(Scalar::all(0));
     }
@@ -38,8 +38,8 @@ public:
 
     void computeMaps(InputArray pose, OutputArray mapx, OutputArray mapy) override {
         drawMapsFor(pose);
-        mapx.create(image_.size(), CV_32F);
-        mapy.create(image_.size(), CV_32F);
+        mapx.create(mesh_.outputSize(), CV_32F);
+        mapy.create(mesh_.outputSize(), CV_32F);
         Mat mx = mapx.getMat(), my = mapy.getMat();
         mesh_.draw(mx, my);
     }
@@ -59,7 +59,17 @@ public:
         std::vector<Mat> images;
         batchInputs(posesIn, imagesIn, [this](InputArray p) { return binding_.completePose(p); }, image_.size(), image_.type(), poses, images);
         const int count = static_cast<int>(poses.size());
-        std::vector<Mat> out = batchOutputs(count, image_.size(), image_.type());
+        // Every item's output size (a resize pose renders into its own frame's size); one block
+        // for the batch when they agree, as they do for the usual same-size poses.
+        std::vector<Size> sizes(count);
+        bool oneSize = true;
+        for (int k = 0; k < count; ++k) {
+            sizes[k] = frameOutputSize(&poses[k][poses[k].size() - 4], image_.size());
+            oneSize = oneSize && sizes[k] == sizes[0];
+        }
+        std::vector<Mat> out = oneSize && count > 0 ? batchOutputs(count, sizes[0], image_.type())
+                                                     : std::vector<Mat>(count);
+        for (int k = 0; k < count; ++k) out[k].create(sizes[k], image_.type());
         if (count < 2 || getNumThreads() <= 1) {
             // One item (or one thread): in this Deformer's own mesh and maps, the loops inside
             // (apply, draw, remap) parallel as for deform().
@@ -87,6 +97,9 @@ public:
                 Mat nodes = ws->mesh.nodes();
                 binding_.apply(poses[k], nodes);
                 ws->mesh.setFrame(&poses[k][poses[k].size() - 4]);
+                ws->mesh.setOutputSize(sizes[k]);
+                ws->mapx.create(sizes[k], CV_32F);
+                ws->mapy.create(sizes[k], CV_32F);
                 ws->mesh.draw(ws->mapx, ws->mapy);
                 remap(images.empty() ? image_ : images[k], out[k], ws->mapx, ws->mapy, INTER_LINEAR,
                       BORDER_CONSTANT, border_);
@@ -109,15 +122,25 @@ private:
         Mat mapx, mapy;
     };
 
-    // Node positions into the mesh, and the ring onto the pose's frame.
+    // Node positions into the mesh, the ring onto the pose's frame, and maps of the size that
+    // frame asks for (frameOutputSize: the image's own, or a resize pose's new size).
     void drawMapsFor(InputArray pose) {
         const std::vector<Point2f> vertices = binding_.completePose(pose);
         Mat nodes = mesh_.nodes();
         binding_.apply(vertices, nodes);
-        mesh_.setFrame(&vertices[vertices.size() - 4]);
+        const Point2f* frame = &vertices[vertices.size() - 4];
+        mesh_.setFrame(frame);
+        const Size size = frameOutputSize(frame, image_.size());
+        mesh_.setOutputSize(size);
+        if (mapx_.size() != size) {  // kept for the next pose of this size
+            std::vector<Mat>().swap(mapOwners_);
+            mapx_ = hugePageMat(size, CV_32F, mapOwners_);
+            mapy_ = hugePageMat(size, CV_32F, mapOwners_);
+        }
     }
 
-    std::vector<Mat> owners_;  // the memory of image_, mapx_, mapy_
+    std::vector<Mat> owners_;     // the memory of image_
+    std::vector<Mat> mapOwners_;  // the memory of mapx_, mapy_
     Mat image_;
     Binding binding_;
     RasterMesh mesh_;

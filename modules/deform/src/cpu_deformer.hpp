@@ -49,6 +49,10 @@ public:
     Mat nodes() { return P_(Rect(1, 1, P_.cols - 2, P_.rows - 2)); }
     /** Places the ring on the frame with these 4 corners (TL, TR, BR, BL); null: the rest frame. */
     void setFrame(const Point2f* frame);
+    /** The size draw() writes; reset() sets it to the rest frame's size. A pose whose frame lies
+    on another size's frame (frameOutputSize) draws into that size. */
+    void setOutputSize(Size outputSize);
+    Size outputSize() const { return out_; }
     /** Inverse maps (outputSize CV_32F, every pixel written) for the current nodes and frame. */
     void draw(Mat& mapx, Mat& mapy);
 
@@ -63,7 +67,7 @@ private:
     Mat P_, R_;  // deformed and rest nodes, ring included; R_ empty for a regular grid
     std::vector<float> restX_, restY_;  // a regular grid's rest x per column, y per row
     Point2f lo_, hi_;
-    Size out_;
+    Size rest_, out_;  // the rest frame's size (the ring's parameter), the size drawn
     std::vector<float> rowMin_, rowMax_;
 };
 

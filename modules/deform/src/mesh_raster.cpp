@@ -197,7 +197,7 @@ template <typename RestNode>
 void RasterMesh::resetWith(Size grid, Size outputSize, bool separable, RestNode&& rest) {
     CV_Assert(grid.width >= 2 && grid.height >= 2 && outputSize.area() > 0);
     const int m = grid.width, n = grid.height;
-    out_ = outputSize;
+    rest_ = out_ = outputSize;
     lo_ = rest(0, 0), hi_ = rest(m - 1, n - 1);
     owners_.clear();
     P_ = hugePageMat(Size(m + 2, n + 2), CV_32FC2, owners_);
@@ -258,8 +258,8 @@ void RasterMesh::setFrame(const Point2f* frame) {
     // linearly) and samples the border pixel next to it. So the half-pixel band between the
     // frame and the border nodes is always covered: when border nodes move inwards the border
     // pixels stretch instead of leaving a line of border colour. deform.vert builds the same ring.
-    const float W = static_cast<float>(out_.width), H = static_cast<float>(out_.height);
-    std::array<Point2f, 4> corners = frameCorners(out_);
+    const float W = static_cast<float>(rest_.width), H = static_cast<float>(rest_.height);
+    std::array<Point2f, 4> corners = frameCorners(rest_);
     if (frame) std::copy(frame, frame + 4, corners.begin());
     const int m = P_.cols - 2, n = P_.rows - 2;
     forEachRingNode([&](int ex, int ey) {
@@ -270,6 +270,11 @@ void RasterMesh::setFrame(const Point2f* frame) {
         P_.at<Point2f>(ey, ex) = (1 - u) * (1 - v) * corners[0] + u * (1 - v) * corners[1] +
                                  u * v * corners[2] + (1 - u) * v * corners[3];
     });
+}
+
+void RasterMesh::setOutputSize(Size outputSize) {
+    CV_Assert(outputSize.area() > 0);
+    out_ = outputSize;
 }
 
 void RasterMesh::draw(Mat& mapx, Mat& mapy) {

@@ -13,5 +13,6 @@
 #include <opencv2/multicage/propose.hpp>
 #include <opencv2/multicage/animate.hpp>
 #include <opencv2/multicage/augment.hpp>
+#include <opencv2/multicage/resize.hpp>
 
 #endif

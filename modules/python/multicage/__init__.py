@@ -111,6 +111,7 @@ from ._multicage import (
     __version__,
     auto_backend,
     bind,
+    content_aware_resize,
     deform_image,
     gpu_available,
     imread,
@@ -120,6 +121,7 @@ from ._multicage import (
     propose_segmentation,
     protect_features,
     random_pose,
+    resize_pose,
     validate_pose,
 )
 
@@ -136,6 +138,7 @@ __all__ = [
     "ProposeMethod",
     "auto_backend",
     "bind",
+    "content_aware_resize",
     "deform_image",
     "gpu_available",
     "imread",
@@ -145,5 +148,6 @@ __all__ = [
     "propose_segmentation",
     "protect_features",
     "random_pose",
+    "resize_pose",
     "validate_pose",
 ]

@@ -99,6 +99,7 @@ void defineProposal(py::module_& m);     // propose_py.cpp
 void defineAugment(py::module_& m);      // augment_py.cpp: random_pose(), validate_pose()
 void defineGpu(py::module_& m);          // gpu_py.cpp: gpu_available(), auto_backend()
 void defineImageIo(py::module_& m);      // imageio_py.cpp: imread()
+void defineResize(py::module_& m);       // resize_py.cpp: resize_pose(), content_aware_resize()
 
 }  // namespace multicage_py
 

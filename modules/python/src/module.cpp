@@ -82,4 +82,5 @@ PYBIND11_MODULE(_multicage, m) {
     defineAugment(m);
     defineGpu(m);
     defineImageIo(m);
+    defineResize(m);
 }

@@ -8,6 +8,7 @@
 #include <opencv2/multicage/multicage.hpp>
 
 #include <array>
+#include <cmath>
 
 namespace cv {
 namespace multicage {
@@ -21,6 +22,22 @@ BR, BL. Pixel centres are integers, so the frame runs half a pixel outside them.
 inline std::array<Point2f, 4> frameCorners(Size imageSize) {
     const float r = imageSize.width - 0.5f, b = imageSize.height - 0.5f;
     return {{{-0.5f, -0.5f}, {r, -0.5f}, {r, b}, {-0.5f, b}}};
+}
+
+/** The size of the image a pose renders into: the size whose frame the pose's 4 frame corners
+(TL, TR, BR, BL, as frameCorners) lie on, within 1e-3 px, when they lie on one (content-aware
+resizing: a pose with its frame on another size's frame renders an image of that size);
+otherwise imageSize (a frame moved any other way is deformed into the input's size, as always).
+One rule for the CPU and GPU backends and for transformPoints. */
+inline Size frameOutputSize(const Point2f* corners, Size imageSize) {
+    constexpr float tol = 1e-3f;
+    auto near = [](float a, float b) { return std::abs(a - b) <= tol; };
+    const float right = corners[1].x + 0.5f, bottom = corners[3].y + 0.5f;
+    const int w = cvRound(right), h = cvRound(bottom);
+    const bool onFrame = near(corners[0].x, -0.5f) && near(corners[0].y, -0.5f) && near(corners[1].y, -0.5f) &&
+                         near(corners[3].x, -0.5f) && near(corners[2].x, corners[1].x) &&
+                         near(corners[2].y, corners[3].y) && near(right, float(w)) && near(bottom, float(h));
+    return onFrame && w >= 1 && h >= 1 ? Size(w, h) : imageSize;
 }
 
 /** The mesh's triangles. A cell's corners are a = (x, y), b = (x+1, y), c = (x, y+1),

@@ -1,0 +1,213 @@
+// multicage resize IMAGE -o OUT --size WxH: content-aware resizing (docs/resize/README.md).
+#include <filesystem>
+#include <iostream>
+#include <opencv2/imgproc.hpp>
+#include <opencv2/multicage/resize.hpp>
+#include <regex>
+
+#include "cli_util.hpp"
+
+namespace multicage_cli {
+
+namespace {
+struct ResizeCommandOptions {
+    std::string image, output, cage, overlay, protect;
+    std::vector<std::string> sizes;
+    int width = 0, height = 0;
+    std::string aspect;
+    DeformOptions deform;
+    bool quiet = false;
+};
+
+// "WxH" (also "W*H", "WXH"), each a positive whole number.
+cv::Size parseSize(const std::string& text) {
+    static const std::regex form(R"(\s*(\d{1,6})\s*[xX*]\s*(\d{1,6})\s*)");
+    std::smatch m;
+    if (!std::regex_match(text, m, form))
+        throw Failure("--size: '" + text + "' is not WxH (two whole numbers, e.g. 1280x720)");
+    return cv::Size(std::stoi(m[1]), std::stoi(m[2]));
+}
+
+// "16:9" (also "1.78"): a width-to-height ratio.
+double parseAspect(const std::string& text) {
+    static const std::regex ratio(R"(\s*(\d+(?:\.\d+)?)\s*[:/]\s*(\d+(?:\.\d+)?)\s*)"),
+        number(R"(\s*(\d+(?:\.\d+)?)\s*)");
+    std::smatch m;
+    double a = 0;
+    if (std::regex_match(text, m, ratio))
+        a = std::stod(m[1]) / std::max(1e-12, std::stod(m[2]));
+    else if (std::regex_match(text, m, number))
+        a = std::stod(m[1]);
+    if (!(a > 0) || !std::isfinite(a))
+        throw Failure("--aspect: '" + text +
+                      "' is not a ratio W:H (e.g. 16:9) or a number (e.g. 1.78)");
+    return a;
+}
+
+// Every target size asked for: --size (any number), or one from --width/--height/--aspect.
+std::vector<cv::Size> targetSizes(const ResizeCommandOptions& o, cv::Size image) {
+    std::vector<cv::Size> sizes;
+    for (const std::string& s : o.sizes) sizes.push_back(parseSize(s));
+    const bool oneSide = o.width > 0 || o.height > 0;
+    if (!o.aspect.empty()) {
+        if (oneSide) throw Failure("--aspect: give it alone, or --width/--height, not both");
+        // The height stays (subjects keep their size in pixels), the width gives the ratio.
+        const double a = parseAspect(o.aspect);
+        sizes.push_back(cv::Size(std::max(1, cvRound(a * image.height)), image.height));
+    } else if (oneSide) {
+        // A side not given keeps the image's: --width 1536 widens, --height narrows the other way.
+        sizes.push_back(
+            cv::Size(o.width > 0 ? o.width : image.width, o.height > 0 ? o.height : image.height));
+    }
+    if (sizes.empty())
+        throw Failure("no target size: give --size WxH (or --width, --height, --aspect)");
+    return sizes;
+}
+
+// OUT for one size; with several, OUT's stem gets _WxH (out.png -> out_1280x720.png).
+std::string outputFor(const std::string& output, cv::Size size, bool several) {
+    if (!several) return output;
+    const std::filesystem::path p(output);
+    const std::string tag = "_" + std::to_string(size.width) + "x" + std::to_string(size.height);
+    return (p.parent_path() / (p.stem().string() + tag + p.extension().string())).string();
+}
+
+// The cage at rest on the image, and resized on the output, side by side.
+cv::Mat overlayPicture(const cv::Mat& image, const cv::multicage::Multicage& cage,
+                       const cv::Mat& out, const std::vector<cv::Point2f>& pose) {
+    using namespace cv::multicage;
+    auto bgr = [](const cv::Mat& m) {
+        cv::Mat c;
+        m.convertTo(c, CV_8U, m.depth() == CV_16U ? 1.0 / 257 : m.depth() == CV_32F ? 255.0 : 1.0);
+        if (c.channels() == 1) cv::cvtColor(c, c, cv::COLOR_GRAY2BGR);
+        if (c.channels() == 4) cv::cvtColor(c, c, cv::COLOR_BGRA2BGR);
+        return c;
+    };
+    cv::Mat left = bgr(image), right = bgr(out);
+    cage.draw(left, 2);
+    Multicage moved(out.size());
+    for (int i = 0; i < cage.polygonCount(); ++i) {
+        const int begin = cage.polygonOffset(i), n = static_cast<int>(cage.polygon(i).size());
+        moved.addPolygon(std::vector<cv::Point2f>(pose.begin() + begin, pose.begin() + begin + n));
+    }
+    moved.draw(right, 2);
+    const int h = std::max(left.rows, right.rows), gap = 8;
+    cv::Mat sheet(h, left.cols + gap + right.cols, CV_8UC3, cv::Scalar::all(255));
+    left.copyTo(sheet(cv::Rect(0, 0, left.cols, left.rows)));
+    right.copyTo(sheet(cv::Rect(left.cols + gap, 0, right.cols, right.rows)));
+    return sheet;
+}
+
+void runResize(const ResizeCommandOptions& o) {
+    using namespace cv::multicage;
+    const auto t0 = std::chrono::steady_clock::now();
+    const cv::Mat image = readImage(o.image);
+    ResizeParams rp;
+    if (!o.protect.empty()) {
+        rp.protect = parseProtectDetector(o.protect);
+        if (rp.protect < 0)
+            throw Failure("--protect: '" + o.protect + "' is not saliency, faces or all");
+    }
+    // Every size and output checked before any work: a bad one writes nothing.
+    const std::vector<cv::Size> sizes = targetSizes(o, image.size());
+    for (const cv::Size& s : sizes) {
+        try {
+            checkResizeSize(image.size(), s, rp.maxScale);
+        } catch (const cv::Exception& e) {
+            throw Failure(e.err.substr(
+                e.err.find("resize: ") == std::string::npos ? 0 : e.err.find("resize: ") + 8));
+        }
+        checkImageOutput(outputFor(o.output, s, sizes.size() > 1));
+    }
+    if (!o.overlay.empty()) checkImageOutput(o.overlay);
+
+    const auto tp = std::chrono::steady_clock::now();
+    const Multicage cage = o.cage.empty() ? resizeCage(image, rp) : loadCage(o.cage, image.size());
+    const double proposeMs = o.cage.empty() ? msSince(tp) : 0;
+    std::string stepChange;
+    DeformParams params = deformParams(o.deform, "resize", image.size(), cage, &stepChange);
+    rp.gridStep = params.gridStep;
+    probeAutoBackend(params.backend);
+    const auto tb = std::chrono::steady_clock::now();
+    cv::Ptr<Deformer> deformer;
+    {
+        BindProgressLine progress("resize", o.quiet);
+        params.progress = progress.callback();
+        try {
+            deformer = Deformer::create(image, cage, params);
+        } catch (const cv::Exception& e) {
+            progress.rethrow(e);
+        }
+    }
+    const Binding& binding = deformer->binding();
+    const double bindMs = msSince(tb);
+    if (!o.quiet)
+        std::cout << "multicage resize: " << o.image << " " << image.cols << "x" << image.rows
+                  << ", "
+                  << (o.cage.empty()
+                          ? "proposed multicage (" + std::to_string(cvRound(proposeMs)) + " ms)"
+                          : o.cage)
+                  << ": " << plural(cage.polygonCount(), "polygon") << ", "
+                  << plural(cage.vertexCount(), "vertex", "vertices") << "; "
+                  << coordinateTypeDescription(binding.coordinates) << " coordinates, grid step "
+                  << binding.gridStep << (stepChange.empty() ? "" : " (" + stepChange + ")")
+                  << ", bind " << cvRound(bindMs) << " ms" << std::endl;
+    for (size_t k = 0; k < sizes.size(); ++k) {
+        const auto ts = std::chrono::steady_clock::now();
+        const std::vector<cv::Point2f> pose = resizePose(cage, binding, sizes[k], rp);
+        cv::Mat out;
+        deformer->deform(pose, out);
+        const double ms = msSince(ts);
+        const std::string path = outputFor(o.output, sizes[k], sizes.size() > 1);
+        writeImage("resize", path, out);
+        if (k == 0 && !o.overlay.empty())
+            writeImage("resize", o.overlay, overlayPicture(image, cage, out, pose));
+        std::cout << "wrote " << path << " (" << out.cols << "x" << out.rows << ", pose and deform "
+                  << cvRound(ms) << " ms, " << backendName(deformer->backend()) << ")" << std::endl;
+    }
+    if (!o.overlay.empty())
+        std::cout << "wrote " << o.overlay << " (the cage at rest and resized)" << std::endl;
+    if (!o.quiet) std::cout << "total " << cvRound(msSince(t0)) << " ms" << std::endl;
+}
+}  // namespace
+
+void addResizeCommand(CLI::App& app) {
+    auto o = std::make_shared<ResizeCommandOptions>();
+    CLI::App* cmd = app.add_subcommand(
+        "resize",
+        "Resize IMAGE to another size or aspect ratio keeping faces and subjects in shape "
+        "(content-aware resizing).\n"
+        "The image is bound once to a multicage (proposed: an outline around each subject, inner "
+        "polygons around faces and features; or --cage), then each size is one pose: the frame "
+        "goes "
+        "to the new frame, each subject and what it holds moves by a similarity (it keeps its size "
+        "in "
+        "pixels where the new frame allows), and the background absorbs the aspect change. Several "
+        "--size bind once and write OUT_WxH.ext each.\n"
+        "Examples:\n"
+        "  multicage resize photo.jpg -o wide.png --aspect 16:9\n"
+        "  multicage resize photo.jpg -o out.png --size 1536x768 --size 717x768 --overlay "
+        "cage.png");
+    cmd->add_option("IMAGE", o->image, "Input image")->required()->check(CLI::ExistingFile);
+    cmd->add_option("-o,--output", o->output, "Output image (with several sizes: OUT_WxH.ext each)")
+        ->required();
+    cmd->add_option("--size", o->sizes, "Target size WxH; repeat for several sizes (one binding)");
+    cmd->add_option("--width", o->width, "Target width (the height stays, unless --height)")
+        ->check(wholeNumber(1, 1 << 20));
+    cmd->add_option("--height", o->height, "Target height (the width stays, unless --width)")
+        ->check(wholeNumber(1, 1 << 20));
+    cmd->add_option("--aspect", o->aspect, "Target aspect ratio W:H (e.g. 16:9); the height stays");
+    cmd->add_option("--cage", o->cage,
+                    "Multicage file to use instead of the proposal (scaled to the image)")
+        ->check(CLI::ExistingFile);
+    cmd->add_option("--overlay", o->overlay,
+                    "Also write the cage at rest and resized, side by side (first size)");
+    cmd->add_option("--protect", o->protect,
+                    "What the proposal protects inside each outline: saliency, faces or all "
+                    "(default: the proposal's)");
+    addDeformOptions(cmd, o->deform);
+    cmd->add_flag("-q,--quiet", o->quiet, "Print only the files written");
+    cmd->callback([o]() { runResize(*o); });
+}
+
+}  // namespace multicage_cli

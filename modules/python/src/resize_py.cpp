@@ -1,0 +1,96 @@
+// resize_pose() and content_aware_resize(): content-aware resizing (resize.hpp).
+#include <opencv2/multicage/resize.hpp>
+
+#include "common.hpp"
+
+namespace multicage_py {
+namespace {
+
+using namespace cv::multicage;
+
+/** ResizeParams from keyword arguments: coordinates, grid_step, backend, protect (a detector
+name, or False for the outline only), margin, max_scale. */
+ResizeParams resizeParams(const py::kwargs& kwargs) {
+    ResizeParams p;
+    for (const auto& item : kwargs) {
+        const std::string key = item.first.cast<std::string>();
+        const py::handle v = item.second;
+        if (v.is_none()) continue;
+        if (key == "coordinates")
+            p.coordinates = parseCoordinates(v);
+        else if (key == "grid_step")
+            p.gridStep = intArg(v, key);
+        else if (key == "backend")
+            p.backend = parseBackend(v);
+        else if (key == "margin")
+            p.margin = static_cast<float>(numberArg(v, key));
+        else if (key == "max_scale")
+            p.maxScale = numberArg(v, key);
+        else if (key == "protect") {
+            if (py::isinstance<py::str>(v)) {
+                const std::string name = v.cast<std::string>();
+                p.protect = parseProtectDetector(name);
+                if (p.protect < 0)
+                    throw py::value_error("protect: '" + name + "' is not saliency, faces or all");
+            } else {
+                throw py::type_error("protect: expected 'saliency', 'faces' or 'all', got " +
+                                     shortValue(v));
+            }
+        } else {
+            throw py::type_error("content_aware_resize: unexpected keyword '" + key +
+                                 "' (coordinates, grid_step, backend, protect, margin, max_scale)");
+        }
+    }
+    return p;
+}
+
+}  // namespace
+
+void defineResize(py::module_& m) {
+    m.def(
+        "resize_pose",
+        [](const Multicage& cage, const py::handle& size, const py::kwargs& kwargs) {
+            const cv::Size newSize = sizeFromObject(size, "size");
+            const ResizeParams params = resizeParams(kwargs);
+            std::vector<cv::Point2f> pose;
+            {
+                py::gil_scoped_release release;
+                pose = resizePose(cage, newSize, params);
+            }
+            return arrayFromPoints(pose);
+        },
+        py::arg("cage"), py::arg("size"),
+        R"doc(The pose that resizes an image bound to cage into an image of size (w, h).
+
+Returns a (vertex_count + 4) x 2 float32 array, frame corners last: the frame goes to the new
+frame, each outline and the polygons inside it move by one similarity (the subject keeps its
+size in pixels where the new frame allows), the background absorbs the aspect change. Always
+valid and fold-free. Deformer.deform, compute_maps and transform_points answer in the new size.
+Keywords: grid_step (the fold check's), max_scale (8: the largest growth of a side).)doc");
+    m.def(
+        "content_aware_resize",
+        [](const py::handle& imageObj, const py::handle& size, const py::object& cageObj,
+           const py::kwargs& kwargs) {
+            py::object keep;
+            const cv::Mat image = imageFromArray(imageObj, "image", keep);
+            const cv::Size newSize = sizeFromObject(size, "size");
+            const ResizeParams params = resizeParams(kwargs);
+            Multicage cage;
+            if (!cageObj.is_none()) cage = multicageArg(cageObj, "cage");
+            cv::Mat dst;
+            {
+                py::gil_scoped_release release;
+                contentAwareResize(image, newSize, dst, cage, params);
+            }
+            return arrayFromMat(dst);
+        },
+        py::arg("image"), py::arg("size"), py::arg("cage") = py::none(),
+        R"doc(The image resized to size (w, h), faces and subjects keeping their shape.
+
+cage: a Multicage (scaled to the image when drawn on another size), or None for the default
+proposal (propose_multicage with protection). Keywords: coordinates, grid_step, backend,
+protect ('saliency', 'faces', 'all'), margin, max_scale. Returns an h x w array of the
+image's dtype and channels.)doc");
+}
+
+}  // namespace multicage_py

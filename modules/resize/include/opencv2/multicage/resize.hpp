@@ -1,0 +1,79 @@
+// Content-aware resizing (the paper's §6: "multicage deformation as constraints in image
+// resizing"): bind once, then every target size is one pose.
+#ifndef OPENCV2_MULTICAGE_RESIZE_HPP
+#define OPENCV2_MULTICAGE_RESIZE_HPP
+
+#include <opencv2/multicage/deformer.hpp>
+#include <opencv2/multicage/propose.hpp>
+
+namespace cv {
+namespace multicage {
+
+/** Parameters of resizePose() and contentAwareResize(). */
+struct CV_EXPORTS ResizeParams {
+    int coordinates = MEAN_VALUE;  //!< CoordinateType of the binding contentAwareResize() makes
+    int gridStep = 1;              //!< its grid step (DeformParams::gridStep)
+    int backend = BACKEND_AUTO;    //!< its Backend
+    /** ProtectDetector of the default proposal (an empty cage in contentAwareResize()):
+    faces first, then salient features (no face cascade installed: features only); -1:
+    ProposeParams' own default. */
+    int protect = PROTECT_ALL;
+    /** ProposeParams::margin of the default proposal (< 0: its automatic margin). */
+    float margin = -1.f;
+    /** The largest factor a side may grow by (the target's side <= maxScale x the image's):
+    an output 8x wider holds 64x the pixels, and the maps 8 bytes per output pixel. */
+    double maxScale = 8.0;
+};
+
+/** The pose that resizes an image bound to `cage` into an image of newSize (docs/resize).
+
+Rule (with sx = W'/W, sy = H'/H the frame's scales):
+  - the frame corners go to the new frame (-0.5,-0.5)-(W'-0.5,H'-0.5);
+  - each outline (a depth-1 polygon) moves by a similarity p' = c' + s (p - c) of its bounding
+    box's centre c: s = 1 when 1 lies between min(sx, sy) and max(sx, sy) (the subject keeps
+    its size in pixels: the background absorbs the aspect change), else the one of the two
+    nearer 1; s shrinks further (uniformly, never squashed) when the outline would not fit
+    in the new frame with its gaps to the frame scaled as the frame is;
+  - c' is where the frame's own scaling puts c, so subjects keep their places and their
+    distances scale with the frame; an outline within 1% of a side of the frame (a subject cut
+    by the image border) keeps its gap to that side instead, so it stays on that border;
+  - every inner polygon (depth >= 2: faces, features, what a person nested to protect) moves
+    by the similarity of the outline around it, so what an outline holds keeps its shape;
+  - the background between the frame and the outlines absorbs the rest.
+Where outlines of two subjects would cross, or the pose would fold a triangle of the mesh,
+the pose is blended towards the frame's own scaling (the cv::resize pose, always valid and
+fold-free by linear precision) by the least amount that makes it valid: the returned pose
+always validates and folds no triangle of `binding`'s mesh.
+
+cage: a valid multicage; newSize: each side at least 1 and at most params.maxScale x the
+image's (else cv::Exception StsOutOfRange naming the limit). Returns vertexCount()+4 points,
+frame corners last: Deformer::deform renders it into a newSize image.
+The first form checks folds on a mean value binding of cage at params.gridStep (it binds: use
+the second form with the Deformer's binding to resize many times). */
+CV_EXPORTS std::vector<Point2f> resizePose(const Multicage& cage, Size newSize,
+                                           const ResizeParams& params = ResizeParams());
+/** resizePose() checking folds on this binding (Deformer::binding()): no binding made. */
+CV_EXPORTS std::vector<Point2f> resizePose(const Multicage& cage, const Binding& binding,
+                                           Size newSize,
+                                           const ResizeParams& params = ResizeParams());
+
+/** Resizes image to newSize keeping what the multicage protects: binds image to cage (an empty
+cage: proposeProtectedMulticage() of the image with params.protect and params.margin), then
+deforms it to resizePose(). dst: newSize, the image's type. For several sizes of one image,
+make a Deformer once and deform it to resizePose(cage, deformer->binding(), size) per size. */
+CV_EXPORTS void contentAwareResize(InputArray image, Size newSize, OutputArray dst,
+                                   const Multicage& cage = Multicage(),
+                                   const ResizeParams& params = ResizeParams());
+
+/** The multicage contentAwareResize() uses for image when given none: proposeProtectedMulticage()
+with params.protect and params.margin. */
+CV_EXPORTS Multicage resizeCage(InputArray image, const ResizeParams& params = ResizeParams());
+
+/** Throws cv::Exception (StsOutOfRange) unless newSize is a size resizePose() accepts for an
+image of imageSize (each side >= 1 and <= maxScale x the image's). */
+CV_EXPORTS void checkResizeSize(Size imageSize, Size newSize, double maxScale = 8.0);
+
+}  // namespace multicage
+}  // namespace cv
+
+#endif

@@ -1,0 +1,31 @@
+// contentAwareResize: bind once to a (proposed) multicage, deform to the resize pose.
+#include <opencv2/multicage/resize.hpp>
+
+namespace cv {
+namespace multicage {
+
+Multicage resizeCage(InputArray image, const ResizeParams& params) {
+    ProposeParams propose;
+    if (params.protect >= 0) propose.protect = params.protect;
+    propose.margin = params.margin;
+    return proposeProtectedMulticage(image, propose);
+}
+
+void contentAwareResize(InputArray image, Size newSize, OutputArray dst, const Multicage& cage,
+                        const ResizeParams& params) {
+    if (image.empty()) CV_Error(Error::StsBadArg, "multicage: resize: the image is empty");
+    checkResizeSize(image.size(), newSize, params.maxScale);
+    // An empty cage means the default proposal; a cage drawn on another size follows the image.
+    Multicage rest =
+        cage.imageSize().area() == 0 && cage.polygonCount() == 0 ? resizeCage(image, params) : cage;
+    if (rest.imageSize() != image.size()) rest = rest.scaled(image.size());
+    DeformParams deform;
+    deform.coordinates = params.coordinates;
+    deform.gridStep = params.gridStep;
+    deform.backend = params.backend;
+    Ptr<Deformer> deformer = Deformer::create(image, rest, deform);
+    deformer->deform(resizePose(rest, deformer->binding(), newSize, params), dst);
+}
+
+}  // namespace multicage
+}  // namespace cv

@@ -1,0 +1,277 @@
+// The resize pose (docs/resize/README.md): the frame to the new frame, each outline and what it
+// holds by one similarity, the background absorbing the aspect change.
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <functional>
+#include <opencv2/core/utils/logger.hpp>
+#include <opencv2/imgproc.hpp>
+#include <opencv2/multicage/resize.hpp>
+
+namespace cv {
+namespace multicage {
+
+namespace {
+
+/** p' = to + s (p - from). */
+struct Similarity {
+    double s = 1;
+    Point2d from, to;
+    Point2f operator()(Point2f p) const { return Point2f(to + s * (Point2d(p) - from)); }
+};
+
+/** Frame coordinates u = x + 0.5 run from 0 to W over the frame (-0.5 .. W - 0.5). */
+struct Axis {
+    double lo, hi;  // the outline's bounding box, frame coordinates
+    double size;    // W (or H)
+    double newSize;
+    double scale() const { return newSize / size; }
+    double extent() const { return hi - lo; }
+    double gapLow() const { return lo; }
+    double gapHigh() const { return size - hi; }
+};
+
+// A subject "cut by the border": its outline runs within this distance of a side of the frame
+// (proposals keep polygons a margin inside the frame; 1% of the shorter side covers them).
+double touchTolerance(Size image) {
+    return std::max(2.0, 0.01 * std::min(image.width, image.height));
+}
+
+// The least gap an outline keeps to a side: the background between them may be squeezed to 4%
+// of the new side (what the frame's own scaling leaves, where that is less), no further: a
+// thinner band of background folds under mean value coordinates.
+double keptGap(double gap, const Axis& a) {
+    return std::min(gap * std::min(a.scale(), 1.0), 0.04 * a.newSize);
+}
+
+// The largest uniform scale at which the outline fits between the kept gaps on this axis.
+double fitScale(const Axis& a) {
+    const double room = a.newSize - keptGap(a.gapLow(), a) - keptGap(a.gapHigh(), a);
+    return a.extent() > 0 ? room / a.extent() : INFINITY;
+}
+
+// Where the outline's low side goes on this axis at uniform scale s.
+double placeLow(const Axis& a, double s, double tol) {
+    const double length = s * a.extent();
+    const bool low = a.gapLow() <= tol, high = a.gapHigh() <= tol;
+    double start;
+    if (low && !high)
+        start = a.gapLow() * a.scale();  // stays on the low border
+    else if (high && !low)
+        start = a.newSize - a.gapHigh() * a.scale() - length;
+    else
+        start =
+            0.5 * (a.lo + a.hi) * a.scale() - 0.5 * length;  // the frame's scaling of the centre
+    // Inside the new frame with the kept gaps (fitScale() made room for them).
+    const double first = keptGap(a.gapLow(), a),
+                 last = a.newSize - keptGap(a.gapHigh(), a) - length;
+    return std::min(std::max(start, first), std::max(first, last));
+}
+
+// The similarity of one outline (polygon i, depth 1).
+Similarity outlineSimilarity(const std::vector<Point2f>& outline, Size image, Size target) {
+    Rect2f box(outline[0], Size2f());
+    for (const Point2f& p : outline) {
+        const float r = std::max(box.x + box.width, p.x), b = std::max(box.y + box.height, p.y);
+        box.x = std::min(box.x, p.x), box.y = std::min(box.y, p.y);
+        box.width = r - box.x, box.height = b - box.y;
+    }
+    // Frame coordinates: the box of the polygon's vertices, from the frame's corner.
+    Axis x{box.x + 0.5, box.x + box.width + 0.5, double(image.width), double(target.width)};
+    Axis y{box.y + 0.5, box.y + box.height + 0.5, double(image.height), double(target.height)};
+    const double sMin = std::min(x.scale(), y.scale()), sMax = std::max(x.scale(), y.scale());
+    // The subject keeps its size in pixels where the new frame allows (1 between the frame's two
+    // scales); otherwise the frame's scale nearer 1; never more than fits.
+    double s = std::min(std::max(1.0, sMin), sMax);
+    s = std::min({s, fitScale(x), fitScale(y)});
+    s = std::max(s, 1e-3);
+    const double tol = touchTolerance(image);
+    Similarity sim;
+    sim.s = s;
+    sim.from = Point2d(box.x, box.y);  // the box's corner in pixel coordinates
+    sim.to = Point2d(placeLow(x, s, tol) - 0.5, placeLow(y, s, tol) - 0.5);
+    return sim;
+}
+
+// The depth-1 polygon holding polygon i (itself for an outline).
+int outlineOf(const Multicage& cage, int i) {
+    if (cage.depth(i) <= 1) return i;
+    const Point2f probe = cage.polygon(i)[0];
+    for (int j = 0; j < cage.polygonCount(); ++j)
+        if (cage.depth(j) == 1 && pointPolygonTest(cage.polygon(j), probe, false) > 0) return j;
+    return i;  // not reached for a valid multicage
+}
+
+// The frame's own scaling: the cv::resize pose (valid and fold-free for any multicage).
+Point2f frameScaling(Point2f p, Size image, Size target) {
+    return Point2f(float((p.x + 0.5) * target.width / image.width - 0.5),
+                   float((p.y + 0.5) * target.height / image.height - 0.5));
+}
+
+bool validGeometry(const Multicage& cage, const std::vector<Point2f>& pose, Size target) {
+    Multicage moved(target);
+    for (int i = 0; i < cage.polygonCount(); ++i) {
+        const int begin = cage.polygonOffset(i), n = static_cast<int>(cage.polygon(i).size());
+        moved.addPolygon(std::vector<Point2f>(pose.begin() + begin, pose.begin() + begin + n));
+    }
+    return moved.validateGeometry();
+}
+
+/** The poses blend(t) of one stage, t in [0, 1], checked cheaply: a pose is affine in t, and so
+are the node positions (Binding::apply is linear in the pose), so the mesh at any t is
+P0 + t (P1 - P0) from two applies. */
+class BlendCheck {
+  public:
+    BlendCheck(const Multicage& cage, const Binding& binding, Size target,
+               std::function<std::vector<Point2f>(double)> blend)
+        : cage_(cage), binding_(binding), target_(target), blend_(std::move(blend)) {
+        binding.apply(blend_(0), p0_);
+        binding.apply(blend_(1), p1_);
+        subtract(p1_, p0_, p1_);  // the change from t = 0 to t = 1
+        rest_ = binding.nodes();
+    }
+    bool valid(double t) {
+        if (!validGeometry(cage_, blend_(t), target_)) return false;
+        scaleAdd(p1_, t, p0_, at_);
+        return countFoldedTriangles(at_, rest_) == 0;
+    }
+
+  private:
+    const Multicage& cage_;
+    const Binding& binding_;
+    Size target_;
+    std::function<std::vector<Point2f>(double)> blend_;
+    Mat p0_, p1_, at_, rest_;
+};
+
+}  // namespace
+
+void checkResizeSize(Size imageSize, Size newSize, double maxScale) {
+    if (imageSize.width < 1 || imageSize.height < 1)
+        CV_Error(Error::StsBadSize, "multicage: resize: the image is empty");
+    if (newSize.width < 1 || newSize.height < 1)
+        CV_Error_(Error::StsOutOfRange,
+                  ("multicage: resize: the size %dx%d is not a size (both sides must be at "
+                   "least 1 pixel)",
+                   newSize.width, newSize.height));
+    const double limitW = maxScale * imageSize.width, limitH = maxScale * imageSize.height;
+    if (newSize.width > limitW || newSize.height > limitH)
+        CV_Error_(Error::StsOutOfRange,
+                  ("multicage: resize: %dx%d is more than %gx the image's %dx%d (at most %dx%d; "
+                   "ResizeParams::maxScale sets the limit)",
+                   newSize.width, newSize.height, maxScale, imageSize.width, imageSize.height,
+                   int(std::floor(limitW)), int(std::floor(limitH))));
+}
+
+std::vector<Point2f> resizePose(const Multicage& cage, const Binding& binding, Size newSize,
+                                const ResizeParams& params) {
+    const Size image = cage.imageSize();
+    checkResizeSize(image, newSize, params.maxScale);
+    std::string why;
+    if (!cage.validate(&why))
+        CV_Error_(Error::StsBadArg,
+                  ("multicage: resize: the multicage is not valid: %s", why.c_str()));
+    if (binding.imageSize != image || binding.coefficientCount() != cage.vertexCount() + 4)
+        CV_Error(Error::StsBadArg, "multicage: resize: the binding is not of this multicage");
+
+    std::vector<Similarity> outlines(cage.polygonCount());
+    for (int i = 0; i < cage.polygonCount(); ++i)
+        if (cage.depth(i) == 1) outlines[i] = outlineSimilarity(cage.polygon(i), image, newSize);
+
+    // The similarity pose and the frame-scaling pose, vertex for vertex.
+    const std::vector<Point2f> rest = cage.vertices();
+    std::vector<Point2f> similar(rest.size()), scaled(rest.size());
+    for (size_t k = 0; k < rest.size(); ++k) scaled[k] = frameScaling(rest[k], image, newSize);
+    const double tol = touchTolerance(image);
+    for (int i = 0; i < cage.polygonCount(); ++i) {
+        const Similarity& sim = outlines[outlineOf(cage, i)];
+        const int begin = cage.polygonOffset(i), n = static_cast<int>(cage.polygon(i).size());
+        for (int k = begin; k < begin + n; ++k) {
+            similar[k] = sim(rest[k]);
+            if (cage.depth(i) != 1) continue;
+            // An outline vertex on a side of the frame (a subject cut by the border) slides along
+            // that side as the frame does: mean value coordinates are global, and a frame edge
+            // stretching a pixel or two from an outline edge that does not would fold the mesh
+            // between them and leak into the subject.
+            const double u = rest[k].x + 0.5, v = rest[k].y + 0.5;
+            if (u <= tol || image.width - u <= tol) similar[k].y = scaled[k].y;
+            if (v <= tol || image.height - v <= tol) similar[k].x = scaled[k].x;
+        }
+    }
+    const std::array<Point2f, 4> frame = {{{-0.5f, -0.5f},
+                                           {newSize.width - 0.5f, -0.5f},
+                                           {newSize.width - 0.5f, newSize.height - 0.5f},
+                                           {-0.5f, newSize.height - 0.5f}}};
+    const size_t users = rest.size() - 4;
+    for (int k = 0; k < 4; ++k) similar[users + k] = scaled[users + k] = frame[k];
+
+    // Inner polygons' centres, for keeping them similarities while their outline blends.
+    std::vector<int> owner(rest.size(), -1);  // the inner polygon a vertex belongs to
+    std::vector<Point2f> centre(cage.polygonCount());
+    for (int i = 0; i < cage.polygonCount(); ++i) {
+        if (cage.depth(i) < 2) continue;
+        const std::vector<Point2f> poly = cage.polygon(i);
+        Point2f c;
+        for (const Point2f& p : poly) c += p;
+        centre[i] = c * (1.f / poly.size());
+        for (int k = 0; k < static_cast<int>(poly.size()); ++k)
+            owner[cage.polygonOffset(i) + k] = i;
+    }
+    // Stage 1 (t in [0, 1]): outlines go t of the way from the frame's scaling to their
+    // similarity; inner polygons keep their similarity (same scale), carried along with their
+    // centre. Stage 2 (whole = true): every vertex does, inner ones included.
+    auto blend = [&](double t, bool whole) {
+        std::vector<Point2f> pose(rest.size());
+        for (size_t k = 0; k < rest.size(); ++k) {
+            pose[k] = scaled[k] + float(t) * (similar[k] - scaled[k]);
+            const int i = owner[k];
+            if (i < 0 || whole) continue;
+            const Similarity& sim = outlines[outlineOf(cage, i)];
+            const Point2f c = frameScaling(centre[i], image, newSize), cs = sim(centre[i]);
+            pose[k] = c + float(t) * (cs - c) + float(sim.s) * (rest[k] - centre[i]);
+        }
+        return pose;
+    };
+    // The similarities as they are, when they fold nothing and cross nothing (one apply here;
+    // the stages below two each).
+    if (validGeometry(cage, similar, newSize)) {
+        Mat positions;
+        binding.apply(similar, positions);
+        if (countFoldedTriangles(positions, binding.nodes()) == 0) return similar;
+    }
+    // Subjects that would cross, or a fold: the least blend towards the frame's scaling that is
+    // valid, outlines first (what they protect keeps its shape), then everything (t = 0 of
+    // stage 2 is the frame's scaling itself: always valid). Bisection to 1/256.
+    for (bool whole : {false, true}) {
+        BlendCheck check(cage, binding, newSize, [&](double t) { return blend(t, whole); });
+        if (!whole && !check.valid(0)) continue;
+        double good = 0, bad = 1;
+        for (int it = 0; it < 8; ++it) {
+            const double t = 0.5 * (good + bad);
+            (check.valid(t) ? good : bad) = t;
+        }
+        // The mesh at `good` was found by interpolating positions; rounding may differ by an
+        // ulp from apply() itself: confirm, stepping back where a near-flat triangle flips.
+        for (Mat positions; good > 0; good = std::max(0.0, good - 1.0 / 256)) {
+            binding.apply(blend(good, whole), positions);
+            if (countFoldedTriangles(positions, binding.nodes()) == 0) break;
+        }
+        CV_LOG_INFO(nullptr, "multicage: resize: subjects would cross or the mesh fold; "
+                                 << (whole ? "the pose" : "the outlines") << " go " << good
+                                 << " of the way from the frame's scaling to the similarities");
+        return blend(good, whole);
+    }
+    return scaled;  // not reached: stage 2 at t = 0 is the frame's scaling
+}
+
+std::vector<Point2f> resizePose(const Multicage& cage, Size newSize, const ResizeParams& params) {
+    checkResizeSize(cage.imageSize(), newSize, params.maxScale);
+    std::string why;
+    if (!cage.validate(&why))
+        CV_Error_(Error::StsBadArg,
+                  ("multicage: resize: the multicage is not valid: %s", why.c_str()));
+    return resizePose(cage, bind(cage, MEAN_VALUE, params.gridStep), newSize, params);
+}
+
+}  // namespace multicage
+}  // namespace cv

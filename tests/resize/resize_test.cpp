@@ -1,0 +1,264 @@
+// Content-aware resizing (issue 25): outputs of another size, the resize pose, faces, bad input.
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+#include <opencv2/multicage/resize.hpp>
+
+#include "testing.hpp"
+
+using namespace cv::multicage;
+using multicage_testing::readSample;
+
+namespace {
+
+// The sizes a user asks for most: wider (16:9 from 4:3), narrower, both sides, a thumbnail.
+std::vector<cv::Size> targetsFor(cv::Size s) {
+    return {cv::Size(cvRound(1.5 * s.width), s.height), cv::Size(cvRound(0.7 * s.width), s.height),
+            cv::Size(s.width, cvRound(1.3 * s.height)),
+            cv::Size(cvRound(0.5 * s.width), cvRound(0.4 * s.height)),
+            cv::Size(cvRound(2.0 * s.width), cvRound(1.2 * s.height))};
+}
+
+Multicage movedCage(const Multicage& cage, const std::vector<cv::Point2f>& pose, cv::Size size) {
+    Multicage moved(size);
+    for (int i = 0; i < cage.polygonCount(); ++i) {
+        const int begin = cage.polygonOffset(i), n = static_cast<int>(cage.polygon(i).size());
+        moved.addPolygon(std::vector<cv::Point2f>(pose.begin() + begin, pose.begin() + begin + n));
+    }
+    return moved;
+}
+
+// A subject cut by the bottom border (a person in a portrait), a second one free, and a feature
+// inside the first: a cage a person would draw on a 320x240 image.
+Multicage portraitCage() {
+    Multicage cage(cv::Size(320, 240));
+    cage.addPolygon(
+        std::vector<cv::Point2f>{{60, 238}, {70, 120}, {110, 60}, {150, 120}, {165, 238}});
+    cage.addPolygon(std::vector<cv::Point2f>{{95, 110}, {125, 110}, {125, 140}, {95, 140}});
+    cage.addPolygon(std::vector<cv::Point2f>{{220, 60}, {280, 60}, {280, 140}, {220, 140}});
+    cage.orient();
+    return cage;
+}
+
+cv::Mat testImage(cv::Size size) {
+    cv::Mat image(size, CV_8UC3);
+    cv::randu(image, cv::Scalar::all(0), cv::Scalar::all(255));
+    cv::GaussianBlur(image, image, cv::Size(0, 0), 2.0);
+    return image;
+}
+
+}  // namespace
+
+// Item 1: a pose whose frame lies on another size's frame renders that size; every pixel of
+// the new frame is covered by the image; the maps are the same size; points agree with pixels.
+TEST(ResizeOutput, AFrameOnAnotherSizeRendersThatSizeFullyCovered) {
+    const Multicage cage = portraitCage();
+    const cv::Mat image = testImage(cage.imageSize());
+    for (int backend : {BACKEND_CPU, BACKEND_GPU}) {
+        if (backend == BACKEND_GPU && !gpuAvailable()) continue;
+        DeformParams params;
+        params.backend = backend;
+        params.borderValue = cv::Scalar(255, 0, 255);
+        cv::Ptr<Deformer> d = Deformer::create(image, cage, params);
+        for (const cv::Size& target : targetsFor(image.size())) {
+            const std::vector<cv::Point2f> pose = resizePose(cage, d->binding(), target);
+            cv::Mat out, mapx, mapy;
+            d->deform(pose, out);
+            d->computeMaps(pose, mapx, mapy);
+            ASSERT_EQ(out.size(), target) << backendName(backend);
+            ASSERT_EQ(out.type(), image.type());
+            ASSERT_EQ(mapx.size(), target);
+            EXPECT_EQ(cv::countNonZero(mapx < -1), 0) << "uncovered pixels at " << target;
+            // The maps point into the image, and transformPoints takes each source back to its
+            // pixel.
+            std::vector<cv::Point2f> sources, pixels;
+            // (Not the outermost pixels: the ring clamps their sources to the image.)
+            for (int y = 3; y < target.height - 2; y += 17)
+                for (int x = 5; x < target.width - 2; x += 19) {
+                    sources.emplace_back(mapx.at<float>(y, x), mapy.at<float>(y, x));
+                    pixels.emplace_back(float(x), float(y));
+                }
+            std::vector<cv::Point2f> landed;
+            d->transformPoints(pose, sources, landed);
+            double worst = 0;
+            for (size_t k = 0; k < landed.size(); ++k)
+                worst = std::max(worst, double(cv::norm(landed[k] - pixels[k])));
+            EXPECT_LT(worst, 0.01) << backendName(backend) << " " << target;
+        }
+    }
+}
+
+// Item 1: resizing to the image's own size is the rest pose: the input comes back exactly.
+TEST(ResizeOutput, TheSameSizeGivesTheInputBackExactly) {
+    const Multicage cage = portraitCage();
+    const cv::Mat image = testImage(cage.imageSize());
+    const std::vector<cv::Point2f> pose = resizePose(cage, image.size());
+    const std::vector<cv::Point2f> rest = cage.vertices();
+    ASSERT_EQ(pose.size(), rest.size());
+    for (size_t k = 0; k < pose.size(); ++k) EXPECT_EQ(pose[k], rest[k]) << "vertex " << k;
+    cv::Mat out;
+    contentAwareResize(image, image.size(), out, cage);
+    EXPECT_EQ(cv::norm(out, image, cv::NORM_INF), 0.0);
+}
+
+// Item 1: poses that keep the frame render as before, bit for bit (the rest frame given
+// explicitly, or left out).
+TEST(ResizeOutput, PosesThatKeepTheFrameAreUnchanged) {
+    const Multicage cage = portraitCage();
+    const cv::Mat image = testImage(cage.imageSize());
+    DeformParams params;
+    params.backend = BACKEND_CPU;
+    cv::Ptr<Deformer> d = Deformer::create(image, cage, params);
+    std::vector<cv::Point2f> users = multicage_fixtures::stretchPolygon(cage, 2, 1.1f, 0.9f);
+    users.resize(cage.vertexCount());
+    std::vector<cv::Point2f> withFrame = users;
+    for (const cv::Point2f& c : cage.frame()) withFrame.push_back(c);
+    cv::Mat a, b;
+    d->deform(users, a);
+    d->deform(withFrame, b);
+    EXPECT_EQ(a.size(), image.size());
+    EXPECT_EQ(cv::norm(a, b, cv::NORM_INF), 0.0);
+    // A moved frame that lies on no size's frame (a shear) still renders into the image's size.
+    withFrame[withFrame.size() - 3].x += 7.25f;
+    d->deform(withFrame, b);
+    EXPECT_EQ(b.size(), image.size());
+}
+
+// Item 2: the pose validates, folds nothing, puts the frame on the new frame, moves each
+// outline with what it holds by one similarity whose scale lies in the frame's range (or
+// below, shrinking), keeps a subject cut by the border on that border.
+TEST(ResizePose, OutlinesAndWhatTheyHoldMoveBySimilarities) {
+    const Multicage cage = portraitCage();
+    const Binding binding = bind(cage, MEAN_VALUE, 1);
+    for (const cv::Size& target : targetsFor(cage.imageSize())) {
+        const std::vector<cv::Point2f> pose = resizePose(cage, binding, target);
+        ASSERT_EQ(static_cast<int>(pose.size()), cage.vertexCount() + 4);
+        std::string why;
+        EXPECT_TRUE(movedCage(cage, pose, target).validate(&why)) << target << ": " << why;
+        cv::Mat positions;
+        binding.apply(pose, positions);
+        EXPECT_EQ(countFoldedTriangles(positions, binding.nodes()), 0) << target;
+        EXPECT_EQ(pose.back(), cv::Point2f(-0.5f, target.height - 0.5f));
+        EXPECT_EQ(pose[pose.size() - 3], cv::Point2f(target.width - 0.5f, -0.5f));
+        // Cut by the bottom border: its gap to the bottom scales with the frame (stays on it).
+        EXPECT_NEAR(target.height - 0.5 - pose[0].y,
+                    (240 - 0.5 - 238) * std::min(double(target.height) / 240, 1.0), 0.5);
+        // Taller, both sides, thumbnails: the similarities fold this mesh (mean value
+        // coordinates leak the frame's stretch into the subject cut by the border) and the pose
+        // is blended; wider and narrower it is not.
+        if (target.height != 240) continue;
+        // Outline 0 and the feature 1 it holds: one similarity, no rotation, scale in range
+        // (the outline's vertices on the bottom border slide along it with the frame).
+        const double sx = double(target.width) / cage.imageSize().width,
+                     sy = double(target.height) / cage.imageSize().height;
+        std::vector<cv::Point2f> rest, moved;
+        for (int p : {0, 1})
+            for (int k = 0; k < static_cast<int>(cage.polygon(p).size()); ++k)
+                if (cage.polygon(p)[k].y < 230)
+                    rest.push_back(cage.polygon(p)[k]),
+                        moved.push_back(pose[cage.polygonOffset(p) + k]);
+        EXPECT_LT(multicage_testing::similarityResidual(rest, moved), 1e-3) << target;
+        const double scale = cv::norm(moved[1] - moved[0]) / cv::norm(rest[1] - rest[0]);
+        EXPECT_LE(scale, std::max(sx, sy) + 1e-4) << target;
+        EXPECT_NEAR(moved[2].y - moved[1].y, scale * (rest[2].y - rest[1].y), 1e-3)
+            << "no rotation";
+        EXPECT_NEAR(target.height - 0.5 - pose[0].y, (240 - 0.5 - 238) * std::min(sy, 1.0), 0.05)
+            << target;
+        // Where 1 lies between the frame's two scales the subject keeps its size in pixels.
+        if (std::min(sx, sy) <= 1 && std::max(sx, sy) >= 1 && target.width >= 0.7 * 320)
+            EXPECT_NEAR(scale, 1.0, 1e-4) << target;
+    }
+}
+
+// Item 2: two subjects side by side narrowed beyond what fits: they shrink (uniformly) or the
+// pose blends towards the frame's scaling; it always validates and folds nothing.
+TEST(ResizePose, CrowdedSubjectsStillGiveAValidFoldFreePose) {
+    Multicage cage(cv::Size(300, 200));
+    for (int k = 0; k < 4; ++k) {
+        const float x = 10 + 72 * k;
+        cage.addPolygon(std::vector<cv::Point2f>{{x, 30}, {x + 62, 30}, {x + 62, 170}, {x, 170}});
+    }
+    cage.orient();
+    const Binding binding = bind(cage, MEAN_VALUE, 2);
+    for (const cv::Size& target :
+         {cv::Size(120, 200), cv::Size(60, 200), cv::Size(300, 40), cv::Size(900, 200)}) {
+        const std::vector<cv::Point2f> pose = resizePose(cage, binding, target);
+        std::string why;
+        EXPECT_TRUE(movedCage(cage, pose, target).validate(&why)) << target << ": " << why;
+        cv::Mat positions;
+        binding.apply(pose, positions);
+        EXPECT_EQ(countFoldedTriangles(positions, binding.nodes()), 0) << target;
+    }
+}
+
+// Item 8: sizes that are not sizes, or too large, and invalid cages: one clear exception.
+TEST(ResizeErrors, BadSizesAndCagesThrowClearly) {
+    const Multicage cage = portraitCage();
+    auto message = [&](cv::Size s) {
+        try {
+            resizePose(cage, s);
+        } catch (const cv::Exception& e) {
+            return e.err;
+        }
+        return std::string();
+    };
+    EXPECT_NE(message(cv::Size(0, 240)).find("not a size"), std::string::npos);
+    EXPECT_NE(message(cv::Size(-5, 240)).find("not a size"), std::string::npos);
+    EXPECT_NE(message(cv::Size(320 * 9, 240)).find("at most 2560x1920"), std::string::npos);
+    Multicage crossing(cv::Size(100, 100));
+    crossing.addPolygon(std::vector<cv::Point2f>{{10, 10}, {60, 10}, {60, 60}, {10, 60}});
+    crossing.addPolygon(std::vector<cv::Point2f>{{40, 40}, {90, 40}, {90, 90}, {40, 90}});
+    EXPECT_THROW(resizePose(crossing, cv::Size(150, 100)), cv::Exception);
+    cv::Mat out;
+    EXPECT_THROW(contentAwareResize(cv::Mat(), cv::Size(10, 10), out, cage), cv::Exception);
+}
+
+#ifdef MULTICAGE_CLI_PATH
+namespace {
+struct CliRun {
+    int status;
+    std::string out, err;
+};
+std::string slurp(const std::string& path) {
+    std::ifstream f(path);
+    return std::string(std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>());
+}
+CliRun runCli(const std::string& dir, const std::string& args) {
+    const int status = std::system((std::string(MULTICAGE_CLI_PATH) + " " + args + " > " + dir +
+                                    "/out.txt 2> " + dir + "/err.txt")
+                                       .c_str());
+    return {status, slurp(dir + "/out.txt"), slurp(dir + "/err.txt")};
+}
+}  // namespace
+
+// Items 3 and 8: the CLI writes every size asked for from one binding, and refuses bad sizes
+// with one line on stderr and no output file.
+TEST(ResizeCli, WritesEachSizeAndRefusesBadOnesWithoutOutput) {
+    const std::string dir = multicage_testing::tempDir("resize_cli");
+    const Multicage cage = portraitCage();
+    cage.save(dir + "/cage.yml");
+    cv::imwrite(dir + "/in.png", testImage(cage.imageSize()));
+    const std::string in = dir + "/in.png --cage " + dir + "/cage.yml --backend cpu";
+    CliRun r =
+        runCli(dir, "resize " + in + " -o " + dir +
+                        "/out.png --size 480x240 --size 224x240 --overlay " + dir + "/ov.png");
+    ASSERT_EQ(r.status, 0) << r.err;
+    EXPECT_EQ(cv::imread(dir + "/out_480x240.png").size(), cv::Size(480, 240));
+    EXPECT_EQ(cv::imread(dir + "/out_224x240.png").size(), cv::Size(224, 240));
+    EXPECT_FALSE(cv::imread(dir + "/ov.png").empty());
+    r = runCli(dir, "resize " + in + " -o " + dir + "/a.png --aspect 16:9");
+    ASSERT_EQ(r.status, 0) << r.err;
+    EXPECT_EQ(cv::imread(dir + "/a.png").size(), cv::Size(427, 240));
+    for (const std::string bad :
+         {"--size 0x240", "--size 12x", "--size 4000x240", "--width 0", "--aspect 0:1"}) {
+        r = runCli(dir, "resize " + in + " -o " + dir + "/bad.png " + bad);
+        EXPECT_NE(r.status, 0) << bad;
+        EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << bad << ": " << r.err;
+        EXPECT_FALSE(std::filesystem::exists(dir + "/bad.png")) << bad;
+    }
+    std::filesystem::remove_all(dir);
+}
+#endif
