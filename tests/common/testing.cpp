@@ -42,18 +42,4 @@ cv::multicage::Multicage butterflyCage(bool withBody) {
     return cage;
 }
 
-double similarityResidual(const std::vector<cv::Point2f>& rest, const std::vector<cv::Point2f>& moved) {
-    // A huge RANSAC threshold keeps every point an inlier: a least-squares similarity fit.
-    cv::Mat S = cv::estimateAffinePartial2D(rest, moved, cv::noArray(), cv::RANSAC, 1e9, 2000, 0.99, 50);
-    if (S.empty()) return INFINITY;
-    double sum = 0;
-    for (size_t i = 0; i < rest.size(); ++i) {
-        const cv::Point2d p = rest[i];
-        const cv::Point2d q(S.at<double>(0, 0) * p.x + S.at<double>(0, 1) * p.y + S.at<double>(0, 2),
-                            S.at<double>(1, 0) * p.x + S.at<double>(1, 1) * p.y + S.at<double>(1, 2));
-        sum += cv::norm(q - cv::Point2d(moved[i]));
-    }
-    return sum / rest.size();
-}
-
 }  // namespace multicage_testing

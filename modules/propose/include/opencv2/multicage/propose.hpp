@@ -84,7 +84,10 @@ struct CV_EXPORTS ProposeParams {
     the mask after 4 (intersection over union 0.98-1.0), in 25-45% less time. */
     int grabCutIterations = 2;
     int grabCutMaxSide = 240;  //!< GrabCut's own working size (its cost is per pixel)
-    int protect = PROTECT_SALIENCY;  //!< ProtectDetector: what protectFeatures() protects
+    /** ProtectDetector: what protectFeatures() protects. The default, PROTECT_ALL, is the
+    one default of the library, `multicage propose`, Python's propose_multicage and the
+    editor's Propose: faces first, then the textured salient features (see PROTECT_ALL). */
+    int protect = PROTECT_ALL;
     /** Folder holding haarcascade_frontalface_alt2.xml, haarcascade_profileface.xml and
     haarcascade_eye.xml (only there when given); empty: MULTICAGE_DEBIAN_CASCADE_DIR, then
     /usr/share/opencv/haarcascades. */
