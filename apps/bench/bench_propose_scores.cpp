@@ -57,7 +57,8 @@ std::vector<Reference> readReferences(const std::string& dir) {
     for (const auto& e : std::filesystem::directory_iterator(dir)) {
         const std::string f = e.path().filename().string();
         const std::string suffix = ".ref.json";
-        if (f.size() > suffix.size() && f.compare(f.size() - suffix.size(), suffix.size(), suffix) == 0)
+        if (f.size() > suffix.size() &&
+            f.compare(f.size() - suffix.size(), suffix.size(), suffix) == 0)
             names.push_back(f.substr(0, f.size() - suffix.size()));
     }
     std::sort(names.begin(), names.end());
@@ -69,8 +70,8 @@ std::vector<Reference> readReferences(const std::string& dir) {
         r.image = cv::imread(dir + "/" + static_cast<std::string>(fs["photo"]), cv::IMREAD_COLOR);
         r.mask = cv::imread(dir + "/" + n + "_mask.png", cv::IMREAD_GRAYSCALE);
         if (r.image.empty() || r.mask.empty() || r.mask.size() != r.image.size()) {
-            std::cerr << "bench_propose_scores: " << n << ": photo or mask missing (run "
-                      << dir << "/make_reference.py)\n";
+            std::cerr << "bench_propose_scores: " << n << ": photo or mask missing (run " << dir
+                      << "/make_reference.py)\n";
             std::exit(2);
         }
         r.mask = r.mask > 127;
@@ -152,8 +153,9 @@ double medianMs(const cv::Mat& image, int runs) {
     for (int i = 0; i < runs; ++i) {
         const auto t0 = std::chrono::steady_clock::now();
         proposeProtectedMulticage(image);
-        ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0)
-                         .count());
+        ms.push_back(
+            std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0)
+                .count());
     }
     std::sort(ms.begin(), ms.end());
     return ms[ms.size() / 2];
@@ -198,8 +200,9 @@ int main(int argc, char** argv) {
             dir = a;
     }
     const std::vector<Reference> refs = readReferences(dir);
-    std::printf("| photo | size | outline IoU | faces hugged | face residual (px) | inner polygons "
-                "| protecting nothing | ms at 1024 px |\n|---|---|---|---|---|---|---|---|\n");
+    std::printf(
+        "| photo | size | outline IoU | faces hugged | face residual (px) | inner polygons "
+        "| protecting nothing | ms at 1024 px |\n|---|---|---|---|---|---|---|---|\n");
     std::vector<cv::Mat> tiles;
     double iouSum = 0;
     int hugged = 0, faces = 0, stray = 0;
@@ -221,16 +224,18 @@ int main(int argc, char** argv) {
         std::fflush(stdout);
         tiles.push_back(tile(r, cage, s));
     }
-    std::printf("\nmean outline IoU %.3f; faces hugged %d of %d; inner polygons protecting "
-                "nothing %d\n",
-                refs.empty() ? 0.0 : iouSum / refs.size(), hugged, faces, stray);
+    std::printf(
+        "\nmean outline IoU %.3f; faces hugged %d of %d; inner polygons protecting "
+        "nothing %d\n",
+        refs.empty() ? 0.0 : iouSum / refs.size(), hugged, faces, stray);
     if (!sheet.empty() && !tiles.empty()) {
         const int cols = 4;
         std::vector<cv::Mat> rows;
         for (size_t i = 0; i < tiles.size(); i += cols) {
             std::vector<cv::Mat> row(tiles.begin() + i,
                                      tiles.begin() + std::min(tiles.size(), i + cols));
-            while (row.size() < cols) row.push_back(cv::Mat(tiles[0].size(), CV_8UC3, cv::Scalar(32, 32, 32)));
+            while (row.size() < cols)
+                row.push_back(cv::Mat(tiles[0].size(), CV_8UC3, cv::Scalar(32, 32, 32)));
             cv::Mat r;
             cv::hconcat(row, r);
             rows.push_back(r);

@@ -48,11 +48,14 @@ void addNested(cv::RNG& rng, Multicage& cage, Point2f c, float radius, int depth
     if (depth < maxDepth && rng.uniform(0, 4) != 0) {
         const int children = rng.uniform(1, 3);
         if (children == 1) {
-            addNested(rng, cage, c, radius * rng.uniform(0.3f, 0.6f), depth + 1, maxDepth, perPolygon);
+            addNested(rng, cage, c, radius * rng.uniform(0.3f, 0.6f), depth + 1, maxDepth,
+                      perPolygon);
         } else {  // two children side by side inside the inner disk of radius 0.75*radius
             const float r = radius * 0.3f;
-            addNested(rng, cage, c + Point2f(-0.37f * radius, 0), r, depth + 1, maxDepth, perPolygon);
-            addNested(rng, cage, c + Point2f(0.37f * radius, 0), r, depth + 1, maxDepth, perPolygon);
+            addNested(rng, cage, c + Point2f(-0.37f * radius, 0), r, depth + 1, maxDepth,
+                      perPolygon);
+            addNested(rng, cage, c + Point2f(0.37f * radius, 0), r, depth + 1, maxDepth,
+                      perPolygon);
         }
     }
 }
@@ -65,7 +68,8 @@ Multicage randomMulticage(cv::RNG& rng, cv::Size size, int maxTop, int maxDepth,
     for (int attempt = 0; attempt < 200 && static_cast<int>(disks.size()) < top; ++attempt) {
         const float rmax = 0.45f * std::min(size.width, size.height);
         const float r = rng.uniform(0.25f * rmax, rmax);
-        const Point2f c(rng.uniform(r + 2.f, size.width - r - 2.f), rng.uniform(r + 2.f, size.height - r - 2.f));
+        const Point2f c(rng.uniform(r + 2.f, size.width - r - 2.f),
+                        rng.uniform(r + 2.f, size.height - r - 2.f));
         bool free = true;
         for (const cv::Vec3f& d : disks)
             free = free && std::hypot(c.x - d[0], c.y - d[1]) > r + d[2] + 2.f;

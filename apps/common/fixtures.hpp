@@ -23,8 +23,8 @@ cv::multicage::Multicage randomMulticage(cv::RNG& rng, cv::Size imageSize, int m
 
 /** A pose moving only polygon `polygon`'s vertices: scaled by (sx, sy) about its centroid
 and shifted by `shift`. Every other vertex stays at rest. */
-std::vector<cv::Point2f> stretchPolygon(const cv::multicage::Multicage& cage, int polygon,
-                                        float sx, float sy, cv::Point2f shift = {});
+std::vector<cv::Point2f> stretchPolygon(const cv::multicage::Multicage& cage, int polygon, float sx,
+                                        float sy, cv::Point2f shift = {});
 
 /** A smooth random pose: every user vertex moved by a displacement field of amplitude
 `amplitude` pixels (so nested polygons stay nested for moderate amplitudes). */

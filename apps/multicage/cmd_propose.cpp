@@ -15,7 +15,8 @@ struct ProposeOptions {
     float margin = -1.f;
     double minArea = 0.004;
     std::vector<int> rect;
-    std::string protect, cascadeDir;  // protect: "" (not given: the library's default), saliency, faces, all
+    std::string protect,
+        cascadeDir;  // protect: "" (not given: the library's default), saliency, faces, all
     bool noProtect = false;
 };
 
@@ -161,8 +162,7 @@ void runPropose(const ProposeOptions& o) {
     for (int p = 0; p < cage.polygonCount(); ++p) deepest = std::max(deepest, cage.depth(p));
     std::cout << "wrote " << o.output << " (" << plural(cage.polygonCount(), "polygon") << ", "
               << plural(cage.vertexCount(), "vertex", "vertices") << ", depth up to " << deepest
-              << ", pose 'rest', "
-              << cvRound(msSince(t0)) << " ms)";
+              << ", pose 'rest', " << cvRound(msSince(t0)) << " ms)";
     if (!o.overlay.empty()) std::cout << " and " << o.overlay;
     std::cout << std::endl;
     if (!note.empty()) std::cout << note << std::endl;
@@ -195,7 +195,8 @@ void addProposeCommand(CLI::App& app) {
         "  multicage propose photo.jpg -o cage.yml --overlay check.png\n"
         "  multicage propose photo.jpg -o cage.yml --method grabcut --rect 40 30 400 300\n"
         "  multicage propose mask.png -o cage.yml --method mask --margin 12 --max-vertices 40\n"
-        "Then: multicage deform photo.jpg cage.yml -o out.png --pose NAME (or multicage-editor photo.jpg "
+        "Then: multicage deform photo.jpg cage.yml -o out.png --pose NAME (or multicage-editor "
+        "photo.jpg "
         "cage.yml to draw a pose).");
     cmd->add_option("image", o->image,
                     "Input image (or mask / label image with --method mask / labels)")

@@ -213,8 +213,6 @@ std::vector<Region> protectiveRegions(const Mat& objects, const FacePlan& faces,
     return found;
 }
 
-
-
 // The texture rule: which salient regions are features worth an inner polygon.
 //
 // Saliency lights up what is bright or different: a specular highlight, a shadow, a flat patch
@@ -254,8 +252,8 @@ Mat texturedOnly(const Mat& objects, const Mat& img, const Mat& inside, const Wo
         const double energy = sum[i] / std::max(1, stats.at<int>(i, CC_STAT_AREA));
         keep[i] = energy >= kTextureRatio * object;
         if (std::getenv("MULTICAGE_DEBUG_TEXTURE"))
-            std::fprintf(stderr, "texture: region %d at %d,%d area %d: %.2f of the object's %s\n", i,
-                         stats.at<int>(i, CC_STAT_LEFT), stats.at<int>(i, CC_STAT_TOP),
+            std::fprintf(stderr, "texture: region %d at %d,%d area %d: %.2f of the object's %s\n",
+                         i, stats.at<int>(i, CC_STAT_LEFT), stats.at<int>(i, CC_STAT_TOP),
                          stats.at<int>(i, CC_STAT_AREA), energy / std::max(1e-9, object),
                          keep[i] ? "kept" : "dropped");
     }

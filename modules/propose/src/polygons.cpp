@@ -53,7 +53,6 @@ Mat cageMaskFromLabels(const Mat& labels, const Work& w) {
     return region;
 }
 
-
 // Outer contours at even levels of the contour tree, as regions with their depth.
 std::vector<Region> nestedRegions(const Mat& cageMask, int maxDepth, double minArea) {
     Mat padded;  // a zero frame, so that a region filling the image still has a contour
@@ -95,7 +94,6 @@ std::vector<Region> nestedRegions(const Mat& cageMask, int maxDepth, double minA
 }
 
 namespace {
-
 
 bool isSimple(const Polygon& p) {
     if (p.size() < 3 || std::abs(geometry::signedArea(p)) < 1e-6) return false;

@@ -30,7 +30,7 @@ namespace {
 
 // Around a face's polygon, in face sizes (faceSize): the most room the outline leaves
 // (faceRoom).
-constexpr double kFaceRoom = 0.15;
+constexpr double kFaceRoom = 0.3;
 
 }  // namespace
 
@@ -122,9 +122,9 @@ Multicage proposeProtectedMulticage(InputArray image, const ProposeParams& param
     // Faces first: a face found means a person, and the person prior seeds the segmentation
     // (person.hpp); the cascades run on a small copy (faceWorkingSize), so waiting costs less
     // than the outline a face-blind GrabCut draws.
-    const std::vector<Rect> faces = wantsFaces(params)
-                                        ? mergeNearFaces(detectFaces(img, params), w.margin * w.scale)
-                                        : std::vector<Rect>();
+    const std::vector<Rect> faces =
+        wantsFaces(params) ? mergeNearFaces(detectFaces(img, params), w.margin * w.scale)
+                           : std::vector<Rect>();
     Segmentation s = segmentForProposal(img, w, params, personSeed(faces, w));
     if (facesOut) *facesOut = faces;
     ProposeParams outlineParams = params;

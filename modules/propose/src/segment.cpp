@@ -373,8 +373,8 @@ Segmentation segmentForProposal(const Mat& image, const Work& w, const ProposePa
     if (!person.empty() && (method == PROPOSE_AUTO || method == PROPOSE_GRABCUT) &&
         params.rect.area() == 0) {
         // A face was found: the person prior seeds GrabCut, whatever the background.
-        s.objects = cleanMask(segmentGrabCut(work, params, w.scale, Mat(), person), w.radius,
-                              w.minArea);
+        s.objects =
+            cleanMask(segmentGrabCut(work, params, w.scale, Mat(), person), w.radius, w.minArea);
         return s;
     }
     s.objects = cleanMask(segmentImage(work, method, params, w.scale), w.radius, w.minArea);

@@ -32,7 +32,6 @@ void checkParams(const ProposeParams& p) {
         bad("faceWorkingSize", p.faceWorkingSize, "0 or >= 48");
 }
 
-
 Work resolve(Size full, const ProposeParams& p) {
     Work w;
     w.full = full;
@@ -75,7 +74,6 @@ Mat distanceTo(const Mat& src) {
     distanceTransform(src, d, DIST_L2, DIST_MASK_PRECISE, CV_32F);
     return d;
 }
-
 
 void fillWork(Mat& mask, const Polygon& p, const Work& w, const Scalar& value) {
     const double sx = w.size.width / static_cast<double>(w.full.width);

@@ -3,9 +3,8 @@
 #ifndef MULTICAGE_PROPOSE_WORK_HPP
 #define MULTICAGE_PROPOSE_WORK_HPP
 
-#include <opencv2/multicage/propose.hpp>
-
 #include <opencv2/multicage/internal/geometry.hpp>
+#include <opencv2/multicage/propose.hpp>
 
 namespace cv {
 namespace multicage {
@@ -27,7 +26,6 @@ struct Work {
     int radius = 0;        // cleaning
     double minArea = 0.0;  // pixels
 };
-
 
 /** The working copy for an input of size `full`. */
 Work resolve(Size full, const ProposeParams& p);
