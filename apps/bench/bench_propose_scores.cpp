@@ -1,6 +1,6 @@
 // Scores the default proposal against references made by hand (issue 21, item 6):
 //
-//   bench_propose_scores [DIR] [--runs N] [--sheet SHEET.png] [--no-time]
+//   bench_propose_scores [DIR] [--runs N] [--sheet SHEET.png] [--no-time] [--harmonic]
 //
 // DIR (default samples/data/propose_bench) holds NAME.jpg, NAME_mask.png (the object a person
 // would cage, 255) and NAME.ref.json ("faces" and "features": [x, y, w, h] boxes a person
@@ -16,6 +16,8 @@
 //            area on a reference face or feature box
 //   ms       median time of proposeProtectedMulticage() with the default ProposeParams on
 //            the photo scaled to 1024 pixels on its longer side (1024x768 for 4:3)
+// --harmonic also gives the face residual with harmonic coordinates (grid step 2) and their
+// binding time, for comparison.
 // --sheet writes a contact sheet: each proposal over its photo, the reference outline in
 // white, the reference boxes in magenta.
 #include <algorithm>
@@ -96,11 +98,11 @@ cv::Rect inner80(const cv::Rect& f) {
 }
 
 struct Score {
-    double iou = 0, residual = 0, ms = 0;
+    double iou = 0, residual = 0, ms = 0, harmonicResidual = 0, harmonicMs = 0;
     int hugged = 0, faces = 0, stray = 0, inner = 0;
 };
 
-Score score(const Reference& r, const Multicage& cage) {
+Score score(const Reference& r, const Multicage& cage, bool harmonic) {
     Score s;
     const cv::Size size = r.image.size();
     cv::Mat outlines = cv::Mat::zeros(size, CV_8U);
@@ -144,6 +146,15 @@ Score score(const Reference& r, const Multicage& cage) {
         const std::vector<cv::Point2f> pose =
             multicage_fixtures::stretchPolygon(cage, outline, 1.2f, 1.0f);
         s.residual = std::max(s.residual, multicage_fixtures::boxResidual(binding, pose, f));
+        if (harmonic) {  // what harmonic coordinates at grid step 2 give, and their cost
+            const auto t0 = std::chrono::steady_clock::now();
+            const Binding h = bind(cage, HARMONIC, 2);
+            s.harmonicMs +=
+                std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0)
+                    .count();
+            s.harmonicResidual =
+                std::max(s.harmonicResidual, multicage_fixtures::boxResidual(h, pose, f));
+        }
     }
     return s;
 }
@@ -187,7 +198,7 @@ cv::Mat tile(const Reference& r, const Multicage& cage, const Score& s) {
 int main(int argc, char** argv) {
     std::string dir = MULTICAGE_SAMPLES_DIR "/propose_bench", sheet;
     int runs = 5;
-    bool time = true;
+    bool time = true, harmonic = false;
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
         if (a == "--runs" && i + 1 < argc)
@@ -196,6 +207,8 @@ int main(int argc, char** argv) {
             sheet = argv[++i];
         else if (a == "--no-time")
             time = false;
+        else if (a == "--harmonic")
+            harmonic = true;
         else
             dir = a;
     }
@@ -208,7 +221,7 @@ int main(int argc, char** argv) {
     int hugged = 0, faces = 0, stray = 0;
     for (const Reference& r : refs) {
         const Multicage cage = proposeProtectedMulticage(r.image);
-        Score s = score(r, cage);
+        Score s = score(r, cage, harmonic);
         if (time) {
             const double k = 1024.0 / std::max(r.image.cols, r.image.rows);
             cv::Mat big;
@@ -221,6 +234,10 @@ int main(int argc, char** argv) {
         std::printf("| %s | %dx%d | %.3f | %d of %d | %s | %d | %d | %.0f |\n", r.name.c_str(),
                     r.image.cols, r.image.rows, s.iou, s.hugged, s.faces, residual, s.inner,
                     s.stray, s.ms);
+        if (harmonic && s.faces > 0)
+            std::printf(
+                "|   harmonic coordinates, grid step 2: face residual %.3f px, binding %.0f ms |\n",
+                s.harmonicResidual, s.harmonicMs);
         std::fflush(stdout);
         tiles.push_back(tile(r, cage, s));
     }
