@@ -1,6 +1,7 @@
 // Scores the default proposal against references made by hand (issue 21, item 6):
 //
 //   bench_propose_scores [DIR] [--runs N] [--sheet SHEET.png] [--no-time] [--harmonic]
+//                        [--protect all|faces|saliency]
 //
 // DIR (default samples/data/propose_bench) holds NAME.jpg, NAME_mask.png (the object a person
 // would cage, 255) and NAME.ref.json ("faces" and "features": [x, y, w, h] boxes a person
@@ -159,11 +160,13 @@ Score score(const Reference& r, const Multicage& cage, bool harmonic) {
     return s;
 }
 
+ProposeParams gParams;  // the default, or --protect NAME
+
 double medianMs(const cv::Mat& image, int runs) {
     std::vector<double> ms;
     for (int i = 0; i < runs; ++i) {
         const auto t0 = std::chrono::steady_clock::now();
-        proposeProtectedMulticage(image);
+        proposeProtectedMulticage(image, gParams);
         ms.push_back(
             std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0)
                 .count());
@@ -209,6 +212,8 @@ int main(int argc, char** argv) {
             time = false;
         else if (a == "--harmonic")
             harmonic = true;
+        else if (a == "--protect" && i + 1 < argc)
+            gParams.protect = parseProtectDetector(argv[++i]);
         else
             dir = a;
     }
@@ -220,7 +225,7 @@ int main(int argc, char** argv) {
     double iouSum = 0;
     int hugged = 0, faces = 0, stray = 0;
     for (const Reference& r : refs) {
-        const Multicage cage = proposeProtectedMulticage(r.image);
+        const Multicage cage = proposeProtectedMulticage(r.image, gParams);
         Score s = score(r, cage, harmonic);
         if (time) {
             const double k = 1024.0 / std::max(r.image.cols, r.image.rows);
