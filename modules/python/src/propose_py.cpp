@@ -1,8 +1,8 @@
 // propose_multicage() and its friends: `multicage propose` in Python.
-#include "common.hpp"
-
 #include <cmath>
 #include <sstream>
+
+#include "common.hpp"
 
 namespace multicage_py {
 namespace {

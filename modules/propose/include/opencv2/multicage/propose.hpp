@@ -161,9 +161,9 @@ CV_EXPORTS Multicage protectFeatures(InputArray image, const Multicage& cage, in
 profile (both directions) detections on a copy at most params.faceWorkingSize wide or high,
 histogram-equalised; in a colour image only boxes whose middle is mostly skin-coloured
 (Haar cascades also fire on crowds and clothing); optionally confirmed by an eye
-(params.faceEyes); overlapping detections merged into their bounding box. Rectangles in input pixels, largest first. Throws
-cv::Exception (StsObjectNotFound) when the frontal cascade is not installed: "... install
-the Debian package opencv-data, or set ProposeParams::cascadeDir". */
+(params.faceEyes); overlapping detections merged into their bounding box. Rectangles in input
+pixels, largest first. Throws cv::Exception (StsObjectNotFound) when the frontal cascade is not
+installed: "... install the Debian package opencv-data, or set ProposeParams::cascadeDir". */
 CV_EXPORTS std::vector<Rect> detectFaces(InputArray image,
                                          const ProposeParams& params = ProposeParams());
 
