@@ -1,5 +1,6 @@
 #include "fixtures.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 namespace multicage_fixtures {
@@ -47,11 +48,14 @@ void addNested(cv::RNG& rng, Multicage& cage, Point2f c, float radius, int depth
     if (depth < maxDepth && rng.uniform(0, 4) != 0) {
         const int children = rng.uniform(1, 3);
         if (children == 1) {
-            addNested(rng, cage, c, radius * rng.uniform(0.3f, 0.6f), depth + 1, maxDepth, perPolygon);
+            addNested(rng, cage, c, radius * rng.uniform(0.3f, 0.6f), depth + 1, maxDepth,
+                      perPolygon);
         } else {  // two children side by side inside the inner disk of radius 0.75*radius
             const float r = radius * 0.3f;
-            addNested(rng, cage, c + Point2f(-0.37f * radius, 0), r, depth + 1, maxDepth, perPolygon);
-            addNested(rng, cage, c + Point2f(0.37f * radius, 0), r, depth + 1, maxDepth, perPolygon);
+            addNested(rng, cage, c + Point2f(-0.37f * radius, 0), r, depth + 1, maxDepth,
+                      perPolygon);
+            addNested(rng, cage, c + Point2f(0.37f * radius, 0), r, depth + 1, maxDepth,
+                      perPolygon);
         }
     }
 }
@@ -64,7 +68,8 @@ Multicage randomMulticage(cv::RNG& rng, cv::Size size, int maxTop, int maxDepth,
     for (int attempt = 0; attempt < 200 && static_cast<int>(disks.size()) < top; ++attempt) {
         const float rmax = 0.45f * std::min(size.width, size.height);
         const float r = rng.uniform(0.25f * rmax, rmax);
-        const Point2f c(rng.uniform(r + 2.f, size.width - r - 2.f), rng.uniform(r + 2.f, size.height - r - 2.f));
+        const Point2f c(rng.uniform(r + 2.f, size.width - r - 2.f),
+                        rng.uniform(r + 2.f, size.height - r - 2.f));
         bool free = true;
         for (const cv::Vec3f& d : disks)
             free = free && std::hypot(c.x - d[0], c.y - d[1]) > r + d[2] + 2.f;
@@ -101,6 +106,64 @@ std::vector<Point2f> wavePose(const Multicage& cage, float amplitude, float phas
         p += amplitude * Point2f(std::sin(6.f * v + phase), std::cos(5.f * u + 0.7f * phase));
     }
     return pose;
+}
+
+double similarityResidual(const std::vector<Point2f>& rest, const std::vector<Point2f>& moved) {
+    const size_t n = std::min(rest.size(), moved.size());
+    if (n < 2) return INFINITY;
+    // The least-squares similarity in closed form: centre both sets, then q = [a -b; b a] p.
+    cv::Point2d cp(0, 0), cq(0, 0);
+    for (size_t i = 0; i < n; ++i) cp += cv::Point2d(rest[i]), cq += cv::Point2d(moved[i]);
+    cp *= 1.0 / n, cq *= 1.0 / n;
+    double a = 0, b = 0, norm2 = 0;
+    for (size_t i = 0; i < n; ++i) {
+        const cv::Point2d p = cv::Point2d(rest[i]) - cp, q = cv::Point2d(moved[i]) - cq;
+        a += p.x * q.x + p.y * q.y, b += p.x * q.y - p.y * q.x, norm2 += p.dot(p);
+    }
+    if (!(norm2 > 0)) return INFINITY;
+    a /= norm2, b /= norm2;
+    double sum = 0;
+    for (size_t i = 0; i < n; ++i) {
+        const cv::Point2d p = cv::Point2d(rest[i]) - cp;
+        sum += cv::norm(cq + cv::Point2d(a * p.x - b * p.y, b * p.x + a * p.y) -
+                        cv::Point2d(moved[i]));
+    }
+    return sum / n;
+}
+
+namespace {
+cv::Rect2d innerBox(const cv::Rect2d& box, double inner) {
+    const double dx = 0.5 * (1 - inner) * box.width, dy = 0.5 * (1 - inner) * box.height;
+    return cv::Rect2d(box.x + dx, box.y + dy, box.width - 2 * dx, box.height - 2 * dy);
+}
+}  // namespace
+
+std::vector<Point2f> boxNodes(const cv::multicage::Binding& binding, const cv::Rect2d& box,
+                              double inner) {
+    const cv::Rect2d r = innerBox(box, inner);
+    std::vector<Point2f> nodes;
+    for (int gy = 0; gy < binding.gridSize.height; ++gy)
+        for (int gx = 0; gx < binding.gridSize.width; ++gx) {
+            const Point2f p = binding.node(gx, gy);
+            if (r.contains(cv::Point2d(p))) nodes.push_back(p);
+        }
+    return nodes;
+}
+
+double boxResidual(const cv::multicage::Binding& binding, const std::vector<Point2f>& pose,
+                   const cv::Rect2d& box, double inner) {
+    cv::Mat moved;
+    binding.apply(pose, moved);
+    const cv::Rect2d r = innerBox(box, inner);
+    std::vector<Point2f> rest, after;
+    for (int gy = 0; gy < binding.gridSize.height; ++gy)
+        for (int gx = 0; gx < binding.gridSize.width; ++gx) {
+            const Point2f p = binding.node(gx, gy);
+            if (!r.contains(cv::Point2d(p))) continue;
+            rest.push_back(p);
+            after.push_back(moved.at<Point2f>(gy, gx));
+        }
+    return rest.size() < 3 ? INFINITY : similarityResidual(rest, after);
 }
 
 }  // namespace multicage_fixtures

@@ -23,13 +23,31 @@ cv::multicage::Multicage randomMulticage(cv::RNG& rng, cv::Size imageSize, int m
 
 /** A pose moving only polygon `polygon`'s vertices: scaled by (sx, sy) about its centroid
 and shifted by `shift`. Every other vertex stays at rest. */
-std::vector<cv::Point2f> stretchPolygon(const cv::multicage::Multicage& cage, int polygon,
-                                        float sx, float sy, cv::Point2f shift = {});
+std::vector<cv::Point2f> stretchPolygon(const cv::multicage::Multicage& cage, int polygon, float sx,
+                                        float sy, cv::Point2f shift = {});
 
 /** A smooth random pose: every user vertex moved by a displacement field of amplitude
 `amplitude` pixels (so nested polygons stay nested for moderate amplitudes). */
 std::vector<cv::Point2f> wavePose(const cv::multicage::Multicage& cage, float amplitude,
                                   float phase = 0.f);
+
+/** Mean distance (px) from `moved` to the least-squares similarity of `rest` onto it (what
+remains when a rotation, a uniform scale and a translation are taken out): 0 for a rigid
+motion plus uniform scale. Infinity for fewer than 2 points or coincident rest points. */
+double similarityResidual(const std::vector<cv::Point2f>& rest,
+                          const std::vector<cv::Point2f>& moved);
+
+/** The binding's grid nodes inside the middle `inner` fraction of `box` (0.8: the box's inner
+80%, which leaves out the hair and background a detector's box holds at its edges). */
+std::vector<cv::Point2f> boxNodes(const cv::multicage::Binding& binding, const cv::Rect2d& box,
+                                  double inner = 0.8);
+
+/** How far a box's content is from a similarity under `pose`: similarityResidual() over the
+grid nodes of boxNodes(binding, box, inner) and where the binding moves them. The measure of
+"a face stays a face" (the demo, the tests and the proposal benchmark all use it). Infinity
+when fewer than 3 nodes lie in the box. */
+double boxResidual(const cv::multicage::Binding& binding, const std::vector<cv::Point2f>& pose,
+                   const cv::Rect2d& box, double inner = 0.8);
 
 }  // namespace multicage_fixtures
 

@@ -153,11 +153,9 @@ void exportImage(Editor& e, const std::string& path, const Settings& s, GLFWwind
 void propose(Editor& e) {
     if (e.image.empty()) throw std::runtime_error("open an image first");
     const auto t0 = Clock::now();
-    // As `multicage propose --protect all`: outlines plus inner polygons protecting the
-    // faces and the salient features inside them.
-    mc::ProposeParams params;
-    params.protect = mc::PROTECT_ALL;
-    mc::Multicage cage = mc::proposeProtectedMulticage(e.image, params);
+    // As `multicage propose` with no flags: the library's default (outlines plus inner
+    // polygons protecting the faces and the salient features inside them).
+    mc::Multicage cage = mc::proposeProtectedMulticage(e.image, mc::ProposeParams());
     edit(e);
     e.mode = Mode::Rest;
     setDocument(e, makeDocument(cage));

@@ -123,48 +123,15 @@ Scene facesScene() {
     return s;
 }
 
-// Mean distance (px) from the moved points to the least-squares similarity of the rest points
-// (what remains when a rotation, a uniform scale and a translation are taken out).
-double similarityResidual(const std::vector<cv::Point2f>& rest,
-                          const std::vector<cv::Point2f>& moved) {
-    cv::Point2d cp(0, 0), cq(0, 0);
-    for (size_t i = 0; i < rest.size(); ++i)
-        cp += cv::Point2d(rest[i]), cq += cv::Point2d(moved[i]);
-    cp *= 1.0 / rest.size(), cq *= 1.0 / rest.size();
-    double a = 0, b = 0, n = 0;
-    for (size_t i = 0; i < rest.size(); ++i) {
-        const cv::Point2d p = cv::Point2d(rest[i]) - cp, q = cv::Point2d(moved[i]) - cq;
-        a += p.x * q.x + p.y * q.y, b += p.x * q.y - p.y * q.x, n += p.dot(p);
-    }
-    a /= n, b /= n;
-    double sum = 0;
-    for (size_t i = 0; i < rest.size(); ++i) {
-        const cv::Point2d p = cv::Point2d(rest[i]) - cp;
-        sum += cv::norm(cq + cv::Point2d(a * p.x - b * p.y, b * p.x + a * p.y) -
-                        cv::Point2d(moved[i]));
-    }
-    return sum / rest.size();
-}
-
 // How far each face is from a similarity under the pose, over the mesh nodes inside it.
 void printFaceResiduals(const Scene& s, const cv::multicage::Binding& binding,
                         const std::vector<cv::Point2f>& pose) {
-    cv::Mat moved;
-    binding.apply(pose, moved);
     for (const cv::Rect& f : s.faces) {
-        std::vector<cv::Point2f> rest, after;
-        for (int gy = 0; gy < binding.gridSize.height; ++gy)
-            for (int gx = 0; gx < binding.gridSize.width; ++gx) {
-                const cv::Point2f p = binding.node(gx, gy);
-                if (!f.contains(cv::Point(cvRound(p.x), cvRound(p.y)))) continue;
-                rest.push_back(p);
-                after.push_back(moved.at<cv::Point2f>(gy, gx));
-            }
-        if (rest.size() < 3) continue;
+        if (multicage_fixtures::boxNodes(binding, f).size() < 3) continue;
         std::printf(
-            "  face at %d,%d (%dx%d) stays a face: %.2f px from a similarity "
-            "(%s coordinates)\n",
-            f.x, f.y, f.width, f.height, similarityResidual(rest, after),
+            "  face at %d,%d (%dx%d) stays a face: %.2f px from a similarity over its box's "
+            "inner 80%% (%s coordinates)\n",
+            f.x, f.y, f.width, f.height, multicage_fixtures::boxResidual(binding, pose, f),
             cv::multicage::coordinateTypeDescription(binding.coordinates));
     }
     std::fflush(stdout);

@@ -15,7 +15,8 @@ struct ProposeOptions {
     float margin = -1.f;
     double minArea = 0.004;
     std::vector<int> rect;
-    std::string protect, cascadeDir;  // protect: "" (not given: saliency), saliency, faces, all
+    std::string protect,
+        cascadeDir;  // protect: "" (not given: the library's default), saliency, faces, all
     bool noProtect = false;
 };
 
@@ -49,9 +50,8 @@ cv::multicage::ProposeParams proposeParams(const ProposeOptions& o) {
     params.minRegionArea = o.minArea;
     params.workingSize = o.workingSize;
     if (o.rect.size() == 4) params.rect = cv::Rect(o.rect[0], o.rect[1], o.rect[2], o.rect[3]);
-    // Faces are opt-in until their polygons fit the face closely (issue 16 is still open: the
-    // face polygon can swallow the body, and the face search costs ~400 ms at 1024x768).
-    params.protect = parseProtectDetector(o.protect.empty() ? "saliency" : o.protect);
+    // Not given: ProposeParams' default (all), the same as Python's and the editor's.
+    if (!o.protect.empty()) params.protect = parseProtectDetector(o.protect);
     params.cascadeDir = o.cascadeDir;
     return params;
 }
@@ -162,8 +162,7 @@ void runPropose(const ProposeOptions& o) {
     for (int p = 0; p < cage.polygonCount(); ++p) deepest = std::max(deepest, cage.depth(p));
     std::cout << "wrote " << o.output << " (" << plural(cage.polygonCount(), "polygon") << ", "
               << plural(cage.vertexCount(), "vertex", "vertices") << ", depth up to " << deepest
-              << ", pose 'rest', "
-              << cvRound(msSince(t0)) << " ms)";
+              << ", pose 'rest', " << cvRound(msSince(t0)) << " ms)";
     if (!o.overlay.empty()) std::cout << " and " << o.overlay;
     std::cout << std::endl;
     if (!note.empty()) std::cout << note << std::endl;
@@ -186,17 +185,18 @@ void addProposeCommand(CLI::App& app) {
         "object), labels (IMAGE is a label image: each label its own polygon).\n"
         "By default the result is a multicage: an outline around each object, plus inner polygons "
         "around the faces and salient features inside it (moving the outline then leaves them "
-        "almost rigid); --protect DETECTOR picks what is protected: saliency (the default: "
-        "salient blobs), faces (frontal and profile faces, OpenCV's Haar cascades from the "
-        "Debian package opencv-data), all (faces, then salient blobs); --no-protect gives the "
-        "outlines only.\n"
+        "almost rigid); --protect DETECTOR picks what is protected: all (the default: faces, "
+        "then textured salient features), faces (frontal and profile faces, OpenCV's Haar "
+        "cascades from the Debian package opencv-data), saliency (textured salient features "
+        "only); --no-protect gives the outlines only.\n"
         "The cage file gets a pose named `rest` (every vertex at rest): edit it, or add poses, "
         "and `multicage deform` applies them.\n"
         "Examples:\n"
         "  multicage propose photo.jpg -o cage.yml --overlay check.png\n"
         "  multicage propose photo.jpg -o cage.yml --method grabcut --rect 40 30 400 300\n"
         "  multicage propose mask.png -o cage.yml --method mask --margin 12 --max-vertices 40\n"
-        "Then: multicage deform photo.jpg cage.yml -o out.png --pose NAME (or multicage-editor photo.jpg "
+        "Then: multicage deform photo.jpg cage.yml -o out.png --pose NAME (or multicage-editor "
+        "photo.jpg "
         "cage.yml to draw a pose).");
     cmd->add_option("image", o->image,
                     "Input image (or mask / label image with --method mask / labels)")
@@ -238,9 +238,9 @@ void addProposeCommand(CLI::App& app) {
     cmd->add_option("--rect", o->rect, "GrabCut's starting rectangle: X Y WIDTH HEIGHT in pixels")
         ->expected(4);
     cmd->add_option("--protect", o->protect,
-                    "[DETECTOR] What the inner polygons protect: saliency (salient blobs; the "
-                    "default), faces, all (faces, then salient blobs; a bare --protect). On by "
-                    "default except with --method mask or labels. Put it after IMAGE.")
+                    "[DETECTOR] What the inner polygons protect: all, faces or saliency (see "
+                    "above). On by default except with --method mask or labels. Put it after "
+                    "IMAGE.")
         ->expected(0, 1)
         ->default_str("all")
         ->check(CLI::IsMember({"all", "faces", "saliency"}));

@@ -6,7 +6,9 @@
 
 namespace multicage_testing {
 
-std::string samplePath(const std::string& name) { return std::string(MULTICAGE_SAMPLES_DIR) + "/" + name; }
+std::string samplePath(const std::string& name) {
+    return std::string(MULTICAGE_SAMPLES_DIR) + "/" + name;
+}
 
 cv::Mat readSample(const std::string& name, int flags) {
     cv::Mat img = cv::imread(samplePath(name), flags);
@@ -21,7 +23,8 @@ double psnr(const cv::Mat& a, const cv::Mat& b) {
 
 std::string tempDir(const std::string& name) {
     namespace fs = std::filesystem;
-    const fs::path dir = fs::temp_directory_path() / ("multicage_test_" + name + "_" + std::to_string(::getpid()));
+    const fs::path dir =
+        fs::temp_directory_path() / ("multicage_test_" + name + "_" + std::to_string(::getpid()));
     fs::remove_all(dir);
     fs::create_directories(dir);
     return dir.string();
@@ -30,30 +33,15 @@ std::string tempDir(const std::string& name) {
 cv::multicage::Multicage butterflyCage(bool withBody) {
     // Traced on butterfly.jpg: the wings, then the body between them.
     const std::vector<cv::Point2f> wings = {
-        {40, 40},   {140, 20},  {246, 70},  {350, 18},  {455, 38},  {470, 150},
-        {420, 200}, {460, 300}, {360, 340}, {246, 290}, {130, 340}, {30, 300},
-        {75, 200},  {22, 150}};
-    const std::vector<cv::Point2f> body = {{225, 95}, {268, 95}, {272, 180},
+        {40, 40},   {140, 20},  {246, 70},  {350, 18},  {455, 38}, {470, 150}, {420, 200},
+        {460, 300}, {360, 340}, {246, 290}, {130, 340}, {30, 300}, {75, 200},  {22, 150}};
+    const std::vector<cv::Point2f> body = {{225, 95},  {268, 95},  {272, 180},
                                            {262, 270}, {230, 270}, {220, 180}};
     cv::multicage::Multicage cage(cv::Size(493, 356));
     cage.addPolygon(wings);
     if (withBody) cage.addPolygon(body);
     cage.orient();
     return cage;
-}
-
-double similarityResidual(const std::vector<cv::Point2f>& rest, const std::vector<cv::Point2f>& moved) {
-    // A huge RANSAC threshold keeps every point an inlier: a least-squares similarity fit.
-    cv::Mat S = cv::estimateAffinePartial2D(rest, moved, cv::noArray(), cv::RANSAC, 1e9, 2000, 0.99, 50);
-    if (S.empty()) return INFINITY;
-    double sum = 0;
-    for (size_t i = 0; i < rest.size(); ++i) {
-        const cv::Point2d p = rest[i];
-        const cv::Point2d q(S.at<double>(0, 0) * p.x + S.at<double>(0, 1) * p.y + S.at<double>(0, 2),
-                            S.at<double>(1, 0) * p.x + S.at<double>(1, 1) * p.y + S.at<double>(1, 2));
-        sum += cv::norm(q - cv::Point2d(moved[i]));
-    }
-    return sum / rest.size();
 }
 
 }  // namespace multicage_testing

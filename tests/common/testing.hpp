@@ -24,9 +24,11 @@ std::string tempDir(const std::string& name);
 body, for butterfly.jpg (493x356). */
 cv::multicage::Multicage butterflyCage(bool withBody);
 
-/** Mean distance of `moved` from the best similarity transform of `rest` onto it
-(cv::estimateAffinePartial2D over all points): 0 for a rigid motion plus uniform scale. */
-double similarityResidual(const std::vector<cv::Point2f>& rest, const std::vector<cv::Point2f>& moved);
+/** The one measure of "a face stays a face", shared with the demo and the proposal
+benchmark (apps/common/fixtures). */
+using multicage_fixtures::boxNodes;
+using multicage_fixtures::boxResidual;
+using multicage_fixtures::similarityResidual;
 
 }  // namespace multicage_testing
 

@@ -1,9 +1,10 @@
 // Automatic multicage proposal: validity, coverage, budgets, nesting, feature protection.
 #include <chrono>
 #include <cstdlib>
-#include <iostream>
 #include <filesystem>
 #include <fstream>
+#include <iostream>
+#include <opencv2/calib3d.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
@@ -405,8 +406,12 @@ TEST(Propose, ProtectedFeaturesDistortFiveTimesLess) {
     EXPECT_GE(without, 5 * with);
 }
 
+// HappyFish.jpg: the fish's eye is more textured than the fish (the texture rule keeps it).
+// Issue 21 changed this from butterfly.jpg: its salient blobs are whole wings, no more
+// textured than the butterfly itself, and the texture rule now leaves them out
+// (ProposeFeatures.ARegionNoMoreTexturedThanItsObjectGetsNoPolygon).
 TEST(Propose, ProtectFeaturesOnAPhotoAddsValidInnerPolygons) {
-    const cv::Mat image = readSample("butterfly.jpg");
+    const cv::Mat image = readSample("HappyFish.jpg");
     const Multicage cage = proposeMulticage(image);
     ASSERT_GE(cage.polygonCount(), 1);
     const Multicage out = protectFeatures(image, cage, 0);
@@ -423,13 +428,16 @@ TEST(Propose, ProtectFeaturesOnAPhotoAddsValidInnerPolygons) {
 namespace {
 cv::Mat readFacePhoto(const std::string& name) {
     if (name == "messi5.jpg") return readSample(name);
-    const cv::Mat m = cv::imread(std::string(MULTICAGE_FACE_DATA_DIR) + "/" + name, cv::IMREAD_COLOR);
+    const cv::Mat m =
+        cv::imread(std::string(MULTICAGE_FACE_DATA_DIR) + "/" + name, cv::IMREAD_COLOR);
     EXPECT_FALSE(m.empty()) << name;
     return m;
 }
 const char* const kFacePhotos[] = {"messi5.jpg", "astronaut.png", "camera.png"};
 
-bool haveCascades() { return !faceCascadeFile().empty(); }
+bool haveCascades() {
+    return !faceCascadeFile().empty();
+}
 
 ProposeParams facesParams(int detector = PROTECT_ALL) {
     ProposeParams p;
@@ -450,10 +458,12 @@ TEST(ProposeFaces, FrontalCascadeFindsMessisFace) {
     const cv::Mat image = readSample("messi5.jpg");
     const auto t0 = std::chrono::steady_clock::now();
     const std::vector<cv::Rect> faces = detectFaces(image);
-    const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    const double ms =
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     ASSERT_FALSE(faces.empty());
     for (const cv::Rect& f : faces) std::cout << "[ faces    ] messi5.jpg face " << f << "\n";
-    std::cout << "[ faces    ] detectFaces(messi5.jpg) " << ms << " ms (first call: loads the cascades)\n";
+    std::cout << "[ faces    ] detectFaces(messi5.jpg) " << ms
+              << " ms (first call: loads the cascades)\n";
     bool near = false;
     for (const cv::Rect& f : faces)
         near |= cv::norm(cv::Point2f(f.x, f.y) - cv::Point2f(227, 94)) < 25 ||
@@ -513,28 +523,17 @@ TEST(ProposeFaces, StretchingTheOutlineLeavesEachFaceASimilarity) {
                 // Stretched 20% horizontally about its centroid: not a similarity.
                 const std::vector<cv::Point2f> pose =
                     multicage_fixtures::stretchPolygon(c, outline, 1.2f, 1.0f);
-                cv::Mat moved;
-                binding.apply(pose, moved);
-                std::vector<cv::Point2f> rest, after;
-                for (int gy = 0; gy < binding.gridSize.height; ++gy)
-                    for (int gx = 0; gx < binding.gridSize.width; ++gx) {
-                        const cv::Point2f p = binding.node(gx, gy);
-                        if (!f.contains(cv::Point(cvRound(p.x), cvRound(p.y)))) continue;
-                        rest.push_back(p);
-                        after.push_back(moved.at<cv::Point2f>(gy, gx));
-                    }
-                EXPECT_GT(rest.size(), 50u);
-                return multicage_testing::similarityResidual(rest, after);
+                EXPECT_GT(multicage_testing::boxNodes(binding, f).size(), 50u);
+                return multicage_testing::boxResidual(binding, pose, f);
             };
             const double mvcWithout = residual(outlines, MEAN_VALUE);
             const double mvcWith = residual(cage, MEAN_VALUE);
             const double harmWithout = residual(outlines, HARMONIC);
             const double harmWith = residual(cage, HARMONIC);
             std::cout << "[ faces    ] " << name << " face " << f
-                      << " similarity residual, outline stretched 20%: mean value "
-                      << mvcWithout << " px without protection, " << mvcWith
-                      << " px with; harmonic " << harmWithout << " px without, " << harmWith
-                      << " px with\n";
+                      << " similarity residual, outline stretched 20%: mean value " << mvcWithout
+                      << " px without protection, " << mvcWith << " px with; harmonic "
+                      << harmWithout << " px without, " << harmWith << " px with\n";
             // Mean value coordinates are global: the outline's motion leaks through the face's
             // polygon; a polygon hugging the face with room to the outline keeps the leak
             // under a pixel (measured 0.5-0.9 px). Harmonic coordinates are local: exact.
@@ -565,7 +564,8 @@ double boundaryDistance(const std::vector<cv::Point2f>& a, const std::vector<cv:
         for (const cv::Point2f& v : p)
             for (size_t i = 0; i < q.size(); ++i) {
                 const cv::Point2f e0 = q[i], e1 = q[(i + 1) % q.size()], d = e1 - e0;
-                const float t = std::max(0.f, std::min(1.f, (v - e0).dot(d) / std::max(1e-6f, d.dot(d))));
+                const float t =
+                    std::max(0.f, std::min(1.f, (v - e0).dot(d) / std::max(1e-6f, d.dot(d))));
                 best = std::min(best, static_cast<double>(cv::norm(v - (e0 + t * d))));
             }
     }
@@ -623,7 +623,8 @@ TEST(ProposeFaces, CloseFacesNeverGetCrossingPolygons) {
         SCOPED_TRACE(gap);
         image.setTo(cv::Scalar(200, 200, 205));
         astronaut(crop).copyTo(image(cv::Rect(60, 70, crop.width, crop.height)));
-        astronaut(crop).copyTo(image(cv::Rect(60 + crop.width + gap, 70 + gap / 2, crop.width, crop.height)));
+        astronaut(crop).copyTo(
+            image(cv::Rect(60 + crop.width + gap, 70 + gap / 2, crop.width, crop.height)));
         std::vector<cv::Rect> faces;
         const Multicage cage = proposeProtectedMulticage(image, facesParams(PROTECT_FACES), &faces);
         std::string why;
@@ -655,16 +656,17 @@ TEST(ProposeFaces, ProtectFeaturesFitsTheFaceInTheUsersPolygon) {
     const cv::Rect f = faces[0];
     for (int room : {80, 6}) {
         SCOPED_TRACE(room);
-        const cv::Rect r = cv::Rect(f.x - room, f.y - room, f.width + 2 * room, f.height + 2 * room) &
-                           cv::Rect(2, 2, image.cols - 4, image.rows - 4);
+        const cv::Rect r =
+            cv::Rect(f.x - room, f.y - room, f.width + 2 * room, f.height + 2 * room) &
+            cv::Rect(2, 2, image.cols - 4, image.rows - 4);
         Multicage cage(image.size());
         cage.addPolygon(std::vector<cv::Point2f>{cv::Point2f(r.x, r.y), cv::Point2f(r.br().x, r.y),
                                                  cv::Point2f(r.br().x, r.br().y),
                                                  cv::Point2f(r.x, r.br().y)});
         cage.orient();
         const Multicage out = protectFeatures(image, cage, 0, facesParams(PROTECT_FACES));
-        std::cout << "[ faces    ] user polygon " << room << " px around the face: "
-                  << out.polygonCount() - 1 << " inner polygon(s)\n";
+        std::cout << "[ faces    ] user polygon " << room
+                  << " px around the face: " << out.polygonCount() - 1 << " inner polygon(s)\n";
         std::string why;
         ASSERT_TRUE(out.validate(&why)) << why;
         EXPECT_EQ(out.polygon(0), cage.polygon(0));
@@ -791,7 +793,9 @@ int countOf(const std::string& text, const std::string& what) {
     return n;
 }
 
-int lineCount(const std::string& text) { return static_cast<int>(std::count(text.begin(), text.end(), '\n')); }
+int lineCount(const std::string& text) {
+    return static_cast<int>(std::count(text.begin(), text.end(), '\n'));
+}
 }  // namespace
 
 // Issue 16, item 4: `multicage demo --faces` writes the demo's outputs for messi5.jpg, and its
@@ -849,15 +853,25 @@ TEST(ProposeCli, DemoFacesStretchesTheBodyAndTheFaceStaysAFace) {
 
     // In the pictures: the face in deformed.png is the input's face moved by `shift`, while
     // the body around it changed.
-    const cv::Rect at = cv::Rect(f.x + cvRound(shift.x), f.y + cvRound(shift.y), f.width, f.height);
-    ASSERT_EQ(at & cv::Rect(cv::Point(), input.size()), at);
-    const double faceDiff = cv::norm(input(f), deformed(at), cv::NORM_L1) / (3.0 * f.area());
+    // The input moved by the face's similarity (issue 21: with the outline 0.3 face sizes
+    // from the face, not 2, the face moves by a fraction of a pixel and scales a little;
+    // comparing with the input shifted by whole pixels compared pixels half a pixel apart).
+    cv::Mat shifted;
+    const cv::Mat move =
+        cv::estimateAffinePartial2D(rest, after, cv::noArray(), cv::RANSAC, 1e9, 2000, 0.99, 50);
+    ASSERT_FALSE(move.empty());
+    cv::warpAffine(input, shifted, move, input.size(), cv::INTER_LINEAR, cv::BORDER_REPLICATE);
+    const double faceDiff = cv::norm(shifted(f), deformed(f), cv::NORM_L1) / (3.0 * f.area());
     const cv::Rect body(f.x - f.width, f.br().y + f.height / 2, 3 * f.width, f.height);
-    const double bodyDiff = cv::norm(input(body), deformed(body), cv::NORM_L1) / (3.0 * body.area());
+    const double bodyDiff =
+        cv::norm(input(body), deformed(body), cv::NORM_L1) / (3.0 * body.area());
     std::cout << "[ faces    ] demo --faces: mean |difference| on the face " << faceDiff
               << " (moved), on the body below it " << bodyDiff << "\n";
-    EXPECT_LE(faceDiff, 8.0);
-    EXPECT_GE(bodyDiff, 2 * faceDiff);
+    // Issue 21 moved the outline to 0.3 face sizes from the face (it was 2): the face is
+    // still within a pixel of a similarity (above), but that sub-pixel residual on a 50-pixel
+    // face with sharp hair edges is 9 grey levels of mean difference (it was under 8); the
+    // body changes over three times as much.
+    EXPECT_GE(bodyDiff, 3 * faceDiff);
     fs::remove_all(dir);
 }
 
@@ -893,7 +907,8 @@ TEST(ProposeCli, NoFaceFoundIsSaidOnce) {
     for (const char* detector : {"all", "faces"}) {
         SCOPED_TRACE(detector);
         const std::string cage = dir + "/" + detector + ".yml";
-        const CliRun r = runCli(dir, "propose " + smarties + " -o " + cage + " --protect " + detector);
+        const CliRun r =
+            runCli(dir, "propose " + smarties + " -o " + cage + " --protect " + detector);
         EXPECT_EQ(r.status, 0) << r.err;
         EXPECT_EQ(countOf(r.out + r.err, "no face found"), 1) << r.out << r.err;
         const Multicage m = Multicage::load(cage);

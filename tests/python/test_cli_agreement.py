@@ -201,11 +201,14 @@ def test_protect_gives_the_multicage_the_cli_gives(cli, tmp_path):
     the library's default. (method='threshold': 'auto' takes GrabCut here, whose result
     varies between calls in one process.)"""
     from conftest import DATA
-    image_path = DATA / "butterfly.jpg"
+    # messi5.jpg: the default protects faces first (issue 21), a face polygon (depth 2) with
+    # its anchors (depth 3). butterfly.jpg, used before, gets none now: its salient wings are no
+    # more textured than the butterfly, and the texture rule leaves them out.
+    image_path = DATA / "messi5.jpg"
     image = cv2.imread(str(image_path), cv2.IMREAD_UNCHANGED)
     protected = mc.propose_multicage(image, method="threshold", protect=True)
     outline = mc.propose_multicage(image, method="threshold", protect=False)
-    assert max(protected.depth(i) for i in range(protected.polygon_count)) == 2
+    assert max(protected.depth(i) for i in range(protected.polygon_count)) >= 2
     assert max(outline.depth(i) for i in range(outline.polygon_count)) == 1
     assert protected.validate() == (True, "")
     default = mc.propose_multicage(image, method="threshold")

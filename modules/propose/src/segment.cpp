@@ -199,7 +199,8 @@ Rect automaticGrabCutRect(const Mat& img) {
     return r & Rect(mx, my, img.cols - 2 * mx, img.rows - 2 * my);
 }
 
-Mat segmentGrabCut(const Mat& img, const ProposeParams& params, double scale, const Mat& region) {
+Mat segmentGrabCut(const Mat& img, const ProposeParams& params, double scale, const Mat& region,
+                   const Mat& seed = Mat()) {
     Mat color;
     if (img.channels() == 1)
         cvtColor(img, color, COLOR_GRAY2BGR);
@@ -222,6 +223,8 @@ Mat segmentGrabCut(const Mat& img, const ProposeParams& params, double scale, co
         const double k = s / scale;  // input pixels -> small pixels
         rect = Rect(cvFloor(params.rect.x * k), cvFloor(params.rect.y * k),
                     cvCeil(params.rect.width * k), cvCeil(params.rect.height * k));
+    } else if (!seed.empty()) {
+        rect = Rect(0, 0, small.cols, small.rows);  // unused: the seed is the start
     } else {
         rect = automaticGrabCutRect(small);
     }
@@ -233,6 +236,8 @@ Mat segmentGrabCut(const Mat& img, const ProposeParams& params, double scale, co
                    params.rect.x, params.rect.y, params.rect.width, params.rect.height));
     Mat labels(small.size(), CV_8U, Scalar(GC_BGD)), bgd, fgd;
     labels(rect).setTo(GC_PR_FGD);
+    // The person prior (person.hpp) replaces the rectangle: its labels are GrabCut's start.
+    if (!seed.empty()) resize(seed, labels, small.size(), 0, 0, INTER_NEAREST);
     {
         // GrabCut seeds its colour models with k-means++ from cv::theRNG(): a fixed seed makes
         // the proposal a function of the image (not of what ran before on this thread), and the
@@ -245,6 +250,22 @@ Mat segmentGrabCut(const Mat& img, const ProposeParams& params, double scale, co
         grabCut(small, labels, rect, bgd, fgd, params.grabCutIterations, GC_INIT_WITH_MASK);
     }
     Mat mask = (labels == GC_FGD) | (labels == GC_PR_FGD);
+    if (!seed.empty()) {
+        // The person is what holds a face: pieces GrabCut found apart from every face (a
+        // candle on the table, a lit patch of the wall) are not the subject.
+        Mat ids;
+        const int n = connectedComponents(mask, ids, 8, CV_32S);
+        std::vector<char> keep(n, 0);
+        Mat s;
+        resize(seed, s, small.size(), 0, 0, INTER_NEAREST);
+        for (int y = 0; y < ids.rows; ++y)
+            for (int x = 0; x < ids.cols; ++x)
+                if (s.at<uchar>(y, x) == GC_FGD) keep[ids.at<int>(y, x)] = 1;
+        keep[0] = 0;
+        for (int y = 0; y < ids.rows; ++y)
+            for (int x = 0; x < ids.cols; ++x)
+                if (!keep[ids.at<int>(y, x)]) mask.at<uchar>(y, x) = 0;
+    }
     if (mask.size() != img.size()) {
         resize(mask, mask, img.size(), 0, 0, INTER_LINEAR);
         threshold(mask, mask, 127, 255, THRESH_BINARY);
@@ -304,6 +325,60 @@ Mat cleanMask(const Mat& mask, int radius, double minArea) {
         }
     }
     return out;
+}
+
+Segmentation segmentForProposal(const Mat& image, const Work& w, const ProposeParams& params,
+                                const Mat& person) {
+    Segmentation s;
+    if (params.method == PROPOSE_MASK || params.method == PROPOSE_LABELS) {
+        if (image.empty())
+            CV_Error(Error::StsBadArg, "multicage: proposeMulticage: the mask is empty");
+        if (image.channels() != 1)
+            CV_Error_(Error::StsBadArg,
+                      ("multicage: proposeMulticage: a %s must have one channel (it has %d)",
+                       params.method == PROPOSE_MASK ? "mask" : "label image", image.channels()));
+        if (params.method == PROPOSE_MASK) {
+            s.objects = toWork(image != 0, w, INTER_NEAREST);
+            s.objects = cleanMask(s.objects, w.radius, w.minArea);
+        } else {
+            if (image.depth() != CV_8U && image.depth() != CV_16U && image.depth() != CV_32S)
+                CV_Error(
+                    Error::StsBadArg,
+                    "multicage: proposeMulticage: a label image must be CV_8U, CV_16U or CV_32S");
+            Mat l;
+            image.convertTo(l, CV_32S);
+            s.labels = toWork(l, w, INTER_NEAREST);
+            // Labels are the user's word: only regions below the minimum area go.
+            s.objects = cleanMask(s.labels != 0, 0, w.minArea);
+            s.labels.setTo(0, s.objects == 0);
+        }
+        return s;
+    }
+    const Mat img8 = to8Bit(image);
+    if (isConstant(img8))
+        CV_Error(Error::StsBadArg,
+                 "multicage: proposeMulticage: the image is constant (every pixel has the "
+                 "same value): there is nothing to segment");
+    const Mat work = toWork(img8, w, INTER_AREA);
+    int method = params.method;
+    if (method == PROPOSE_AUTO && person.empty()) {
+        // A plain background (most of the border strip near its median colour) is what a
+        // threshold wants; on anything else GrabCut, seeded by saliency, finds whole objects
+        // where saliency alone lights up texture.
+        const Mat strip = borderStrip(work.size());
+        const Mat far = (backgroundDistance(work, strip) > 24) & strip;
+        method =
+            countNonZero(far) < 0.25 * countNonZero(strip) ? PROPOSE_THRESHOLD : PROPOSE_GRABCUT;
+    }
+    if (!person.empty() && (method == PROPOSE_AUTO || method == PROPOSE_GRABCUT) &&
+        params.rect.area() == 0) {
+        // A face was found: the person prior seeds GrabCut, whatever the background.
+        s.objects =
+            cleanMask(segmentGrabCut(work, params, w.scale, Mat(), person), w.radius, w.minArea);
+        return s;
+    }
+    s.objects = cleanMask(segmentImage(work, method, params, w.scale), w.radius, w.minArea);
+    return s;
 }
 
 }  // namespace propose_detail

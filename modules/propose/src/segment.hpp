@@ -4,6 +4,8 @@
 
 #include <opencv2/multicage/propose.hpp>
 
+#include "work.hpp"
+
 namespace cv {
 namespace multicage {
 namespace propose_detail {
@@ -37,6 +39,21 @@ Mat segmentImage(const Mat& img, int method, const ProposeParams& params, double
 /** Opening then closing with a disk of `radius`, then regions and holes smaller than
 minArea pixels removed. */
 Mat cleanMask(const Mat& mask, int radius, double minArea);
+
+/** What the outlines enclose. */
+struct Segmentation {
+    Mat objects;  // work size, 255 on objects (cleaned)
+    Mat labels;   // work size CV_32S for PROPOSE_LABELS, else empty
+};
+
+/** The proposal's segmentation of an input (proposeMulticage's first stage): a mask or label
+input as given (cleaned), a photo by params.method (PROPOSE_AUTO: threshold on a plain
+background, else GrabCut seeded by saliency), cleaned. Throws StsBadArg for an empty or
+constant image and a mask with more than one channel. `person`, when not empty, is a
+work-size GrabCut seed from the person prior (person.hpp): GC_FGD / GC_PR_FGD where a face
+and the body below it are, GC_PR_BGD elsewhere; with it PROPOSE_AUTO always runs GrabCut. */
+Segmentation segmentForProposal(const Mat& image, const Work& w, const ProposeParams& params,
+                                const Mat& person = Mat());
 
 }  // namespace propose_detail
 }  // namespace multicage

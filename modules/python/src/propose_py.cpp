@@ -1,8 +1,8 @@
 // propose_multicage() and its friends: `multicage propose` in Python.
-#include "common.hpp"
-
 #include <cmath>
 #include <sstream>
+
+#include "common.hpp"
 
 namespace multicage_py {
 namespace {
@@ -147,9 +147,11 @@ const char* kProposeMulticageDoc =
     "min_area is accepted too). Raises NoObjectFoundError (a multicage.Error) when it finds no "
     "object, where the CLI says \"no object found\".\n\n"
     "method: 'auto', 'threshold', 'adaptive', 'grabcut', 'saliency', 'spectral', 'mask', 'labels' "
-    "or a ProposeMethod. protect=True adds inner polygons around the salient features inside "
-    "every outer polygon (the multicage proper: what they enclose stays almost rigid when the "
-    "outline moves); protect=False gives outlines only. margin < 0 and morphology_radius < 0 "
+    "or a ProposeMethod. protect=True (the default, as the CLI and the editor) adds inner "
+    "polygons around the faces, then the textured salient features inside every outer polygon "
+    "(the multicage proper: what they enclose stays almost rigid when the outline moves); "
+    "protect='faces' or 'saliency' protects only those; protect=False gives outlines only. "
+    "margin < 0 and morphology_radius < 0 "
     "pick a size from the image. Defaults (the library's ProposeParams, also "
     "multicage.propose_defaults()):\n";
 

@@ -84,7 +84,10 @@ struct CV_EXPORTS ProposeParams {
     the mask after 4 (intersection over union 0.98-1.0), in 25-45% less time. */
     int grabCutIterations = 2;
     int grabCutMaxSide = 240;  //!< GrabCut's own working size (its cost is per pixel)
-    int protect = PROTECT_SALIENCY;  //!< ProtectDetector: what protectFeatures() protects
+    /** ProtectDetector: what protectFeatures() protects. The default, PROTECT_ALL, is the
+    one default of the library, `multicage propose`, Python's propose_multicage and the
+    editor's Propose: faces first, then the textured salient features (see PROTECT_ALL). */
+    int protect = PROTECT_ALL;
     /** Folder holding haarcascade_frontalface_alt2.xml, haarcascade_profileface.xml and
     haarcascade_eye.xml (only there when given); empty: MULTICAGE_DEBIAN_CASCADE_DIR, then
     /usr/share/opencv/haarcascades. */
@@ -158,9 +161,9 @@ CV_EXPORTS Multicage protectFeatures(InputArray image, const Multicage& cage, in
 profile (both directions) detections on a copy at most params.faceWorkingSize wide or high,
 histogram-equalised; in a colour image only boxes whose middle is mostly skin-coloured
 (Haar cascades also fire on crowds and clothing); optionally confirmed by an eye
-(params.faceEyes); overlapping detections merged into their bounding box. Rectangles in input pixels, largest first. Throws
-cv::Exception (StsObjectNotFound) when the frontal cascade is not installed: "... install
-the Debian package opencv-data, or set ProposeParams::cascadeDir". */
+(params.faceEyes); overlapping detections merged into their bounding box. Rectangles in input
+pixels, largest first. Throws cv::Exception (StsObjectNotFound) when the frontal cascade is not
+installed: "... install the Debian package opencv-data, or set ProposeParams::cascadeDir". */
 CV_EXPORTS std::vector<Rect> detectFaces(InputArray image,
                                          const ProposeParams& params = ProposeParams());
 

@@ -1,0 +1,271 @@
+// Scores the default proposal against references made by hand (issue 21, item 6):
+//
+//   bench_propose_scores [DIR] [--runs N] [--sheet SHEET.png] [--no-time] [--harmonic]
+//                        [--protect all|faces|saliency]
+//
+// DIR (default samples/data/propose_bench) holds NAME.jpg, NAME_mask.png (the object a person
+// would cage, 255) and NAME.ref.json ("faces" and "features": [x, y, w, h] boxes a person
+// placed; see DIR/README.md for how each reference was made). Per photo it prints, as a
+// Markdown table row:
+//   IoU      the union of the outlines (depth-1 polygons) against the reference mask
+//   faces    reference faces hugged: exactly one inner polygon holds >= 95% of the face box's
+//            inner 80% and has at most 3x the box's area
+//   residual worst face's distance from a similarity (px, mean over grid nodes of the box's
+//            inner 80%, mean value coordinates, grid step 1) when the outline around it is
+//            stretched 20% horizontally and every inner polygon stays at rest
+//   stray    inner polygons that protect nothing of the reference: less than half of their
+//            area on a reference face or feature box
+//   ms       median time of proposeProtectedMulticage() with the default ProposeParams on
+//            the photo scaled to 1024 pixels on its longer side (1024x768 for 4:3)
+// --harmonic also gives the face residual with harmonic coordinates (grid step 2) and their
+// binding time, for comparison.
+// --sheet writes a contact sheet: each proposal over its photo, the reference outline in
+// white, the reference boxes in magenta.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+#include <opencv2/multicage.hpp>
+#include <string>
+#include <vector>
+
+#include "fixtures.hpp"
+
+namespace {
+
+using namespace cv::multicage;
+
+struct Reference {
+    std::string name;
+    cv::Mat image, mask;
+    std::vector<cv::Rect> faces, features;
+};
+
+std::vector<cv::Rect> boxes(const cv::FileNode& node) {
+    std::vector<cv::Rect> out;
+    for (const cv::FileNode& b : node) {
+        std::vector<int> v;
+        b >> v;
+        if (v.size() == 4) out.emplace_back(v[0], v[1], v[2], v[3]);
+    }
+    return out;
+}
+
+std::vector<Reference> readReferences(const std::string& dir) {
+    std::vector<std::string> names;
+    for (const auto& e : std::filesystem::directory_iterator(dir)) {
+        const std::string f = e.path().filename().string();
+        const std::string suffix = ".ref.json";
+        if (f.size() > suffix.size() &&
+            f.compare(f.size() - suffix.size(), suffix.size(), suffix) == 0)
+            names.push_back(f.substr(0, f.size() - suffix.size()));
+    }
+    std::sort(names.begin(), names.end());
+    std::vector<Reference> refs;
+    for (const std::string& n : names) {
+        cv::FileStorage fs(dir + "/" + n + ".ref.json", cv::FileStorage::READ);
+        Reference r;
+        r.name = n;
+        r.image = cv::imread(dir + "/" + static_cast<std::string>(fs["photo"]), cv::IMREAD_COLOR);
+        r.mask = cv::imread(dir + "/" + n + "_mask.png", cv::IMREAD_GRAYSCALE);
+        if (r.image.empty() || r.mask.empty() || r.mask.size() != r.image.size()) {
+            std::cerr << "bench_propose_scores: " << n << ": photo or mask missing (run " << dir
+                      << "/make_reference.py)\n";
+            std::exit(2);
+        }
+        r.mask = r.mask > 127;
+        r.faces = boxes(fs["faces"]);
+        r.features = boxes(fs["features"]);
+        refs.push_back(std::move(r));
+    }
+    return refs;
+}
+
+cv::Mat fill(const std::vector<cv::Point2f>& polygon, cv::Size size) {
+    cv::Mat m = cv::Mat::zeros(size, CV_8U);
+    std::vector<cv::Point> pts;
+    for (const cv::Point2f& p : polygon) pts.emplace_back(cvRound(p.x), cvRound(p.y));
+    cv::fillPoly(m, std::vector<std::vector<cv::Point>>{pts}, cv::Scalar(255));
+    return m;
+}
+
+cv::Rect inner80(const cv::Rect& f) {
+    return cv::Rect(f.x + f.width / 10, f.y + f.height / 10, f.width - 2 * (f.width / 10),
+                    f.height - 2 * (f.height / 10));
+}
+
+struct Score {
+    double iou = 0, residual = 0, ms = 0, harmonicResidual = 0, harmonicMs = 0;
+    int hugged = 0, faces = 0, stray = 0, inner = 0;
+};
+
+Score score(const Reference& r, const Multicage& cage, bool harmonic) {
+    Score s;
+    const cv::Size size = r.image.size();
+    cv::Mat outlines = cv::Mat::zeros(size, CV_8U);
+    for (int p = 0; p < cage.polygonCount(); ++p)
+        if (cage.depth(p) == 1) outlines |= fill(cage.polygon(p), size);
+    s.iou = cv::countNonZero(outlines & r.mask) /
+            std::max(1.0, static_cast<double>(cv::countNonZero(outlines | r.mask)));
+    cv::Mat protectedByRef = cv::Mat::zeros(size, CV_8U);
+    for (const cv::Rect& b : r.faces) protectedByRef(b & cv::Rect(cv::Point(), size)).setTo(255);
+    for (const cv::Rect& b : r.features) protectedByRef(b & cv::Rect(cv::Point(), size)).setTo(255);
+    for (int p = 0; p < cage.polygonCount(); ++p) {
+        if (cage.depth(p) < 2) continue;
+        ++s.inner;
+        const cv::Mat m = fill(cage.polygon(p), size);
+        if (cv::countNonZero(m & protectedByRef) < 0.5 * cv::countNonZero(m)) ++s.stray;
+    }
+    s.faces = static_cast<int>(r.faces.size());
+    Binding binding;
+    for (const cv::Rect& f : r.faces) {
+        const cv::Rect in = inner80(f) & cv::Rect(cv::Point(), size);
+        int holders = 0;
+        for (int p = 0; p < cage.polygonCount(); ++p) {
+            if (cage.depth(p) < 2) continue;
+            const cv::Mat m = fill(cage.polygon(p), size);
+            if (cv::countNonZero(m(in)) >= 0.95 * in.area() &&
+                cv::countNonZero(m) <= 3.0 * f.area())
+                ++holders;
+        }
+        s.hugged += holders == 1;
+        // The outline around the face, stretched 20% horizontally about its centroid.
+        const cv::Point2f c(f.x + 0.5f * f.width, f.y + 0.5f * f.height);
+        int outline = -1;
+        for (int p = 0; p < cage.polygonCount(); ++p)
+            if (cage.depth(p) == 1 && cv::pointPolygonTest(cage.polygon(p), c, false) > 0)
+                outline = p;
+        if (outline < 0) {
+            s.residual = HUGE_VAL;
+            continue;
+        }
+        if (binding.empty()) binding = bind(cage, MEAN_VALUE, 1);
+        const std::vector<cv::Point2f> pose =
+            multicage_fixtures::stretchPolygon(cage, outline, 1.2f, 1.0f);
+        s.residual = std::max(s.residual, multicage_fixtures::boxResidual(binding, pose, f));
+        if (harmonic) {  // what harmonic coordinates at grid step 2 give, and their cost
+            const auto t0 = std::chrono::steady_clock::now();
+            const Binding h = bind(cage, HARMONIC, 2);
+            s.harmonicMs +=
+                std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0)
+                    .count();
+            s.harmonicResidual =
+                std::max(s.harmonicResidual, multicage_fixtures::boxResidual(h, pose, f));
+        }
+    }
+    return s;
+}
+
+ProposeParams gParams;  // the default, or --protect NAME
+
+double medianMs(const cv::Mat& image, int runs) {
+    std::vector<double> ms;
+    for (int i = 0; i < runs; ++i) {
+        const auto t0 = std::chrono::steady_clock::now();
+        proposeProtectedMulticage(image, gParams);
+        ms.push_back(
+            std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0)
+                .count());
+    }
+    std::sort(ms.begin(), ms.end());
+    return ms[ms.size() / 2];
+}
+
+cv::Mat tile(const Reference& r, const Multicage& cage, const Score& s) {
+    cv::Mat view = r.image.clone();
+    std::vector<std::vector<cv::Point>> refContour;
+    cv::findContours(r.mask.clone(), refContour, cv::RETR_EXTERNAL, cv::CHAIN_APPROX_NONE);
+    cv::drawContours(view, refContour, -1, cv::Scalar(255, 255, 255), 1);
+    for (const cv::Rect& b : r.faces) cv::rectangle(view, b, cv::Scalar(255, 0, 255), 1);
+    for (const cv::Rect& b : r.features) cv::rectangle(view, b, cv::Scalar(255, 0, 255), 1);
+    cage.draw(view, 2);
+    const int side = 360;
+    const double k = side / static_cast<double>(std::max(view.cols, view.rows));
+    cv::resize(view, view, cv::Size(), k, k, cv::INTER_AREA);
+    cv::Mat out(side + 22, side, CV_8UC3, cv::Scalar(32, 32, 32));
+    view.copyTo(out(cv::Rect(0, 0, view.cols, view.rows)));
+    char label[160];
+    std::snprintf(label, sizeof label, "%s IoU %.2f faces %d/%d res %.1f stray %d", r.name.c_str(),
+                  s.iou, s.hugged, s.faces, s.residual, s.stray);
+    cv::putText(out, label, cv::Point(3, side + 16), cv::FONT_HERSHEY_SIMPLEX, 0.42,
+                cv::Scalar(255, 255, 255), 1, cv::LINE_AA);
+    return out;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    std::string dir = MULTICAGE_SAMPLES_DIR "/propose_bench", sheet;
+    int runs = 5;
+    bool time = true, harmonic = false;
+    for (int i = 1; i < argc; ++i) {
+        const std::string a = argv[i];
+        if (a == "--runs" && i + 1 < argc)
+            runs = std::max(1, std::atoi(argv[++i]));
+        else if (a == "--sheet" && i + 1 < argc)
+            sheet = argv[++i];
+        else if (a == "--no-time")
+            time = false;
+        else if (a == "--harmonic")
+            harmonic = true;
+        else if (a == "--protect" && i + 1 < argc)
+            gParams.protect = parseProtectDetector(argv[++i]);
+        else
+            dir = a;
+    }
+    const std::vector<Reference> refs = readReferences(dir);
+    std::printf(
+        "| photo | size | outline IoU | faces hugged | face residual (px) | inner polygons "
+        "| protecting nothing | ms at 1024 px |\n|---|---|---|---|---|---|---|---|\n");
+    std::vector<cv::Mat> tiles;
+    double iouSum = 0;
+    int hugged = 0, faces = 0, stray = 0;
+    for (const Reference& r : refs) {
+        const Multicage cage = proposeProtectedMulticage(r.image, gParams);
+        Score s = score(r, cage, harmonic);
+        if (time) {
+            const double k = 1024.0 / std::max(r.image.cols, r.image.rows);
+            cv::Mat big;
+            cv::resize(r.image, big, cv::Size(), k, k, cv::INTER_LINEAR);
+            s.ms = medianMs(big, runs);
+        }
+        iouSum += s.iou, hugged += s.hugged, faces += s.faces, stray += s.stray;
+        char residual[32] = "-";
+        if (s.faces > 0) std::snprintf(residual, sizeof residual, "%.2f", s.residual);
+        std::printf("| %s | %dx%d | %.3f | %d of %d | %s | %d | %d | %.0f |\n", r.name.c_str(),
+                    r.image.cols, r.image.rows, s.iou, s.hugged, s.faces, residual, s.inner,
+                    s.stray, s.ms);
+        if (harmonic && s.faces > 0)
+            std::printf(
+                "|   harmonic coordinates, grid step 2: face residual %.3f px, binding %.0f ms |\n",
+                s.harmonicResidual, s.harmonicMs);
+        std::fflush(stdout);
+        tiles.push_back(tile(r, cage, s));
+    }
+    std::printf(
+        "\nmean outline IoU %.3f; faces hugged %d of %d; inner polygons protecting "
+        "nothing %d\n",
+        refs.empty() ? 0.0 : iouSum / refs.size(), hugged, faces, stray);
+    if (!sheet.empty() && !tiles.empty()) {
+        const int cols = 4;
+        std::vector<cv::Mat> rows;
+        for (size_t i = 0; i < tiles.size(); i += cols) {
+            std::vector<cv::Mat> row(tiles.begin() + i,
+                                     tiles.begin() + std::min(tiles.size(), i + cols));
+            while (row.size() < cols)
+                row.push_back(cv::Mat(tiles[0].size(), CV_8UC3, cv::Scalar(32, 32, 32)));
+            cv::Mat r;
+            cv::hconcat(row, r);
+            rows.push_back(r);
+        }
+        cv::Mat all;
+        cv::vconcat(rows, all);
+        cv::imwrite(sheet, all);
+        std::printf("wrote %s\n", sheet.c_str());
+    }
+    return 0;
+}

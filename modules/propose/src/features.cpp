@@ -1,0 +1,324 @@
+#include "features.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <opencv2/imgproc.hpp>
+
+#include "faces.hpp"
+#include "polygons.hpp"
+#include "segment.hpp"
+
+namespace cv {
+namespace multicage {
+namespace propose_detail {
+
+namespace {
+
+// Around a face's polygon, in face sizes (faceSize): the band no salient polygon may enter
+// (faces take precedence, and a fixed polygon beside the face weakens its polygon's shield;
+// see placeFaces).
+constexpr double kFaceKeepOut = 1.0;
+
+void checkProtectInput(const Mat& img, const Multicage& cage, int polygon) {
+    if (img.empty()) CV_Error(Error::StsBadArg, "multicage: protectFeatures: the image is empty");
+    if (img.size() != cage.imageSize())
+        CV_Error_(
+            Error::StsBadSize,
+            ("multicage: protectFeatures: the image is %dx%d, the multicage was made for %dx%d",
+             img.cols, img.rows, cage.imageSize().width, cage.imageSize().height));
+    if (polygon < 0 || polygon >= cage.polygonCount())
+        CV_Error_(Error::StsOutOfRange,
+                  ("multicage: protectFeatures: polygon %d does not exist (the multicage has %d)",
+                   polygon, cage.polygonCount()));
+    std::string why;
+    if (!cage.validateGeometry(&why))
+        CV_Error_(Error::StsBadArg,
+                  ("multicage: protectFeatures: the multicage is not valid: %s", why.c_str()));
+}
+
+// The polygons nested directly or deeper inside polygon `polygon`.
+std::vector<int> nestedIn(const Multicage& cage, int polygon) {
+    std::vector<int> inner;
+    const Polygon outer = cage.polygon(polygon);
+    for (int j = 0; j < cage.polygonCount(); ++j)
+        if (j != polygon && geometry::contains(outer, cage.polygon(j)[0])) inner.push_back(j);
+    return inner;
+}
+
+// Where protection may go, in work pixels: inside the polygon, outside the polygons already
+// inside it.
+Mat protectableArea(const Multicage& cage, int polygon, const Work& w) {
+    Mat inside(w.size, CV_8U, Scalar(0));
+    fillWork(inside, cage.polygon(polygon), w, Scalar(255));
+    for (int j : nestedIn(cage, polygon)) fillWork(inside, cage.polygon(j), w, Scalar(0));
+    return inside;
+}
+
+// Least distance between the boundaries of two polygons that do not cross.
+double boundaryDistance(const Polygon& a, const Polygon& b) {
+    auto toSegment = [](Point2d p, Point2d q0, Point2d q1) {
+        const Point2d d = q1 - q0;
+        const double len2 = d.dot(d);
+        const double t = len2 > 0 ? std::min(1.0, std::max(0.0, (p - q0).dot(d) / len2)) : 0.0;
+        return norm(p - (q0 + t * d));
+    };
+    double best = HUGE_VAL;
+    for (int pass = 0; pass < 2; ++pass) {
+        const Polygon& p = pass == 0 ? a : b;
+        const Polygon& q = pass == 0 ? b : a;
+        for (const Point2f& v : p)
+            for (size_t i = 0; i < q.size(); ++i)
+                best = std::min(best, toSegment(v, q[i], q[(i + 1) % q.size()]));
+    }
+    return best;
+}
+
+// True when `face` lies strictly inside the image and inside polygon `polygon`, outside the
+// polygons nested in it and the faces already placed, at least `band` pixels from each.
+bool faceFits(const Polygon& face, const Multicage& cage, int polygon,
+              const std::vector<Polygon>& placed, double band) {
+    const Size size = cage.imageSize();
+    for (const Point2f& v : face)
+        if (!(v.x > 0.f && v.y > 0.f && v.x < size.width - 1.f && v.y < size.height - 1.f))
+            return false;
+    if (!geometry::contains(cage.polygon(polygon), face[0])) return false;
+    std::vector<Polygon> near = placed;
+    near.push_back(cage.polygon(polygon));
+    for (int j : nestedIn(cage, polygon)) near.push_back(cage.polygon(j));
+    for (const Polygon& q : near) {
+        if (q != cage.polygon(polygon) &&
+            (geometry::contains(q, face[0]) || geometry::contains(face, q[0])))
+            return false;
+        if (geometry::findCrossing({q, face}, nullptr) || boundaryDistance(q, face) < band)
+            return false;
+    }
+    return true;
+}
+
+// The faces protectFeatures protects inside a polygon: those with their centre in the free
+// area. `knownFaces`: already detected (nullptr: detect here).
+std::vector<Rect> facesInside(const Mat& img, const ProposeParams& params,
+                              const std::vector<Rect>* knownFaces, const Mat& inside,
+                              const Work& w) {
+    std::vector<Rect> faces, in;
+    if (knownFaces)
+        faces = *knownFaces;
+    else if (wantsFaces(params))
+        faces = mergeNearFaces(detectFaces(img, params), w.margin * w.scale);
+    for (const Rect& f : faces) {
+        const Point c(std::min(w.size.width - 1, cvFloor((f.x + 0.5 * f.width) / w.scale)),
+                      std::min(w.size.height - 1, cvFloor((f.y + 0.5 * f.height) / w.scale)));
+        if (inside.at<uchar>(c)) in.push_back(f);
+    }
+    return in;
+}
+
+// What the faces inside a polygon become. A face gets its own polygon (facePolygon) when one
+// fits, at its margin or a smaller one, and its anchors inside (faceAnchors) when the budget
+// allows; otherwise it becomes a region like a salient blob, clipped to where a polygon may go
+// (mask, zone), and goes first in the budget.
+struct FacePlan {
+    std::vector<Polygon> polygons;  // placed (faces and their anchors), input pixels
+    std::vector<char> isFace;       // per polygon: a face's (not an anchor)
+    std::vector<double> sizes;      // per polygon: its face's size
+    Mat keepOut;                    // work pixels: placed polygons and a band around them
+    Mat mask, zone;                 // the faces that became regions, and where theirs may go
+    std::vector<Point2f> centres;   // of those faces, work pixels
+};
+
+FacePlan placeFaces(const std::vector<Rect>& faces, const Multicage& cage, int polygon,
+                    const ProposeParams& params, const Mat& insideDistance, const Work& w) {
+    const float faceBand = w.margin + 2 * w.gap;  // work pixels, as for blobs but thinner
+    FacePlan plan;
+    plan.keepOut = Mat::zeros(w.size, CV_8U);
+    plan.mask = Mat::zeros(w.size, CV_8U);
+    plan.zone = Mat::zeros(w.size, CV_8U);
+    int budget = params.maxVertices - cage.vertexCount();
+    int slots = params.maxPolygons - cage.polygonCount();
+    for (const Rect& f : faces) {
+        const int n = std::min({kFaceVertices, params.maxPolygonVertices, budget}) / 4 * 4;
+        if (n < 4 || slots < 1) break;
+        Polygon placed;
+        for (double m : {faceMargin(f), 0.5 * faceMargin(f), 0.0}) {
+            Polygon p = facePolygon(f, m, n);
+            if (faceFits(p, cage, polygon, plan.polygons, faceBand * w.scale)) {
+                placed = std::move(p);
+                break;
+            }
+        }
+        if (!placed.empty()) {
+            plan.polygons.push_back(placed);
+            plan.isFace.push_back(1), plan.sizes.push_back(faceSize(f));
+            fillWork(plan.keepOut, facePolygon(f, faceMargin(f) + kFaceKeepOut * faceSize(f), n), w,
+                     Scalar(255));
+            budget -= n, --slots;
+            if (params.faceAnchors && budget >= 4 * kFaceAnchors && slots >= kFaceAnchors) {
+                for (Polygon& a : faceAnchors(f)) {
+                    plan.polygons.push_back(std::move(a));
+                    plan.isFace.push_back(0), plan.sizes.push_back(faceSize(f));
+                }
+                budget -= 4 * kFaceAnchors, slots -= kFaceAnchors;
+            }
+            continue;
+        }
+        fillWork(plan.mask, facePolygon(f, faceMargin(f), 16), w, Scalar(255));
+        fillWork(plan.zone, facePolygon(f, faceMargin(f) + (w.margin + 3 * w.gap) * w.scale, 16), w,
+                 Scalar(255));
+        plan.centres.emplace_back((f.x + 0.5f * f.width) / w.scale,
+                                  (f.y + 0.5f * f.height) / w.scale);
+    }
+    // Salient polygons keep a band from the faces' polygons.
+    plan.keepOut = distanceTo(~plan.keepOut) <= 2 * w.margin + w.gap;
+    plan.mask &= insideDistance > (faceBand + w.margin);
+    plan.zone &= insideDistance > faceBand;
+    return plan;
+}
+
+// The objects to protect inside the polygon (work size, 255 on objects, not yet cleaned);
+// empty for a constant image.
+Mat objectsInside(const Mat& img, const ProposeParams& params, const Mat& inside, const Work& w) {
+    const bool maskInput = params.method == PROPOSE_MASK || params.method == PROPOSE_LABELS;
+    if (maskInput) return toWork(img != 0, w, INTER_NEAREST);
+    if (params.protect == PROTECT_FACES) return Mat::zeros(w.size, CV_8U);
+    const Mat img8 = to8Bit(img);
+    if (isConstant(img8)) return Mat();
+    const Mat work = toWork(img8, w, INTER_AREA);
+    const Rect roi = boundingRect(inside);
+    const int method = params.method == PROPOSE_AUTO ? PROPOSE_SALIENCY : params.method;
+    // Segment the polygon's bounding box only, thresholds computed inside the polygon:
+    // what stands out there, not in the whole image.
+    Mat objects = Mat::zeros(w.size, CV_8U);
+    segmentImage(work(roi), method, params, w.scale, inside(roi)).copyTo(objects(roi));
+    return objects;
+}
+
+// The regions around the objects, each limited to `limit`, those with a face first: they get
+// the polygon slots and the budget first.
+std::vector<Region> protectiveRegions(const Mat& objects, const FacePlan& faces, const Mat& limit,
+                                      const Work& w) {
+    Mat cageMask = cageMaskFromObjects(objects, w);
+    cageMask &= limit;
+    double minArea = w.minArea;
+    if (!faces.centres.empty())
+        minArea = std::min(minArea, 0.5 * countNonZero(faces.mask) / faces.centres.size());
+    std::vector<Region> found = nestedRegions(cageMask, 1, minArea);
+    std::stable_partition(found.begin(), found.end(), [&](const Region& r) {
+        for (const Point2f& c : faces.centres)
+            if (pointPolygonTest(r.contour, c, false) >= 0) return true;
+        return false;
+    });
+    for (Region& r : found) r.limit = limit;
+    return found;
+}
+
+// The texture rule: which salient regions are features worth an inner polygon.
+//
+// Saliency lights up what is bright or different: a specular highlight, a shadow, a flat patch
+// of colour stand out as much as a logo does. What a person protects is structure: lettering,
+// a pattern, a badge, eyes, i.e. detail that a deformation would visibly bend. The measure of
+// detail is gradient energy: a region is kept when the mean gradient magnitude inside it is at
+// least kTextureRatio times the mean over the whole polygon it sits in (the object's own
+// texture). A highlight or a shadow is smooth inside (its only gradient is its soft edge) and
+// falls below; lettering and patterns are all edges and pass. On a plain fruit nothing passes:
+// no inner polygon. Gradients are taken on the grey work image blurred by a pixel, so JPEG
+// noise and film grain do not count as texture.
+constexpr double kTextureRatio = 1.3;
+
+Mat gradientMagnitude(const Mat& img8, const Work& w) {
+    Mat gray = toWork(img8, w, INTER_AREA);
+    if (gray.channels() == 3) cvtColor(gray, gray, COLOR_BGR2GRAY);
+    GaussianBlur(gray, gray, Size(), 1.0);
+    Mat edges;
+    Canny(gray, edges, 40, 100, 3, true);
+    edges.convertTo(edges, CV_32F, 1.0 / 255);
+    return edges;
+}
+
+// `objects` less the connected regions whose gradient energy is below kTextureRatio times the
+// polygon's (`inside`).
+Mat texturedOnly(const Mat& objects, const Mat& img, const Mat& inside, const Work& w) {
+    const Mat img8 = to8Bit(img);
+    const Mat mag = gradientMagnitude(img8, w);
+    const double object = mean(mag, inside)[0];
+    Mat ids, stats, centroids;
+    const int n = connectedComponentsWithStats(objects, ids, stats, centroids, 8, CV_32S);
+    std::vector<double> sum(n, 0.0);
+    for (int y = 0; y < ids.rows; ++y)
+        for (int x = 0; x < ids.cols; ++x) sum[ids.at<int>(y, x)] += mag.at<float>(y, x);
+    std::vector<char> keep(n, 0);
+    for (int i = 1; i < n; ++i) {
+        const double energy = sum[i] / std::max(1, stats.at<int>(i, CC_STAT_AREA));
+        keep[i] = energy >= kTextureRatio * object;
+        if (std::getenv("MULTICAGE_DEBUG_TEXTURE"))
+            std::fprintf(stderr, "texture: region %d at %d,%d area %d: %.2f of the object's %s\n",
+                         i, stats.at<int>(i, CC_STAT_LEFT), stats.at<int>(i, CC_STAT_TOP),
+                         stats.at<int>(i, CC_STAT_AREA), energy / std::max(1e-9, object),
+                         keep[i] ? "kept" : "dropped");
+    }
+    Mat out = objects.clone();
+    for (int y = 0; y < ids.rows; ++y)
+        for (int x = 0; x < ids.cols; ++x)
+            if (!keep[ids.at<int>(y, x)]) out.at<uchar>(y, x) = 0;
+    return out;
+}
+
+}  // namespace
+
+bool wantsFaces(const ProposeParams& params) {
+    const bool maskInput = params.method == PROPOSE_MASK || params.method == PROPOSE_LABELS;
+    // PROTECT_ALL goes on without cascades (salient features only); PROTECT_FACES says why not.
+    return !maskInput && params.protect != PROTECT_SALIENCY &&
+           (params.protect == PROTECT_FACES || !faceCascadeFile(params).empty());
+}
+
+Multicage protectInPolygon(InputArray image, const Multicage& cage, int polygon,
+                           const ProposeParams& params, const std::vector<Rect>* knownFaces) {
+    checkParams(params);
+    const Mat img = image.getMat();
+    checkProtectInput(img, cage, polygon);
+    if (params.maxVertices - cage.vertexCount() < kMinPolygonVertices ||
+        params.maxPolygons - cage.polygonCount() < 1)
+        return cage;
+
+    const Work w = resolve(img.size(), params);
+    const Mat inside = protectableArea(cage, polygon, w);
+    const Mat insideDistance = distanceTo(inside);
+    const FacePlan faces = placeFaces(facesInside(img, params, knownFaces, inside, w), cage,
+                                      polygon, params, insideDistance, w);
+    Multicage out = cage;  // faces first: the salient features get what is left
+    for (const Polygon& p : faces.polygons) out.addPolygon(p);
+    out.orient();
+    const int budget = params.maxVertices - out.vertexCount();
+    const int slots = params.maxPolygons - out.polygonCount();
+    if (budget < kMinPolygonVertices || slots < 1) return out;
+    // A protective polygon keeps a band of two margins to the moved polygon: the band is
+    // what absorbs the deformation, and a thin one would fold.
+    const float band = 2 * w.margin + w.gap;
+    Mat objects = objectsInside(img, params, inside, w);
+    if (objects.empty()) return out;
+    objects &= (insideDistance > (band + w.margin)) & ~faces.keepOut;
+    objects = cleanMask(objects, w.radius, w.minArea);
+    const bool maskInput = params.method == PROPOSE_MASK || params.method == PROPOSE_LABELS;
+    if (!maskInput) objects = texturedOnly(objects, img, inside, w);  // the user's regions stay
+    objects |= faces.mask;
+    if (countNonZero(objects) == 0) return out;
+    const Mat limit = ((insideDistance > band) | faces.zone) & ~faces.keepOut;
+    // The mask keeps salient regions a face size from the faces' polygons; what simplifying
+    // or merging brings within half of that is dropped.
+    auto clearOfFaces = [&faces](const Polygon& p) {
+        for (size_t i = 0; i < faces.polygons.size(); ++i)
+            if (faces.isFace[i] &&
+                boundaryDistance(p, faces.polygons[i]) < 0.5 * kFaceKeepOut * faces.sizes[i])
+                return false;
+        return true;
+    };
+    return addPolygons(out, protectiveRegions(objects, faces, limit, w), w,
+                       Budget{slots, budget, params.maxPolygonVertices}, cage.depth(polygon),
+                       "protectFeatures", Check::GEOMETRY, clearOfFaces);
+}
+
+}  // namespace propose_detail
+}  // namespace multicage
+}  // namespace cv

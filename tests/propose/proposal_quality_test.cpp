@@ -1,0 +1,221 @@
+// Issue 21: proposals a person would draw. The properties of items 1-5 on the benchmark's
+// photos (samples/data/propose_bench: photos from Debian packages and references made by
+// hand, see its README.md). No timing here: speed is bench_propose_scores' job.
+#include <fstream>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "testing.hpp"
+
+namespace {
+
+using namespace cv::multicage;
+using multicage_testing::readSample;
+
+bool haveCascades() {
+    return !faceCascadeFile().empty();
+}
+
+cv::Mat benchPhoto(const std::string& name) {
+    return readSample("propose_bench/" + name + ".jpg");
+}
+
+cv::Mat benchMask(const std::string& name) {
+    const cv::Mat m = cv::imread(
+        multicage_testing::samplePath("propose_bench/" + name + "_mask.png"), cv::IMREAD_GRAYSCALE);
+    EXPECT_FALSE(m.empty()) << name;
+    return m > 127;
+}
+
+cv::Mat fill(const std::vector<cv::Point2f>& polygon, cv::Size size) {
+    cv::Mat m = cv::Mat::zeros(size, CV_8U);
+    std::vector<cv::Point> pts;
+    for (const cv::Point2f& p : polygon) pts.emplace_back(cvRound(p.x), cvRound(p.y));
+    cv::fillPoly(m, std::vector<std::vector<cv::Point>>{pts}, cv::Scalar(255));
+    return m;
+}
+
+cv::Mat outlinesMask(const Multicage& cage) {
+    cv::Mat m = cv::Mat::zeros(cage.imageSize(), CV_8U);
+    for (int p = 0; p < cage.polygonCount(); ++p)
+        if (cage.depth(p) == 1) m |= fill(cage.polygon(p), cage.imageSize());
+    return m;
+}
+
+int innerPolygons(const Multicage& cage) {
+    int n = 0;
+    for (int p = 0; p < cage.polygonCount(); ++p) n += cage.depth(p) >= 2;
+    return n;
+}
+
+cv::Rect inner80(const cv::Rect& f) {
+    return cv::Rect(f.x + f.width / 10, f.y + f.height / 10, f.width - 2 * (f.width / 10),
+                    f.height - 2 * (f.height / 10));
+}
+
+// People photos of the benchmark: a mid-shot, a portrait, a cartoon dinner scene.
+const char* const kPeople[] = {"messi5", "astronaut", "megamind_dinner"};
+
+}  // namespace
+
+// Item 1: one default. The library's default protects faces first; the CLI with no flags
+// gives exactly the library's default proposal, and its help names the default once.
+TEST(ProposeDefaults, LibraryAndCliProtectFacesByDefault) {
+    EXPECT_EQ(ProposeParams().protect, PROTECT_ALL);
+    if (!haveCascades()) GTEST_SKIP() << "opencv-data is not installed";
+    const std::string dir = multicage_testing::tempDir("propose_default");
+    const std::string photo = multicage_testing::samplePath("propose_bench/astronaut.jpg");
+    const std::string cli = MULTICAGE_CLI_PATH;
+    ASSERT_EQ(std::system((cli + " propose " + photo + " -o " + dir + "/cage.yml > " + dir +
+                           "/out.txt 2>&1")
+                              .c_str()),
+              0);
+    const Multicage fromCli = Multicage::load(dir + "/cage.yml");
+    std::vector<cv::Rect> faces;
+    const Multicage fromLibrary =
+        proposeProtectedMulticage(benchPhoto("astronaut"), ProposeParams(), &faces);
+    ASSERT_FALSE(faces.empty());
+    ASSERT_EQ(fromCli.polygonCount(), fromLibrary.polygonCount());
+    for (int p = 0; p < fromCli.polygonCount(); ++p)
+        for (size_t i = 0; i < fromCli.polygon(p).size(); ++i)
+            EXPECT_NEAR(cv::norm(fromCli.polygon(p)[i] - fromLibrary.polygon(p)[i]), 0.0, 1e-3);
+    ASSERT_EQ(std::system((cli + " propose --help > " + dir + "/help.txt 2>&1").c_str()), 0);
+    std::ifstream f(dir + "/help.txt");
+    const std::string help((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+    size_t n = 0;
+    for (size_t at = help.find("the default"); at != std::string::npos;
+         at = help.find("the default", at + 1))
+        ++n;
+    EXPECT_EQ(n, 1u) << help;
+    EXPECT_NE(help.find("all (the default"), std::string::npos) << help;
+}
+
+// Items 1 and 4: with the default, every face found is hugged by exactly one inner polygon:
+// it holds the face box's inner 80% and is at most 3 times the box's area.
+TEST(ProposeDefaults, EveryDetectedFaceIsHuggedByExactlyOneInnerPolygon) {
+    if (!haveCascades()) GTEST_SKIP() << "opencv-data is not installed";
+    for (const char* name : kPeople) {
+        const cv::Mat image = benchPhoto(name);
+        std::vector<cv::Rect> faces;
+        const Multicage cage = proposeProtectedMulticage(image, ProposeParams(), &faces);
+        ASSERT_FALSE(faces.empty()) << name;
+        for (const cv::Rect& f : faces) {
+            const cv::Rect in = inner80(f) & cv::Rect(cv::Point(), image.size());
+            int holders = 0;
+            for (int p = 0; p < cage.polygonCount(); ++p) {
+                if (cage.depth(p) < 2) continue;
+                const cv::Mat m = fill(cage.polygon(p), image.size());
+                if (cv::countNonZero(m(in)) >= 0.95 * in.area() &&
+                    cv::countNonZero(m) <= 3.0 * f.area())
+                    ++holders;
+            }
+            EXPECT_EQ(holders, 1) << name << " face " << f;
+        }
+    }
+}
+
+// Item 2: the outline follows the person, not the image frame. On the people photos the union
+// of the outlines covers at most 1.6 times the person drawn by hand and overlaps it by
+// at least half (intersection over union): the old "two face sizes of room" pushed the dinner
+// scene's outline to the frame (0.18).
+TEST(ProposePerson, OutlineFollowsThePersonNotTheImageFrame) {
+    if (!haveCascades()) GTEST_SKIP() << "opencv-data is not installed";
+    for (const char* name : kPeople) {
+        const cv::Mat image = benchPhoto(name);
+        const cv::Mat reference = benchMask(name);
+        const cv::Mat outline = outlinesMask(proposeProtectedMulticage(image));
+        const double inter = cv::countNonZero(outline & reference);
+        const double uni = cv::countNonZero(outline | reference);
+        std::cout << "[ person   ] " << name << " outline IoU " << inter / uni << ", outline area "
+                  << cv::countNonZero(outline) / static_cast<double>(cv::countNonZero(reference))
+                  << " x the person's\n";
+        EXPECT_GE(inter / uni, 0.5) << name;
+        EXPECT_LE(cv::countNonZero(outline), 1.6 * cv::countNonZero(reference)) << name;
+        EXPECT_LT(cv::countNonZero(outline), 0.9 * image.total()) << name;
+    }
+}
+
+// Item 2: a face gets room by a local push of at most 0.3 face sizes, never a push to the
+// frame: the outline around a face encloses the face box, and above the face (hair, then
+// background) it stays within 0.3 face sizes, the hair (0.6 face heights) and the margin and
+// simplification (3% of the image diagonal). Two face sizes of room put it on the frame.
+TEST(ProposePerson, TheOutlineAroundAFaceLeavesItAtMostAThirdOfAFaceOfRoom) {
+    if (!haveCascades()) GTEST_SKIP() << "opencv-data is not installed";
+    for (const char* name : {"messi5", "megamind_dinner"}) {
+        const cv::Mat image = benchPhoto(name);
+        std::vector<cv::Rect> faces;
+        const Multicage cage = proposeProtectedMulticage(image, ProposeParams(), &faces);
+        ASSERT_FALSE(faces.empty()) << name;
+        for (const cv::Rect& f : faces) {
+            int around = -1;
+            for (int p = 0; p < cage.polygonCount(); ++p)
+                if (cage.depth(p) == 1 &&
+                    cv::pointPolygonTest(cage.polygon(p),
+                                         cv::Point2f(f.x + f.width / 2.f, f.y + f.height / 2.f),
+                                         false) > 0)
+                    around = p;
+            ASSERT_GE(around, 0) << name;
+            // The face box is inside its outline.
+            const cv::Mat m = fill(cage.polygon(around), image.size());
+            EXPECT_EQ(cv::countNonZero(m(f & cv::Rect(cv::Point(), image.size()))),
+                      (f & cv::Rect(cv::Point(), image.size())).area())
+                << name;
+            // Above the face, where there is only hair and background, the outline is at most
+            // 0.3 face sizes plus 3% of the image diagonal (margin and simplification) away.
+            const cv::Rect box = cv::boundingRect(cage.polygon(around));
+            const double size = 0.5 * (f.width + f.height);
+            const double slack = 0.03 * std::hypot(image.cols, image.rows);
+            EXPECT_GE(box.y, f.y - 0.3 * size - 0.6 * f.height - slack) << name;
+            EXPECT_GT(box.y, 0) << name;
+        }
+    }
+}
+
+// Item 4: a plain fruit has no structure worth an inner polygon: its highlights and shadow
+// are smooth inside, and the texture rule leaves them out.
+TEST(ProposeFeatures, APlainFruitGetsNoInnerPolygon) {
+    const Multicage cage = proposeProtectedMulticage(benchPhoto("apple"));
+    EXPECT_GE(cage.polygonCount(), 1);
+    EXPECT_EQ(innerPolygons(cage), 0);
+}
+
+// Item 4: a salient region no more textured than its object (the butterfly's wings, as
+// patterned as the whole butterfly) gets no polygon; a region more textured than its object
+// (HappyFish.jpg's eye, the cat's eye) gets one.
+TEST(ProposeFeatures, ARegionNoMoreTexturedThanItsObjectGetsNoPolygon) {
+    ProposeParams saliency;
+    saliency.protect = PROTECT_SALIENCY;
+    EXPECT_EQ(innerPolygons(proposeProtectedMulticage(readSample("butterfly.jpg"), saliency)), 0);
+    EXPECT_GE(innerPolygons(proposeProtectedMulticage(readSample("HappyFish.jpg"), saliency)), 1);
+    EXPECT_GE(innerPolygons(proposeProtectedMulticage(benchPhoto("chelsea"), saliency)), 1);
+}
+
+// Item 5: with the default proposal and mean value coordinates, stretching the outline 20%
+// horizontally (inner polygons at rest) leaves every face within 1 px of a similarity (mean
+// over grid nodes of the face box's inner 80%) on the mid-shots. Close-ups do not reach it
+// yet (docs/propose/README.md, benchmark).
+TEST(ProposeDefaults, FacesStayWithinAPixelOfASimilarityWhenTheOutlineStretches) {
+    if (!haveCascades()) GTEST_SKIP() << "opencv-data is not installed";
+    for (const char* name : {"messi5", "astronaut", "camera"}) {
+        const cv::Mat image = benchPhoto(name);
+        std::vector<cv::Rect> faces;
+        const Multicage cage = proposeProtectedMulticage(image, ProposeParams(), &faces);
+        ASSERT_FALSE(faces.empty()) << name;
+        const Binding binding = bind(cage, MEAN_VALUE, 2);
+        for (const cv::Rect& f : faces) {
+            int around = -1;
+            for (int p = 0; p < cage.polygonCount(); ++p)
+                if (cage.depth(p) == 1 &&
+                    cv::pointPolygonTest(cage.polygon(p),
+                                         cv::Point2f(f.x + f.width / 2.f, f.y + f.height / 2.f),
+                                         false) > 0)
+                    around = p;
+            ASSERT_GE(around, 0) << name;
+            const double r = multicage_testing::boxResidual(
+                binding, multicage_fixtures::stretchPolygon(cage, around, 1.2f, 1.0f), f);
+            std::cout << "[ faces    ] " << name << " face " << f << ": " << r
+                      << " px from a similarity, outline stretched 20%\n";
+            EXPECT_LE(r, 1.0) << name;
+        }
+    }
+}
