@@ -23,7 +23,10 @@ backend='gpu' works, auto_backend() what backend='auto' takes. Multicage, Pose, 
 Deformer pickle (multiprocessing, Dask). For augmentation: random_pose(cage, amplitude, seed)
 draws valid random poses, Deformer.transform_points moves keypoints with the image, and
 Deformer.deform(pose, image=...) and Deformer.deform_many deform other images of the same size
-with one binding.
+with one binding. MulticageWarp (multicage.transforms) does all of it as one transform,
+called as albumentations transforms are: warp(image=, mask=, masks=, keypoints=, bboxes=)
+returns the same keys moved by one deformation, seeded per sample and replayable;
+TorchMulticageWarp is the same inside a torchvision Compose on CHW tensors.
 
 Errors reported by the library raise multicage.Error (a ValueError) with the library's
 message; wrong array types raise TypeError, wrong shapes ValueError. The GIL is released
@@ -117,6 +120,7 @@ from ._multicage import (
     random_pose,
     validate_pose,
 )
+from .transforms import MulticageWarp, TorchMulticageWarp, box_outline, default_multicage, sample_seed
 
 __all__ = [
     "CONDITIONING_WARNING",
@@ -140,4 +144,9 @@ __all__ = [
     "protect_features",
     "random_pose",
     "validate_pose",
+    "MulticageWarp",
+    "TorchMulticageWarp",
+    "box_outline",
+    "default_multicage",
+    "sample_seed",
 ]
