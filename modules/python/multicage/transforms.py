@@ -217,7 +217,9 @@ class MulticageWarp:
             cached = _mc.Multicage.load(path)
         else:
             try:
-                cached = _mc.propose_multicage(image, protect=self.protect, **self.propose_options)
+                # A constant image has no subject (the library refuses to segment it).
+                cached = (False if image.size == 0 or image.min() == image.max() else
+                          _mc.propose_multicage(image, protect=self.protect, **self.propose_options))
             except _mc.NoObjectFoundError:
                 cached = False
             if cached is not False and path is not None:
