@@ -429,7 +429,8 @@ class MulticageWarp:
 class TorchMulticageWarp:
     """MulticageWarp for torchvision pipelines: inside a torchvision.transforms.Compose, on a
     CHW tensor (uint8 or float, 1, 3 or 4 channels) or a dict of tensors ('image', 'mask' HxW,
-    'keypoints' Nx2+, 'boxes' Nx4+), giving the same type back.
+    'keypoints' Nx2+, 'boxes' Nx4+; a str 'name' names the image for the cage cache; other keys
+    pass through), giving the same type back.
 
     Its seed comes from torch's generator (torch.randint), so the usual pattern of seeding
     torch per sample (torch.manual_seed(f(index)) in Dataset.__getitem__) makes every random
@@ -455,6 +456,8 @@ class TorchMulticageWarp:
                 kwargs["keypoints"] = sample["keypoints"].numpy()
             if "boxes" in sample:
                 kwargs["bboxes"] = sample["boxes"].numpy()
+            if isinstance(sample.get("name"), str):
+                kwargs["name"] = sample["name"]  # the cage cache's key (else the image's content)
             out = self.warp(seed=seed, **kwargs)
             result = dict(sample)
             result["image"] = self._to_tensor(out["image"], image)
