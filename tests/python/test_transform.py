@@ -173,7 +173,9 @@ def test_seeded_per_sample_and_replayed_exactly(butterfly, cage):
     assert a["replay"]["seed"] == mc.sample_seed(11, 7)
     # The parameters travel (pickle) and re-apply exactly in a fresh transform, to new targets too.
     params = pickle.loads(pickle.dumps(a["replay"]))
-    fresh = mc.MulticageWarp(amplitude=99, grid_step=4, seed=0)  # options other than grid_step do not matter
+    fresh = mc.MulticageWarp(amplitude=99, grid_step=4, seed=0,  # only grid_step matters
+                             cage=mc.default_multicage((butterfly.shape[1], butterfly.shape[0])))
+    fresh(image=butterfly, index=0)  # its own cage bound first: the replay must not take it
     r = fresh.replay(params, image=butterfly, mask=mask, keypoints=np.array([[150.0, 120.0]], np.float32))
     np.testing.assert_array_equal(r["image"], a["image"])
     np.testing.assert_array_equal(r["mask"], a["mask"])
@@ -203,3 +205,25 @@ def test_workers_give_what_one_process_gives(butterfly, cage, method):
         np.testing.assert_array_equal(li, ri)
         np.testing.assert_array_equal(lk, rk)
     assert not np.array_equal(local[0][0], local[1][0])
+
+
+def test_compute_maps_writes_into_given_maps(butterfly, cage):
+    """compute_maps(pose, mapx, mapy) fills the caller's arrays (the transform reuses them
+    between calls): the same maps as fresh ones; wrong arrays are refused."""
+    d = mc.Deformer(butterfly, cage, backend="cpu", grid_step=4)
+    pose = mc.random_pose(cage, 10, seed=2)
+    fresh = d.compute_maps(pose)
+    h, w = butterfly.shape[:2]
+    mx, my = np.full((h, w), 7, np.float32), np.full((h, w), 7, np.float32)
+    got = d.compute_maps(pose, mx, my)
+    assert got[0] is mx and got[1] is my
+    np.testing.assert_array_equal(mx, fresh[0])
+    np.testing.assert_array_equal(my, fresh[1])
+    with pytest.raises(ValueError, match="mapx"):
+        d.compute_maps(pose, np.zeros((h, w + 1), np.float32), my)
+    with pytest.raises(ValueError, match="mapy"):
+        d.compute_maps(pose, mx, np.zeros((h, w), np.float64))
+    with pytest.raises(ValueError, match="both"):
+        d.compute_maps(pose, mx)
+    with pytest.raises(ValueError, match="twice"):
+        d.compute_maps(pose, mx, mx)

@@ -136,13 +136,14 @@ inline void drawTriangle(const TriangleSetup& s, int t, int y0, int y1, Point2f 
     for (int y = ya; y <= yb; ++y) {
         double left = xa, right = xb;
         for (int i = 0; i < 3; ++i) {  // l_i(x) = ax x + c >= eps
+            // Selects, not branches (a triangle is a few rows, so the branches of each edge's
+            // side mispredict); the same values: an edge bounds the left (ax > 0), the right
+            // (ax < 0), or, neither, empties the row when c < eps (NaN ax included).
             const double c = a0[i] + ay[i] * y;
-            if (ax[i] > 0)
-                left = std::max(left, (eps - c) * invAx[i]);
-            else if (ax[i] < 0)
-                right = std::min(right, (eps - c) * invAx[i]);
-            else if (c < eps)
-                right = -1;
+            const double v = (eps - c) * invAx[i];
+            left = std::max(left, ax[i] > 0 ? v : -INFINITY);
+            right = std::min(right, ax[i] < 0 ? v : INFINITY);
+            right = !(ax[i] > 0) && !(ax[i] < 0) && c < eps ? -1.0 : right;
         }
         if (!(left <= right)) continue;  // empty span (or NaN) before converting to int
         const int xl = static_cast<int>(std::ceil(left)), xr = static_cast<int>(std::floor(right));
@@ -314,8 +315,10 @@ void RasterMesh::draw(Mat& mapx, Mat& mapy) {
     const Size outputSize = out_;
     // Bands of output rows in parallel; each clears its rows, then walks the cells in the same
     // order, so where the mesh folds over, the later triangle wins exactly as in a GPU draw call.
+    // Bands of 64 rows (two maps of 512 px: 256 KB, in cache while drawn) or more: the cell
+    // rows across a band's edge are set up by both bands, so narrower ones repeat more work.
     const int bands = std::max(
-        1, std::min(outputSize.height, std::max(getNumThreads() * 4, outputSize.height / 32)));
+        1, std::min(outputSize.height, std::max(getNumThreads() * 4, outputSize.height / 64)));
     parallel_for_(Range(0, bands), [&](const Range& range) {
         std::unique_ptr<TriangleSetup> setup(new TriangleSetup);
         std::vector<Point2f> rest0, rest1;  // rest rows of a regular grid

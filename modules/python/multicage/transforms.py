@@ -89,6 +89,15 @@ def box_outline(box, spacing=1.0):
     return np.concatenate([top, right, bottom, left]).astype(np.float32)
 
 
+def _cage_digest(cage):
+    """A key for a multicage's content (size, polygons, coordinates): bindings are cached by it,
+    so that a replay with another transform's cage never meets a binding of a different cage."""
+    h = hashlib.sha1(repr((tuple(cage.image_size), cage.coordinates,
+                           [len(cage.polygon(i)) for i in range(cage.polygon_count)])).encode())
+    h.update(np.ascontiguousarray(cage.vertices(), np.float32).tobytes())
+    return h.hexdigest()
+
+
 def _image_key(image):
     h = hashlib.sha1()
     h.update(repr((image.shape, image.dtype.str)).encode())
@@ -128,6 +137,10 @@ class MulticageWarp:
     remove_invisible drop keypoints that land outside the output and boxes with nothing left
                     inside it (the flags are returned either way)
     pose_options    extra keywords of multicage.random_pose (max_rotation, jitter, ...)
+    fold_check      'coarse' (default): random_pose checks fold-over on its own mesh of about
+                    160 nodes along the longer side (and around every cage vertex), as
+                    random_pose(cage, amplitude, seed) does; 'exact': on the mesh the image is
+                    deformed with (slower at fine grid steps: every node, every draw)
 
     Bindings (the expensive part) are made once per cage and image size and reused; the
     transform pickles (without them) for workers.
@@ -136,13 +149,15 @@ class MulticageWarp:
     def __init__(self, amplitude=10.0, grid_step=4, *, p=1.0, seed=None, coordinates=None, cage=None,
                  cages=None, cage_dir=None, propose=True, protect=True, propose_options=None,
                  no_subject="default", border_mode="constant", border_value=0, mask_value=0,
-                 remove_invisible=False, backend="cpu", pose_options=None):
+                 remove_invisible=False, backend="cpu", pose_options=None, fold_check="coarse"):
         if not (float(amplitude) >= 0):
             raise ValueError(f"amplitude: must be >= 0, got {amplitude!r}")
         if int(grid_step) < 1:
             raise ValueError(f"grid_step: must be >= 1, got {grid_step!r}")
         if not (0.0 <= float(p) <= 1.0):
             raise ValueError(f"p: a probability in [0, 1], got {p!r}")
+        if fold_check not in ("coarse", "exact"):
+            raise ValueError(f"fold_check: 'coarse' or 'exact', got {fold_check!r}")
         if no_subject not in NO_SUBJECT_CHOICES:
             raise ValueError(f"no_subject: one of {NO_SUBJECT_CHOICES}, got {no_subject!r}")
         if isinstance(border_mode, str):
@@ -167,6 +182,7 @@ class MulticageWarp:
         self.remove_invisible = bool(remove_invisible)
         self.backend = backend
         self.pose_options = dict(pose_options or {})
+        self.fold_check = fold_check
         self._init_caches()
 
     def _init_caches(self):
@@ -174,10 +190,11 @@ class MulticageWarp:
         self._cages = {}      # cage key -> Multicage (rest, as drawn)
         self._bindings = {}   # (cage key, w, h) -> (scaled cage, Binding)
         self._deformers = {}  # (cage key, shape, dtype) -> Deformer
+        self._local = threading.local()  # per thread: map buffers reused between calls
 
     def __getstate__(self):
         state = dict(self.__dict__)
-        for k in ("_lock", "_cages", "_bindings", "_deformers"):
+        for k in ("_lock", "_cages", "_bindings", "_deformers", "_local"):
             state.pop(k)
         return state
 
@@ -245,7 +262,7 @@ class MulticageWarp:
 
     def _binding(self, key, cage, size):
         """The cage scaled to the image size and its Binding, made once per (cage, size)."""
-        bkey = (key, size)
+        bkey = (_cage_digest(cage), size)
         with self._lock:
             found = self._bindings.get(bkey)
         if found is None:
@@ -256,7 +273,7 @@ class MulticageWarp:
         return found
 
     def _deformer(self, key, cage, image):
-        dkey = (key, image.shape, image.dtype.str)
+        dkey = (_cage_digest(cage), image.shape, image.dtype.str)
         with self._lock:
             d = self._deformers.get(dkey)
         if d is None:
@@ -266,6 +283,15 @@ class MulticageWarp:
             with self._lock:
                 self._deformers[dkey] = d
         return d
+
+    def _map_buffers(self, w, h):
+        """This thread's two map arrays for an image size, reused call after call (fresh maps
+        every call cost page faults that can exceed the raster)."""
+        buffers = getattr(self._local, "maps", None)
+        if buffers is None or buffers[0].shape != (h, w):
+            buffers = (np.empty((h, w), np.float32), np.empty((h, w), np.float32))
+            self._local.maps = buffers
+        return buffers
 
     def _border_tuple(self):
         v = self.border_value
@@ -303,8 +329,8 @@ class MulticageWarp:
             key, cage = self._cage_for(image, name)
             if cage is not None:
                 scaled, binding = self._binding(key, cage, params["image_size"])
-                pose = _mc.random_pose(scaled, self.amplitude, seed=call_seed, binding=binding,
-                                       **self.pose_options)
+                check = {"binding": binding} if self.fold_check == "exact" else {}
+                pose = _mc.random_pose(scaled, self.amplitude, seed=call_seed, **check, **self.pose_options)
                 params.update(applied=True, pose=pose, cage_key=key, cage=cage)
         return self._apply(params, image, mask, masks, keypoints, bboxes, other, return_params)
 
@@ -329,17 +355,12 @@ class MulticageWarp:
         h, w = image.shape[:2]
         deformer = pose = None
         if params["applied"]:
-            key, cage = params["cage_key"], params["cage"]
-            with self._lock:
-                known = self._cages.get(key)
-            if known is None:  # a replay in another process: the cage travels in the params
-                with self._lock:
-                    self._cages[key] = cage
+            key, cage = params["cage_key"], params["cage"]  # the cage travels with the params
             deformer = self._deformer(key, cage, image)
             pose = params["pose"]
         need_maps = deformer is not None and (mask is not None or masks is not None
                                               or self.border_mode != cv2.BORDER_CONSTANT)
-        maps = deformer.compute_maps(pose) if need_maps else None
+        maps = deformer.compute_maps(pose, *self._map_buffers(w, h)) if need_maps else None
         if deformer is None:
             out["image"] = image.copy()
         elif maps is None:
