@@ -113,6 +113,7 @@ class VertexFans {
             const int centre = static_cast<int>(points_.size());
             points_.push_back(Point2f(v));
             centres_.push_back(centre);
+            triangleStart_.push_back(static_cast<int>(triangles_.size()));
             std::vector<int> index(kRings * kDirections, -1);
             for (int r = 0; r < kRings; ++r)
                 for (int k = 0; k < kDirections; ++k) {
@@ -183,25 +184,41 @@ class VertexFans {
     bool folds(const std::vector<Point2f>& pose, const std::vector<Point2f>& rest) const {
         if (points_.empty()) return false;
         const int users = static_cast<int>(pose.size()), count = byVertex_.cols;
-        // sample + sum_j CC_j (v'_j - v_j), each sum over j in order as one point at a time
-        // would add it, but a vertex at a time across all samples (rows of byVertex_): the
-        // inner loop runs over contiguous samples and vectorises. Vertices at rest add nothing.
-        std::vector<double> sx(count, 0.0), sy(count, 0.0);
-        for (int j = 0; j < users; ++j) {
-            const double dx = pose[j].x - rest[j].x, dy = pose[j].y - rest[j].y;
-            if (dx == 0 && dy == 0) continue;
-            const double* cc = byVertex_.ptr<double>(j);
-            double* __restrict px = sx.data();
-            double* __restrict py = sy.data();
-            for (int i = 0; i < count; ++i) px[i] += cc[i] * dx, py[i] += cc[i] * dy;
-        }
+        std::vector<int> moved;
+        std::vector<double> dx, dy;
+        for (int j = 0; j < users; ++j)
+            if (pose[j].x != rest[j].x || pose[j].y != rest[j].y)
+                moved.push_back(j), dx.push_back(pose[j].x - rest[j].x),
+                    dy.push_back(pose[j].y - rest[j].y);
+        // Fan by fan (a fan's triangles use only its own samples), so that a draw that folds
+        // stops at the first fan that does. Each sample: sample + sum_j CC_j (v'_j - v_j), the
+        // sum over j in order as one point at a time would add it (vertices at rest add
+        // nothing), a vertex at a time across the fan's samples (contiguous in byVertex_ rows:
+        // the inner loop vectorises).
+        std::vector<double> sx, sy;
         std::vector<Point2d> m(count);
-        for (int i = 0; i < count; ++i) m[i] = Point2d(points_[i]) + Point2d(sx[i], sy[i]);
-        for (const Vec3i& t : triangles_) {
-            const Point2d a = m[t[0]], b = m[t[1]], c = m[t[2]];
-            const Point2d ra(points_[t[0]]), rb(points_[t[1]]), rc(points_[t[2]]);
-            const double before = (rb - ra).cross(rc - ra), after = (b - a).cross(c - a);
-            if ((before > 0) != (after > 0)) return true;
+        for (size_t f = 0; f < centres_.size(); ++f) {
+            const int begin = centres_[f];
+            const int end = f + 1 < centres_.size() ? centres_[f + 1] : count;
+            sx.assign(end - begin, 0.0), sy.assign(end - begin, 0.0);
+            for (size_t q = 0; q < moved.size(); ++q) {
+                const double* cc = byVertex_.ptr<double>(moved[q]) + begin;
+                const double ddx = dx[q], ddy = dy[q];
+                double* __restrict px = sx.data();
+                double* __restrict py = sy.data();
+                for (int i = 0; i < end - begin; ++i) px[i] += cc[i] * ddx, py[i] += cc[i] * ddy;
+            }
+            for (int i = begin; i < end; ++i)
+                m[i] = Point2d(points_[i]) + Point2d(sx[i - begin], sy[i - begin]);
+            const int tEnd = f + 1 < centres_.size() ? triangleStart_[f + 1]
+                                                     : static_cast<int>(triangles_.size());
+            for (int k = triangleStart_[f]; k < tEnd; ++k) {
+                const Vec3i& t = triangles_[k];
+                const Point2d a = m[t[0]], b = m[t[1]], c = m[t[2]];
+                const Point2d ra(points_[t[0]]), rb(points_[t[1]]), rc(points_[t[2]]);
+                const double before = (rb - ra).cross(rc - ra), after = (b - a).cross(c - a);
+                if ((before > 0) != (after > 0)) return true;
+            }
         }
         return false;
     }
@@ -212,7 +229,8 @@ class VertexFans {
     }
 
     std::vector<Point2f> points_;  // fan centres (the vertices) and ring samples
-    std::vector<int> centres_;     // index of each user vertex's centre in points_
+    std::vector<int> centres_;  // index of each user vertex's centre in points_ (its fan's first)
+    std::vector<int> triangleStart_;  // index of each fan's first triangle in triangles_
     std::vector<Vec3i> triangles_;
     Mat coefficients_;  // samples x (users + 4), CV_64F
     Mat byVertex_;      // users x samples, CV_64F: the user vertices' columns, transposed
