@@ -143,6 +143,17 @@ def test_cages_by_name_proposed_cached_and_saved(butterfly, cage, tmp_path, monk
     np.testing.assert_array_equal(again["pose"], proposed["pose"])
 
 
+def test_binding_cache_is_bounded(butterfly, cage):
+    """Bindings are reused per cage and size, and at most cache_size are kept (a dataset of
+    proposed cages has one per image)."""
+    warp = mc.MulticageWarp(amplitude=5, cage=cage, cache_size=2)
+    sizes = [(160, 120), (200, 150), (240, 180)]
+    for w, h in sizes + sizes[-1:]:
+        warp(image=cv2.resize(butterfly, (w, h)), index=0)
+    assert len(warp._bindings) == 2 and len(warp._deformers) == 2
+    assert [key[1] for key in warp._bindings] == [(200, 150), (240, 180)]
+
+
 def test_images_without_a_subject(butterfly):
     flat = np.full((90, 120, 3), 77, np.uint8)
     noise = np.random.default_rng(0).integers(0, 255, (90, 120, 3)).astype(np.uint8)

@@ -33,6 +33,7 @@ pickles.
 import hashlib
 import os
 import threading
+from collections import OrderedDict
 
 import cv2
 import numpy as np
@@ -141,15 +142,17 @@ class MulticageWarp:
                     160 nodes along the longer side (and around every cage vertex), as
                     random_pose(cage, amplitude, seed) does; 'exact': on the mesh the image is
                     deformed with (slower at fine grid steps: every node, every draw)
+    cache_size      bindings (and deformers) kept, the most recently used: a binding is made
+                    once per cage and image size and reused while it stays in the cache
 
-    Bindings (the expensive part) are made once per cage and image size and reused; the
-    transform pickles (without them) for workers.
+    The transform pickles (without its caches) for workers.
     """
 
     def __init__(self, amplitude=10.0, grid_step=4, *, p=1.0, seed=None, coordinates=None, cage=None,
                  cages=None, cage_dir=None, propose=True, protect=True, propose_options=None,
                  no_subject="default", border_mode="constant", border_value=0, mask_value=0,
-                 remove_invisible=False, backend="cpu", pose_options=None, fold_check="coarse"):
+                 remove_invisible=False, backend="cpu", pose_options=None, fold_check="coarse",
+                 cache_size=16):
         if not (float(amplitude) >= 0):
             raise ValueError(f"amplitude: must be >= 0, got {amplitude!r}")
         if int(grid_step) < 1:
@@ -183,13 +186,16 @@ class MulticageWarp:
         self.backend = backend
         self.pose_options = dict(pose_options or {})
         self.fold_check = fold_check
+        self.cache_size = max(1, int(cache_size))
         self._init_caches()
 
     def _init_caches(self):
         self._lock = threading.Lock()
         self._cages = {}      # cage key -> Multicage (rest, as drawn)
-        self._bindings = {}   # (cage key, w, h) -> (scaled cage, Binding)
-        self._deformers = {}  # (cage key, shape, dtype) -> Deformer
+        # The most recently used bindings and deformers, at most cache_size of each: a dataset
+        # of proposed cages has one per image, and a binding is megabytes.
+        self._bindings = OrderedDict()   # (cage digest, size) -> (scaled cage, Binding)
+        self._deformers = OrderedDict()  # (cage digest, shape, dtype) -> Deformer
         self._local = threading.local()  # per thread: map buffers reused between calls
 
     def __getstate__(self):
@@ -265,23 +271,31 @@ class MulticageWarp:
         bkey = (_cage_digest(cage), size)
         with self._lock:
             found = self._bindings.get(bkey)
+            if found is not None:
+                self._bindings.move_to_end(bkey)
         if found is None:
             scaled = cage if tuple(cage.image_size) == size else cage.scaled(size)
             found = (scaled, _mc.bind(scaled, coordinates=self.coordinates, grid_step=self.grid_step))
             with self._lock:
                 self._bindings[bkey] = found
+                while len(self._bindings) > self.cache_size:
+                    self._bindings.popitem(last=False)
         return found
 
     def _deformer(self, key, cage, image):
         dkey = (_cage_digest(cage), image.shape, image.dtype.str)
         with self._lock:
             d = self._deformers.get(dkey)
+            if d is not None:
+                self._deformers.move_to_end(dkey)
         if d is None:
             size = (image.shape[1], image.shape[0])
             _, binding = self._binding(key, cage, size)
             d = _mc.Deformer(image, binding, backend=self.backend, border_value=self._border_tuple())
             with self._lock:
                 self._deformers[dkey] = d
+                while len(self._deformers) > self.cache_size:
+                    self._deformers.popitem(last=False)
         return d
 
     def _map_buffers(self, w, h):
