@@ -238,3 +238,14 @@ def test_compute_maps_writes_into_given_maps(butterfly, cage):
         d.compute_maps(pose, mx)
     with pytest.raises(ValueError, match="twice"):
         d.compute_maps(pose, mx, mx)
+
+
+@pytest.mark.parametrize("kind", ["gray_u16", "bgra_u8", "bgr_f32"])
+def test_image_types_kept(butterfly, cage, kind):
+    image = {"gray_u16": cv2.cvtColor(butterfly, cv2.COLOR_BGR2GRAY).astype(np.uint16) * 200,
+             "bgra_u8": cv2.cvtColor(butterfly, cv2.COLOR_BGR2BGRA),
+             "bgr_f32": butterfly.astype(np.float32) / 255}[kind]
+    out = mc.MulticageWarp(amplitude=10, cage=cage)(image=image, mask=np.ones(image.shape[:2], bool).view(np.uint8),
+                                                   seed=3)
+    assert out["image"].shape == image.shape and out["image"].dtype == image.dtype
+    assert not np.array_equal(out["image"], image)
