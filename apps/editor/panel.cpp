@@ -107,10 +107,15 @@ void posesSection(Editor& e) {
     ImGui::PopItemWidth();
     ImGui::SameLine();
     if (ImGui::Button("Add pose", ImVec2(-1, 0)) && e.poseName[0]) {
-        edit(e);
-        addPose(e.doc, e.poseName);
-        afterEdit(e);
-        e.message = std::string("pose '") + e.poseName + "' stored";
+        const std::string problem = mc::poseNameProblem(e.poseName);  // addPose would throw
+        if (!problem.empty()) {
+            e.message = "pose name " + problem + ": a cage file could not keep it";
+        } else {
+            edit(e);
+            addPose(e.doc, e.poseName);
+            afterEdit(e);
+            e.message = std::string("pose '") + e.poseName + "' stored";
+        }
     }
 }
 

@@ -1,11 +1,19 @@
 // The README's example: bind an image to a multicage once, deform it to a pose, save it.
+#include <cstdio>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/multicage.hpp>
 
 int main(int argc, char** argv) {
     using namespace cv::multicage;
     if (argc != 3) return 2;  // usage: deform_example IMAGE OUT.png
-    cv::Mat image = cv::imread(argv[1]);
+    cv::Mat image;
+    try {
+        image =
+            readImage(argv[1], cv::IMREAD_COLOR);  // as the CLI reads: a cut JPEG or PNG is refused
+    } catch (const cv::Exception& e) {
+        std::fprintf(stderr, "deform_example: %s\n", e.err.c_str());
+        return 1;
+    }
     Multicage cage(image.size());
     cv::Point2f c(image.cols / 2.f, image.rows / 2.f);
     float a = image.rows * 0.4f, b = image.rows * 0.15f;

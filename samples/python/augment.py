@@ -19,16 +19,7 @@ import argparse
 import os
 import sys
 
-try:
-    import cv2
-    import numpy as np
-except ImportError as e:
-    sys.exit(f"augment.py: {e}; install python3-opencv and python3-numpy")
-try:
-    import multicage
-except ImportError as e:
-    sys.exit(f"augment.py: cannot import multicage ({e}); from a build tree run with "
-             "PYTHONPATH=<build>/python, after install with PYTHONPATH=<prefix>/lib/python3.X/dist-packages")
+from sample_imports import cv2, multicage, np
 
 
 def parse_args(argv):
@@ -61,10 +52,10 @@ def parse_args(argv):
 def read_image(path, what):
     if not os.path.isfile(path):
         sys.exit(f"augment.py: {what} {path}: no such file")
-    image = cv2.imread(path, cv2.IMREAD_UNCHANGED)
-    if image is None:
-        sys.exit(f"augment.py: {what} {path}: not an image OpenCV can read")
-    return image
+    try:
+        return multicage.imread(path)  # as the CLI reads: a truncated file is refused
+    except multicage.Error as e:
+        sys.exit(f"augment.py: {what} {e}")
 
 
 def fill_uncovered(mapx, mapy):

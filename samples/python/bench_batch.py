@@ -25,10 +25,8 @@ import statistics
 import sys
 import time
 
-import cv2
-import numpy as np
-
-import multicage as mc
+from sample_imports import cv2
+from sample_imports import multicage as mc
 
 DATA = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "data")
 
@@ -131,7 +129,7 @@ def main(argv=None):
     if args.threads is not None:
         cv2.setNumThreads(args.threads)
     names = sorted(n for n in os.listdir(DATA) if n.lower().endswith((".jpg", ".png")))
-    photos = [cv2.resize(cv2.imread(os.path.join(DATA, n)), (args.size, args.size), interpolation=cv2.INTER_AREA)
+    photos = [cv2.resize(mc.imread(os.path.join(DATA, n), cv2.IMREAD_COLOR), (args.size, args.size), interpolation=cv2.INTER_AREA)
               for n in names]
     images = [photos[k % len(photos)] for k in range(args.count)]
     if args.augment:

@@ -17,6 +17,10 @@ segmentation. Annotations: IMAGES_DIR/NAME.json when it exists, {"keypoints": [[
 "boxes": [[x0, y0, x1, y1], ...]} in pixels; keypoints move with the image
 (Deformer.transform_points) and each box becomes the bounding box of its four moved corners.
 
+Images are read as the CLI reads them (multicage.imread): a damaged file (a truncated JPEG or
+PNG, an empty file, a file that is not an image) gets no output and is named in the summary;
+the other images still finish, and the exit status is 1.
+
 Every file is written atomically (a temporary file in OUT_DIR, then a rename), so an interrupted
 run leaves whole files only; a rerun skips every copy whose three files exist and an image
 whose copies and cage file all exist. The outputs do not depend on where or in what order
@@ -38,16 +42,8 @@ import os
 import sys
 import tempfile
 
-try:
-    import cv2
-    import numpy as np
-except ImportError as e:
-    sys.exit(f"dask_augment.py: {e}; install python3-opencv and python3-numpy")
-try:
-    import multicage as mc
-except ImportError as e:
-    sys.exit(f"dask_augment.py: cannot import multicage ({e}); from a build tree run with "
-             "PYTHONPATH=<build>/python, after install with PYTHONPATH=<prefix>/lib/python3.X/dist-packages")
+from sample_imports import cv2, np
+from sample_imports import multicage as mc
 
 IMAGE_EXTENSIONS = (".png", ".jpg", ".jpeg", ".bmp", ".tif", ".tiff", ".webp")
 
@@ -176,14 +172,14 @@ def augment_image(images_dir, name, out_dir, cage_path, copies, seed, amplitude,
                                       all(done(k, ".tiff") for k in range(copies))):
         return f"{name}: skipped (done)"  # without reading the image
     try:
-        image = cv2.imread(os.path.join(images_dir, name), cv2.IMREAD_UNCHANGED)
-        if image is None:
-            return f"{name}: error: not an image OpenCV can read"
+        # As the CLI reads: a truncated JPEG or PNG, an empty file or a non-image raises
+        # multicage.Error (cv2.imread decodes a cut file to grey rows with only a warning).
+        image = mc.imread(os.path.join(images_dir, name))
         image_ext = ".tiff" if image.dtype == np.float32 else ".png"
         missing = [k for k in range(copies) if not done(k, image_ext)]
         h, w = image.shape[:2]
         mask_path = os.path.join(images_dir, f"{stem}_mask.png")
-        mask = cv2.imread(mask_path, cv2.IMREAD_UNCHANGED) if os.path.exists(mask_path) else None
+        mask = mc.imread(mask_path) if os.path.exists(mask_path) else None
         if mask is not None and mask.shape[:2] != (h, w):
             return f"{name}: error: {stem}_mask.png is {mask.shape[1]}x{mask.shape[0]}, the image {w}x{h}"
         # The proposal's GrabCut draws from OpenCV's random generator, whose state would depend
@@ -275,11 +271,12 @@ def main(argv=None):
                     cluster.close()
     for line in lines:
         print(line)
-    errors = sum(": error:" in line for line in lines)
+    failed = [name for name, line in zip(names, lines) if line.startswith(f"{name}: error:")]
     skipped = sum(line.endswith("skipped (done)") for line in lines)
-    print(f"{len(names)} images on {where}: {len(names) - errors - skipped} augmented, {skipped} skipped "
-          f"(already done), {errors} failed; outputs in {args.output}")
-    return 1 if errors else 0
+    print(f"{len(names)} images on {where}: {len(names) - len(failed) - skipped} augmented, {skipped} skipped "
+          f"(already done), {len(failed)} failed{': ' + ', '.join(failed) if failed else ''}; "
+          f"outputs in {args.output}")
+    return 1 if failed else 0
 
 
 if __name__ == "__main__":

@@ -140,3 +140,133 @@ TEST(CageFile, YamlWithoutTheOpenCvHeaderLoads) {
         EXPECT_NE(e.err.find("bad.yml"), std::string::npos) << e.err;
     }
 }
+
+// Issue 22 item 1: every pose name that loads (or that addPose takes) saves back exactly, in
+// YAML and JSON, with its time and vertices; the names a cage file cannot keep are refused
+// on load and by addPose/setPose, with one line that shows the name.
+TEST(CageFile, EveryNameThatLoadsSavesBackExactly) {
+    const std::string dir = multicage_testing::tempDir("cage_names");
+    Multicage cage = multicage_testing::butterflyCage(true);
+    cage.setCoordinates(HARMONIC);
+    std::vector<Point2f> pose = cage.vertices();
+    pose.resize(cage.vertexCount());
+    // Names that look like other YAML/JSON values or hold its punctuation, kept as text.
+    const std::string names[] = {"",
+                                 "p",
+                                 "a b",
+                                 "a  b",
+                                 "p:q",
+                                 "a: b",
+                                 "x#y",
+                                 "#x",
+                                 "-x",
+                                 "x,y",
+                                 "1",
+                                 "1.5",
+                                 "true",
+                                 "null",
+                                 "~",
+                                 ".nan",
+                                 "a\"b",
+                                 "a'b",
+                                 "a\\b",
+                                 "x]",
+                                 "x}",
+                                 "\xc3\xa9t\xc3\xa9",
+                                 "\xc2\xa0nbsp\xc2\xa0"};
+    const double times[] = {0.0, 0.1, -2.5, 1e-300, 1e300, 1.0 / 3.0};
+    int k = 0;
+    for (const std::string& name : names) {
+        std::vector<Point2f> moved = pose;
+        moved[k % moved.size()] += Point2f(0.1f * k, -1.0f / (k + 3));
+        cage.addPose(name, moved, times[k % 6]);
+        ++k;
+    }
+    for (const char* file : {"/names.yml", "/names.json"}) {
+        cage.save(dir + file);
+        const Multicage back = Multicage::load(dir + file);
+        EXPECT_EQ(back.coordinates(), HARMONIC) << file;
+        ASSERT_EQ(back.poseCount(), cage.poseCount()) << file;
+        for (int i = 0; i < cage.poseCount(); ++i) {
+            EXPECT_EQ(back.pose(i).name, cage.pose(i).name) << file;
+            EXPECT_EQ(back.pose(i).time, cage.pose(i).time) << file << " " << cage.pose(i).name;
+            EXPECT_EQ(back.pose(i).vertices, cage.pose(i).vertices)
+                << file << " " << cage.pose(i).name;
+        }
+    }
+}
+
+TEST(CageFile, NamesACageFileCannotKeepAreRefused) {
+    const std::string dir = multicage_testing::tempDir("cage_bad_names");
+    Multicage cage = multicage_testing::butterflyCage(true);
+    std::vector<Point2f> pose = cage.vertices();
+    pose.resize(cage.vertexCount());
+    const std::pair<std::string, std::string> refused[] = {
+        {"p ", "\"p \" starts or ends with a space"},
+        {" p", "\" p\" starts or ends with a space"},
+        {" ", "\" \" starts or ends with a space"},
+        {"a\tb", "\"a\\x09b\" contains a control character (0x09)"},
+        {"a\nb", "\"a\\x0Ab\" contains a control character (0x0A)"},
+        {"a\x7f", "\"a\\x7F\" contains a control character (0x7F)"},
+        {"[x", "\"[x\" starts with ["},
+        {"{x", "\"{x\" starts with {"},
+        {"\\[x", "\"\\[x\" starts with \\"},
+        {"'x'", "\"'x'\" starts with '"},
+        {"\"x\"", "\"\"x\"\" starts with \""},
+    };
+    cage.addPose("ok", pose);
+    for (const auto& [name, why] : refused) {
+        EXPECT_EQ(poseNameProblem(name), why);
+        try {
+            cage.addPose(name, pose);
+            ADD_FAILURE() << "addPose took " << why;
+        } catch (const cv::Exception& e) {
+            EXPECT_EQ(e.err, "multicage: pose name " + why + " (a cage file could not keep it)");
+        }
+        Pose renamed = cage.pose(0);
+        renamed.name = name;
+        EXPECT_THROW(cage.setPose(0, renamed), cv::Exception) << why;
+    }
+    EXPECT_EQ(cage.poseCount(), 1);
+    EXPECT_EQ(cage.pose(0).name, "ok");
+
+    // In a file: refused on load, one line naming the pose and the file, in both formats
+    // (JSON strings and quoted YAML strings can hold every one of these names).
+    std::string vertices;
+    for (const Point2f& p : pose)
+        vertices += format("%s%g, %g", vertices.empty() ? "" : ", ", p.x, p.y);
+    const Size size = cage.imageSize();
+    std::string polygons;
+    for (int p = 0; p < cage.polygonCount(); ++p) {
+        polygons += p ? ", [" : "[";
+        for (size_t v = 0; v < cage.polygon(p).size(); ++v)
+            polygons +=
+                format("%s%g, %g", v ? ", " : "", cage.polygon(p)[v].x, cage.polygon(p)[v].y);
+        polygons += "]";
+    }
+    const std::pair<std::string, std::string> inFile[] = {
+        {"p ", "p "}, {" p", " p"}, {"a\\tb", "a\\x09b"}, {"[x", "[x"}, {"\\\"x\\\"", "\"x\""}};
+    for (const char* ext : {".json", ".yml"}) {
+        for (const auto& [escaped, shown] : inFile) {
+            const std::string path = dir + "/bad" + ext;
+            const bool json = std::string(ext) == ".json";
+            std::ofstream(path) << format(
+                json ? "{\"image_size\": [%d, %d], \"polygons\": [%s], \"poses\": [\n"
+                       "  {\"name\": \"ok\", \"vertices\": [%s]},\n"
+                       "  {\"name\": \"%s\", \"time\": 2, \"vertices\": [%s]}]}\n"
+                     : "image_size: [%d, %d]\npolygons: [%s]\nposes:\n"
+                       "  - { name: ok, vertices: [%s] }\n"
+                       "  - { name: \"%s\", time: 2, vertices: [%s] }\n",
+                size.width, size.height, polygons.c_str(), vertices.c_str(), escaped.c_str(),
+                vertices.c_str());
+            const std::string err = loadError(path);
+            EXPECT_EQ(err.find('\n'), std::string::npos) << err;
+            EXPECT_NE(err.find(path + ": cage file: poses[1].name: \"" + shown + "\""),
+                      std::string::npos)
+                << err;
+            EXPECT_NE(err.find("which a cage file does not keep exactly: rename the pose"),
+                      std::string::npos)
+                << err;
+        }
+    }
+}

@@ -70,6 +70,33 @@ TEST(ImageIo, ReadImageNamesTheTruncatedFileAndReadsEverySample) {
     }
 }
 
+// Issue 22 item 3: the reader every tool and the Python module share (multicage.imread) says
+// in one line, naming the file, what is wrong with each kind of damaged file.
+TEST(ImageIo, ReadImageSaysWhyInOneLineForEveryDamagedFile) {
+    const std::string dir = multicage_testing::tempDir("image_io_damaged");
+    const std::vector<uchar> jpg = encode(".jpg", photo());
+    writeBytes(dir + "/cut.jpg", jpg, 2000);
+    writeBytes(dir + "/empty.jpg", jpg, 0);
+    const std::string text = "not an image, a note\n";
+    writeBytes(dir + "/notes.png", std::vector<uchar>(text.begin(), text.end()), text.size());
+    const std::pair<std::string, std::string> expected[] = {
+        {"cut.jpg",
+         "cut.jpg: the file is truncated (a JPEG ends with an end-of-image marker FF D9; this one "
+         "stops after 2000 bytes, in the middle of its data)"},
+        {"empty.jpg", "empty.jpg: the file is empty"},
+        {"notes.png", "notes.png: not an image OpenCV can read"},
+        {"missing.png", "missing.png: no such file, or it cannot be read"},
+    };
+    for (const auto& [name, why] : expected) {
+        try {
+            readImage(dir + "/" + name);
+            ADD_FAILURE() << name << " was read";
+        } catch (const cv::Exception& e) {
+            EXPECT_EQ(e.err, dir + "/" + why);
+        }
+    }
+}
+
 TEST(ImageIo, ConversionKeepsWhiteWhiteAndTheDepthWhereTheFormatCan) {
     Mat u16(4, 4, CV_16UC3, Scalar(65535, 32896, 0)), f32(4, 4, CV_32FC3, Scalar(1.0, 0.5, 0.0));
     std::string note;

@@ -2,7 +2,8 @@
 // through Multicage::load (a file, the library's entry point: a cage or a cv::Exception, never
 // a crash, a hang or another exception), and from memory through cv::FileStorage and
 // Multicage::read, then validate and orient. What read() accepts, write() writes back so that
-// read() gives the same multicage again, in YAML and in JSON.
+// read() gives the same multicage again, in YAML and in JSON: image size, coordinate type,
+// polygons, and every pose's name, time and vertices.
 #include <opencv2/core/utility.hpp>
 #include <opencv2/core/utils/logger.hpp>
 #include <opencv2/multicage.hpp>
@@ -21,7 +22,9 @@ using namespace cv::multicage;
 
 namespace {
 
-bool sameFloat(float a, float b) { return a == b || (std::isnan(a) && std::isnan(b)); }
+bool sameFloat(double a, double b) {
+    return a == b || (std::isnan(a) && std::isnan(b));
+}
 
 bool samePoints(const std::vector<Point2f>& a, const std::vector<Point2f>& b) {
     if (a.size() != b.size()) return false;
@@ -101,8 +104,11 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
             if (!samePoints(again.polygon(p), cage.polygon(p))) finding("round trip changed a polygon");
         for (int i = 0; i < cage.poseCount(); ++i)
             if (!samePoints(again.pose(i).vertices, cage.pose(i).vertices) ||
-                again.pose(i).name != cage.pose(i).name)
+                again.pose(i).name != cage.pose(i).name ||
+                !sameFloat(again.pose(i).time, cage.pose(i).time)) {
+                std::fprintf(stderr, "%s\n", written.c_str());
                 finding("round trip changed a pose");
+            }
     }
 
     if (geometry) {

@@ -407,19 +407,27 @@ TEST(Harmonic, ProgressRisesToOneAndCancellingStopsEarly) {
                 total, log.size(), gap, 100 * atHalf);
     EXPECT_EQ(whole.coordinates, HARMONIC);
 
-    // Cancel at the first report after the start: it throws, saying so, and stops well before
-    // the end (the factorisation of the largest region, most of the time, cannot be cut short,
-    // so cancel before it).
+    // Cancel at the first report after the start: it throws, saying so, and stops there: no
+    // report comes after the one answered false, so the work after it (the factorisation of
+    // the largest region, most of the time) is never done. Counted, not timed: a time bar
+    // fails on a loaded machine (issue 22 item 4); the time is printed.
     const auto t1 = std::chrono::steady_clock::now();
+    std::vector<double> reports;
     try {
-        bind(big, HARMONIC, 1, [](double f) { return f == 0.0; });
+        bind(big, HARMONIC, 1, [&](double f) {
+            reports.push_back(f);
+            return f == 0.0;
+        });
         ADD_FAILURE() << "a cancelled binding returned";
     } catch (const cv::Exception& e) {
         EXPECT_NE(e.err.find(kBindCancelled), std::string::npos) << e.err;
     }
     const double cancelled = std::chrono::duration<double>(std::chrono::steady_clock::now() - t1).count();
     std::printf("cancelled after %.2f s (the whole binding %.2f s)\n", cancelled, total);
-    EXPECT_LT(cancelled, 0.5 * total);
+    ASSERT_EQ(reports.size(), 2u) << "reports went on after the binding was cancelled";
+    EXPECT_EQ(reports[0], 0.0);
+    EXPECT_GT(reports[1], 0.0);
+    EXPECT_LT(reports[1], 0.5) << "cancelled only after half the work";
     // Nothing is left in a bad state: binding again gives the same result.
     const Binding again = bind(big, HARMONIC, 1, [](double) { return true; });
     EXPECT_EQ(norm(again.coefficients, whole.coefficients, NORM_INF), 0.0);

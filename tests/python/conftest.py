@@ -1,6 +1,6 @@
-"""Fixtures for the Python module's tests. Run by ctest (Python.Pytest), which sets
-PYTHONPATH to the module in the build tree and MULTICAGE_CLI to the `multicage` tool built
-beside it; run by hand: PYTHONPATH=<build>/python MULTICAGE_CLI=<build>/bin/multicage
+"""Fixtures for the Python module's tests. Run by ctest (one test per file: Python.test_api,
+...), which sets PYTHONPATH to the module in the build tree and MULTICAGE_CLI to the
+`multicage` tool built beside it; run by hand: PYTHONPATH=<build>/python MULTICAGE_CLI=<build>/bin/multicage
 /usr/bin/python3 -m pytest -q tests/python"""
 
 import os
@@ -26,7 +26,7 @@ def cli():
         pytest.skip("MULTICAGE_CLI is not set to the built multicage tool")
 
     def run(*args):
-        r = subprocess.run([path, *map(str, args)], capture_output=True, text=True, timeout=120)
+        r = subprocess.run([path, *map(str, args)], capture_output=True, text=True, timeout=600)
         assert r.returncode == 0, f"multicage {' '.join(map(str, args))} failed:\n{r.stderr}"
         return r
 

@@ -195,9 +195,7 @@ def test_gpu_available_and_auto_backend_agree_with_auto(butterfly, butterfly_cag
     # The docs say the same.
     assert "auto_backend()" in mc.gpu_available.__doc__ and "software" in mc.gpu_available.__doc__
     assert "gpu_available()" in mc.auto_backend.__doc__
-    # Probed once: later calls are answers from memory, not new EGL contexts.
-    import time
-    t0 = time.perf_counter()
+    # Probed once: later calls give the same answers. (How fast they come back is not
+    # asserted: a timing bar fails on a loaded machine, issue 22 item 4.)
     for _ in range(20):
         assert mc.gpu_available() == (available, description) and mc.auto_backend() == auto
-    assert time.perf_counter() - t0 < 0.05

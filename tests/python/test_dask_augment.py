@@ -23,7 +23,7 @@ SCRIPT = SAMPLES / "python" / "dask_augment.py"
 
 def run(*args, cwd=None):
     r = subprocess.run([sys.executable, str(SCRIPT), *map(str, args)], capture_output=True, text=True,
-                       timeout=240, cwd=cwd)
+                       timeout=900, cwd=cwd)
     assert r.returncode == 0, f"dask_augment.py {' '.join(map(str, args))} failed:\n{r.stdout}\n{r.stderr}"
     return r.stdout
 
@@ -158,8 +158,43 @@ def test_readme_at_scale_command_runs_as_written(tmp_path):
     command = command.replace("PYTHONPATH=build/python", f"PYTHONPATH={os.pathsep.join(p for p in sys.path if p)}")
     command = command.replace("/usr/bin/python3", sys.executable)
     before = set(os.listdir(SOURCE_DIR))
-    r = subprocess.run(command, shell=True, cwd=SOURCE_DIR, capture_output=True, text=True, timeout=240)
+    r = subprocess.run(command, shell=True, cwd=SOURCE_DIR, capture_output=True, text=True, timeout=900)
     assert r.returncode == 0, f"{commands[0]}\nfails as written:\n{r.stdout}\n{r.stderr}"
     assert "0 failed" in r.stdout
     assert set(os.listdir(SOURCE_DIR)) == before, "the example must not leave files in the source folder"
     assert any(name.endswith("_mask.png") for name in os.listdir(tmp_path / "out"))
+
+
+def test_damaged_files_are_named_get_no_output_and_the_rest_finish(images, tmp_path):
+    """Issue 22 item 3: a truncated JPEG, a zero-byte file and a text file named .png among good
+    images. cv2.imread decoded the cut JPEG into a half-grey picture that the sample augmented
+    and reported as done; now each damaged file is named in the summary with the reason, gets
+    no output, the good images are augmented as usual, and the exit status is 1."""
+    folder, stems = images
+    mixed = tmp_path / "mixed"
+    mixed.mkdir()
+    good = stems[:3]
+    for stem in good:
+        (mixed / f"{stem}.png").write_bytes((folder / f"{stem}.png").read_bytes())
+    (mixed / "cut.jpg").write_bytes((DATA / "butterfly.jpg").read_bytes()[:2000])  # the issue's file
+    (mixed / "empty.jpg").write_bytes(b"")
+    (mixed / "notes.png").write_text("a text file, not an image\n")
+    assert cv2.imread(str(mixed / "cut.jpg")) is not None  # what the sample used to read
+    out = tmp_path / "out"
+    r = subprocess.run([sys.executable, str(SCRIPT), str(mixed), "-o", str(out), "--copies", "2", "--seed", "3",
+                        "--scheduler", "synchronous"], capture_output=True, text=True, timeout=900)
+    assert r.returncode == 1, f"{r.stdout}\n{r.stderr}"
+    lines = r.stdout.splitlines()
+    assert lines[-1] == (f"6 images on this process: 3 augmented, 0 skipped (already done), 3 failed: "
+                         f"cut.jpg, empty.jpg, notes.png; outputs in {out}")
+    reasons = {"cut.jpg": "the file is truncated", "empty.jpg": "the file is empty",
+               "notes.png": "not an image OpenCV can read"}
+    for name, why in reasons.items():
+        line = next(line for line in lines if line.startswith(f"{name}: "))
+        assert line.startswith(f"{name}: error: ") and why in line and "\n" not in line, line
+    for stem in good:
+        assert f"{stem}.png: wrote 2 of 2 copies" in lines
+    written = sorted(os.listdir(out))
+    assert written == sorted(f"{stem}{suffix}" for stem in good for suffix in
+                             ("_000.png", "_000_mask.png", "_000.json", "_001.png", "_001_mask.png",
+                              "_001.json", "_cage.yml")), written

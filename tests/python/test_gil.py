@@ -1,6 +1,7 @@
 """The GIL is released while the library works: another Python thread keeps running during
 a bind, a Deformer creation, a deform and a compute_maps made in a worker thread."""
 
+import sys
 import threading
 import time
 
@@ -23,40 +24,52 @@ def big_cage(big):
     return mc.Multicage.load(str(__import__("conftest").SAMPLES / "butterfly.yml")).scaled(SIZE)
 
 
-def python_ticks_during(call, min_total=0.3):
-    """Runs call() in a worker thread, again and again until min_total seconds have passed,
-    while this thread keeps looping; returns the last result, the median duration of one call
-    and the longest time this thread could not run. A call that holds the GIL stops this
-    thread for a whole call; one that releases it does not. Repeating makes the check
-    independent of how fast the machine is."""
+def python_ticks_during(call, calls, stop_once_seen=False):
+    """Runs call() up to `calls` times in a worker thread while this thread counts ticks, and
+    returns the last result and, for each call, how many ticks this thread made while the
+    worker was between reading the count before the call and reading it after.
+
+    No clock is involved, so a loaded machine cannot change the answer (issue 22 item 4): the
+    switch interval is set out of reach, so the interpreter never takes the GIL from the
+    worker by force; this thread gives it up in every tick (time.sleep releases it) and gets
+    it back only when the worker releases it. A call that holds the GIL therefore sees 0
+    ticks, by construction (the control below); a call that releases it lets this thread run
+    while the library works, which shows as ticks unless the operating system never ran this
+    thread during the call, so a releasing call gets several tries (stop_once_seen)."""
     done = threading.Event()
-    calls = []
+    count = [0]
+    seen = []
     box = {}
 
     def worker():
-        start = time.perf_counter()
-        while not calls or time.perf_counter() - start < min_total:
-            t0 = time.perf_counter()
-            box["result"] = call()
-            calls.append(time.perf_counter() - t0)
-        done.set()
+        try:
+            for _ in range(calls):
+                before = count[0]
+                box["result"] = call()
+                seen.append(count[0] - before)
+                if stop_once_seen and seen[-1]:
+                    break
+        finally:
+            done.set()
 
-    ticks = [time.perf_counter()]
-    thread = threading.Thread(target=worker)
-    thread.start()
-    while not done.is_set():
-        ticks.append(time.perf_counter())
-    thread.join()
-    ticks.append(time.perf_counter())
-    longest_stall = float(np.max(np.diff(ticks)))
-    return box["result"], float(np.median(calls)), longest_stall
+    interval = sys.getswitchinterval()
+    sys.setswitchinterval(1000.0)
+    try:
+        thread = threading.Thread(target=worker)
+        thread.start()
+        while not done.is_set():
+            count[0] += 1
+            time.sleep(1e-4)
+        thread.join()
+    finally:
+        sys.setswitchinterval(interval)
+    return box.get("result"), seen
 
 
-def check_runs_without_gil(call):
-    result, duration, stall = python_ticks_during(call)
-    assert duration > 0.02, f"one call takes {duration * 1e3:.1f} ms: too short to tell"
-    assert stall < 0.5 * duration, (
-        f"Python stood still for {stall * 1e3:.0f} ms of a {duration * 1e3:.0f} ms call: the GIL was held")
+def check_runs_without_gil(call, tries=10):
+    result, seen = python_ticks_during(call, tries, stop_once_seen=True)
+    assert len(seen) == tries or seen[-1] > 0
+    assert any(seen), f"Python never ran during {len(seen)} calls: the GIL was held"
     return result
 
 
@@ -96,9 +109,12 @@ def test_threads_sharing_a_deformer_get_serial_results(butterfly, butterfly_cage
 
 
 def test_the_check_catches_a_call_that_holds_the_gil():
-    # sorted() of a long range is one C call that never releases the GIL: the check sees it.
-    numbers = range(2_500_000, 0, -1)
-    _, duration, stall = python_ticks_during(lambda: sorted(numbers))
-    assert stall > 0.8 * duration
+    # sorted() of a long range is one C call that never releases the GIL: by construction no
+    # tick falls inside it, however fast or loaded the machine, and the check says so.
+    numbers = range(1_000_000, 0, -1)
+    _, seen = python_ticks_during(lambda: sorted(numbers), 3)
+    assert seen == [0, 0, 0]
     with pytest.raises(AssertionError, match="the GIL was held"):
-        check_runs_without_gil(lambda: sorted(numbers))
+        check_runs_without_gil(lambda: sorted(numbers), tries=3)
+    # The same thread, given a call that releases the GIL (a sleep), does tick.
+    assert check_runs_without_gil(lambda: time.sleep(0.2) or "slept") == "slept"

@@ -41,7 +41,7 @@ def run_as_written(code, tmp_path, name):
     script.write_text(code)
     env = dict(os.environ, PYTHONPATH=os.pathsep.join(p for p in sys.path if p))
     r = subprocess.run([sys.executable, str(script)], cwd=SOURCE_DIR, env=env, capture_output=True, text=True,
-                       timeout=240)
+                       timeout=900)
     assert r.returncode == 0, f"{name} fails as written:\n{code}\n{r.stderr[-3000:]}"
     return r
 

@@ -17,7 +17,7 @@ SCRIPT = SAMPLES / "python" / "augment.py"
 def run(*args):
     env = dict(os.environ)
     return subprocess.run([sys.executable, str(SCRIPT), *map(str, args)], capture_output=True, text=True,
-                          env=env, timeout=120)
+                          env=env, timeout=600)
 
 
 def test_help():

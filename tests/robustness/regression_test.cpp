@@ -1,6 +1,7 @@
 // Regression tests for what the fuzzers and the sanitizer build found (issue 8). Each test
 // names its finding; the fix is in the commit that added the test.
 #include <cmath>
+#include <fstream>
 
 #include "testing.hpp"
 
@@ -126,5 +127,45 @@ TEST(Regression, CageFileWithNulByteIsRefused) {
     } catch (const cv::Exception& e) {
         EXPECT_NE(e.err.find("not valid YAML/JSON: a NUL byte at offset 72 (not a text file)"), std::string::npos)
             << e.err;
+    }
+}
+
+// fuzz_cage_file, finding 4 (issue 22): a JSON pose named "p " (trailing space) loaded, but
+// save() wrote it as YAML's plain `name:p ` and the next load read "p": the pose was renamed.
+// Names a cage file cannot keep exactly are now refused on load with one line (and by
+// addPose/setPose), see poseNameProblem. The fuzzer's input, as it wrote it, is in the seed
+// corpus (regression-pose-name-trailing-space.json).
+TEST(Regression, PoseNameACageFileCannotKeepIsRefused) {
+    const std::string path = multicage_testing::tempDir("regression_name") + "/cage.json";
+    {
+        std::ofstream out(path);
+        out << R"({"image_size": [32, 32], "coordinates": "mean_value", "polygons": [[4, 4, 20, 4, 12, 20]],)"
+            << R"( "poses": [{"name": "p ", "time": 1, "vertices": [4, 2, 20, 4, 12, 25]}]})";
+    }
+    try {
+        Multicage::load(path);
+        FAIL() << "accepted a pose named \"p \"";
+    } catch (const cv::Exception& e) {
+        EXPECT_EQ(
+            e.err,
+            path +
+                ": cage file: poses[0].name: \"p \" starts or ends with a space, which a cage "
+                "file does not keep exactly: rename the pose");
+    }
+    // The same name without the space loads, and saves back to a file that loads equal.
+    {
+        std::ofstream out(path);
+        out << R"({"image_size": [32, 32], "coordinates": "mean_value", "polygons": [[4, 4, 20, 4, 12, 20]],)"
+            << R"( "poses": [{"name": "p", "time": 1, "vertices": [4, 2, 20, 4, 12, 25]}]})";
+    }
+    const Multicage cage = Multicage::load(path);
+    for (const char* ext : {".yml", ".json"}) {
+        const std::string again = path + ext;
+        cage.save(again);
+        const Multicage back = Multicage::load(again);
+        ASSERT_EQ(back.poseCount(), 1);
+        EXPECT_EQ(back.pose(0).name, "p");
+        EXPECT_EQ(back.pose(0).time, 1.0);
+        EXPECT_EQ(back.pose(0).vertices, cage.pose(0).vertices);
     }
 }

@@ -140,6 +140,13 @@ void Multicage::read(const FileNode& root) {
             if (!node["name"].empty()) {
                 if (!node["name"].isString()) malformed(where + ".name", "is not a string");
                 pose.name = static_cast<std::string>(node["name"]);
+                // Refused, not changed: a name save() could not write back would rename the
+                // pose on the next load (fuzz_cage_file: "p " came back as "p").
+                const std::string problem = poseNameProblem(pose.name);
+                if (!problem.empty())
+                    malformed(
+                        where + ".name",
+                        problem + ", which a cage file does not keep exactly: rename the pose");
             }
             if (!node["time"].empty()) {
                 if (!node["time"].isInt() && !node["time"].isReal())

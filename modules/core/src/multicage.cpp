@@ -192,7 +192,34 @@ std::vector<Point2f> Multicage::vertices() const {
     return all;
 }
 
+std::string poseNameProblem(const std::string& name) {
+    // What cv::FileStorage 4.6 writes and reads back differently (tried byte by byte, every
+    // string of up to three characters, YAML and JSON; fuzz_cage_file checks the rest).
+    std::string shown = "\"";  // the name for a one-line message: control characters as \xNN
+    int control = -1;
+    for (const char c : name) {
+        const unsigned char u = static_cast<unsigned char>(c);
+        if (u < 0x20 || u == 0x7F) {
+            if (control < 0) control = u;
+            shown += format("\\x%02X", u);
+        } else {
+            shown += c;
+        }
+    }
+    shown += "\"";
+    if (control >= 0) return shown + format(" contains a control character (0x%02X)", control);
+    if (!name.empty() && (name.front() == ' ' || name.back() == ' '))
+        return shown + " starts or ends with a space";
+    if (!name.empty() && std::string("[]{}\\'\"").find(name.front()) != std::string::npos)
+        return shown + " starts with " + name.front();
+    return "";
+}
+
 int Multicage::addPose(const std::string& name, InputArray vertices, double time) {
+    const std::string problem = poseNameProblem(name);
+    if (!problem.empty())
+        CV_Error(Error::StsBadArg,
+                 "multicage: pose name " + problem + " (a cage file could not keep it)");
     std::vector<Point2f> v = toPoints(vertices, "pose");
     const int n = vertexCount();
     if (static_cast<int>(v.size()) == n + 4) v.resize(n);
@@ -206,6 +233,10 @@ int Multicage::addPose(const std::string& name, InputArray vertices, double time
 
 void Multicage::setPose(int i, const Pose& pose) {
     CV_Assert(0 <= i && i < poseCount());
+    const std::string problem = poseNameProblem(pose.name);
+    if (!problem.empty())
+        CV_Error(Error::StsBadArg,
+                 "multicage: pose name " + problem + " (a cage file could not keep it)");
     poses_[i] = pose;
 }
 

@@ -6,7 +6,7 @@ HxWx3 BGR or HxWx4 BGRA), points are Nx2 arrays of (x, y) with pixel (x, y) at i
 sizes are (width, height).
 
     import cv2, multicage
-    image = cv2.imread("samples/data/butterfly.jpg")     # paths from the source folder
+    image = multicage.imread("samples/data/butterfly.jpg")  # paths from the source folder
     cage = multicage.propose_multicage(image)            # or Multicage.load("samples/butterfly.yml")
     deformer = multicage.Deformer(image, cage, backend="cpu")
     pose = cage.rest_pose(); pose[:, 1] -= 10            # move every vertex up 10 px
@@ -27,6 +27,10 @@ with one binding. MulticageWarp (multicage.transforms) does all of it as one tra
 called as albumentations transforms are: warp(image=, mask=, masks=, keypoints=, bboxes=)
 returns the same keys moved by one deformation, seeded per sample and replayable;
 TorchMulticageWarp is the same inside a torchvision Compose on CHW tensors.
+
+imread(path) reads an image as the CLI does: a truncated JPEG or PNG, an empty file or one
+that is not an image raises multicage.Error naming the file (cv2.imread decodes a cut file
+with a warning, or returns None).
 
 Errors reported by the library raise multicage.Error (a ValueError) with the library's
 message; wrong array types raise TypeError, wrong shapes ValueError. The GIL is released
@@ -112,6 +116,7 @@ from ._multicage import (
     bind,
     deform_image,
     gpu_available,
+    imread,
     mean_value_coordinates,
     propose_defaults,
     propose_multicage,
@@ -137,6 +142,7 @@ __all__ = [
     "bind",
     "deform_image",
     "gpu_available",
+    "imread",
     "mean_value_coordinates",
     "propose_defaults",
     "propose_multicage",

@@ -98,6 +98,7 @@ void defineCoordinates(py::module_& m);  // binding_py.cpp: mean_value_coordinat
 void defineProposal(py::module_& m);     // propose_py.cpp
 void defineAugment(py::module_& m);      // augment_py.cpp: random_pose(), validate_pose()
 void defineGpu(py::module_& m);          // gpu_py.cpp: gpu_available(), auto_backend()
+void defineImageIo(py::module_& m);      // imageio_py.cpp: imread()
 
 }  // namespace multicage_py
 

@@ -4,7 +4,8 @@
 // while the library binds, deforms, proposes or computes coordinates.
 //
 // One file per part of the module (multicage_py.cpp, binding_py.cpp, deformer_py.cpp,
-// propose_py.cpp, gpu_py.cpp), each with its define function; common.hpp holds what they share.
+// propose_py.cpp, gpu_py.cpp, imageio_py.cpp), each with its define function; common.hpp holds what
+// they share.
 #include "common.hpp"
 
 namespace multicage_py {
@@ -80,4 +81,5 @@ PYBIND11_MODULE(_multicage, m) {
     defineProposal(m);
     defineAugment(m);
     defineGpu(m);
+    defineImageIo(m);
 }

@@ -28,6 +28,14 @@ CV_EXPORTS const char* coordinateTypeDescription(int type);
 MEAN_VALUE, "harmonic" for HARMONIC. False, type untouched, for any other name. */
 CV_EXPORTS bool parseCoordinateType(const String& name, int& type);
 
+/** Why name cannot be a pose name ("\"p \" starts or ends with a space"), or "" when it can.
+A pose name is empty (an unnamed pose) or text a cage file keeps exactly, in YAML and JSON: no
+control characters (bytes 0-31 and 127: tab, newline, ...), no space at its start or end (YAML drops
+them), and no [ ] { } \ ' or " as its first character (cv::FileStorage's writer takes those for
+structure or quoting). Multicage::addPose, setPose and the cage file reader refuse other names with
+this reason. */
+CV_EXPORTS std::string poseNameProblem(const std::string& name);
+
 /** A pose: one position for every user vertex of a multicage, in vertex order.
 
 A pose may be named and timed (keyframes for animation). The frame corners are not part of
@@ -103,7 +111,7 @@ public:
     std::vector<Point2f> frame() const;
 
     /** Adds a named pose (vertexCount() points, or vertexCount()+4 with the frame corners
-    last, which are dropped). Returns its index. */
+    last, which are dropped). Returns its index. A name poseNameProblem refuses throws. */
     int addPose(const std::string& name, InputArray vertices, double time = 0.0);
     void setPose(int i, const Pose& pose);
     void removePose(int i);
