@@ -18,12 +18,14 @@ import argparse
 import os
 import sys
 
-import cv2
-import numpy as np
-import torch
-import torchvision
+from sample_imports import cv2, np
+from sample_imports import multicage as mc
 
-import multicage as mc
+try:
+    import torch
+    import torchvision
+except ImportError as e:
+    sys.exit(f"train_loop.py: {e}; install python3-torch and python3-torchvision (Debian)")
 
 DATA = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "data")
 
