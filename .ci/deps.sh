@@ -15,6 +15,7 @@ $SUDO apt-get install -y -qq --no-install-recommends \
     libgtest-dev libgmock-dev libbenchmark-dev \
     python3-dev pybind11-dev python3-numpy python3-opencv python3-pytest \
     python3-dask python3-distributed \
+    python3-torch python3-torchvision \
     libglfw3-dev libimgui-dev xvfb xauth \
     > /dev/null
 echo "deps.sh: build and test dependencies installed"

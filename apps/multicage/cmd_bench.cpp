@@ -2,10 +2,13 @@
 // (OpenCV's thin-plate spline warp on the same points), medians of repeated runs.
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
+#include <functional>
 #include <iostream>
 #include <opencv2/core/utility.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
+#include <opencv2/multicage/augment.hpp>
 #include <opencv2/multicage/gpu.hpp>
 #include <opencv2/shape/shape_transformer.hpp>
 
@@ -32,6 +35,7 @@ struct BenchOptions {
     int repeats = 7;
     int threads = 0;  // 0: OpenCV's default
     bool paperOnly = false, noPeer = false, noGpu = false, gpuOnly = false, half = false;
+    bool augment = false;  // --augment: only the augmentation figures (printAugment)
     std::string image, json, size;
     int vertices = 68;
 };
@@ -140,8 +144,9 @@ PipelineFigures pipelineFigures(const BenchOptions& o, const cv::Mat& image,
 
 // The GPU figures of one case: binding in the compute shader, packing + upload of a CPU
 // binding, building the programs, Deformer creation, and both pipelines.
-GpuFigures gpuFigures(const BenchOptions& o, const cv::Mat& image, const cv::multicage::Multicage& cage,
-                      const cv::multicage::Binding& binding, const std::vector<cv::Point2f>& pose) {
+GpuFigures gpuFigures(const BenchOptions& o, const cv::Mat& image,
+                      const cv::multicage::Multicage& cage, const cv::multicage::Binding& binding,
+                      const std::vector<cv::Point2f>& pose) {
     using namespace cv::multicage;
     GpuFigures f;
     std::vector<double> bindMs, uploadMs;
@@ -198,36 +203,45 @@ void writeJson(const std::string& path, const std::string& device, const BenchOp
     cv::FileStorage fs(".json", cv::FileStorage::WRITE | cv::FileStorage::MEMORY);
     fs << "device" << device << "threads" << cv::getNumThreads() << "repeats" << o.repeats
        << "half_float" << o.half << "opencv" << CV_VERSION;
-    fs << "cases" << "[";
+    fs << "cases"
+       << "[";
     for (const CaseRecord& c : cases) {
-        fs << "{" << "width" << c.size.width << "height" << c.size.height << "vertices" << c.vertices;
-        fs << "cpu" << "{" << "bind_ms" << c.cpuBind << "pose_ms" << c.cpuPose << "pose_step4_ms"
-           << c.cpuPose4 << "maps_ms" << c.cpuMaps << "tps_ms" << c.tps << "}";
+        fs << "{"
+           << "width" << c.size.width << "height" << c.size.height << "vertices" << c.vertices;
+        fs << "cpu"
+           << "{"
+           << "bind_ms" << c.cpuBind << "pose_ms" << c.cpuPose << "pose_step4_ms" << c.cpuPose4
+           << "maps_ms" << c.cpuMaps << "tps_ms" << c.tps << "}";
         const GpuFigures& g = c.gpu;
-        fs << "gpu" << "{" << "bind_ms" << g.bind << "pack_upload_ms" << g.packUpload
-           << "create_first_ms" << g.createFirst << "create_again_ms" << g.createAgain
-           << "coefficients_mib" << g.coefMB;
-        for (int p : {cv::multicage::GPU_PIPELINE_COMPUTE, cv::multicage::GPU_PIPELINE_VERTEX_SHADER}) {
+        fs << "gpu"
+           << "{"
+           << "bind_ms" << g.bind << "pack_upload_ms" << g.packUpload << "create_first_ms"
+           << g.createFirst << "create_again_ms" << g.createAgain << "coefficients_mib" << g.coefMB;
+        for (int p :
+             {cv::multicage::GPU_PIPELINE_COMPUTE, cv::multicage::GPU_PIPELINE_VERTEX_SHADER}) {
             const PipelineFigures& f = g.pipelines[p];
             fs << (p == cv::multicage::GPU_PIPELINE_COMPUTE ? "compute" : "vertex_shader") << "{"
-               << "positions_ms" << f.positions << "raster_ms" << f.raster << "gather_ms" << f.gather
-               << "readback_ms" << f.readback << "gpu_total_ms" << f.gpuTotal << "deform_ms"
-               << f.deform << "compute_maps_ms" << f.maps << "}";
+               << "positions_ms" << f.positions << "raster_ms" << f.raster << "gather_ms"
+               << f.gather << "readback_ms" << f.readback << "gpu_total_ms" << f.gpuTotal
+               << "deform_ms" << f.deform << "compute_maps_ms" << f.maps << "}";
         }
-        fs << "}" << "}";
+        fs << "}"
+           << "}";
     }
     fs << "]";
     cv::multicage::writeFileAtomic(path, fs.releaseAndGetString());
 }
 
 void printGpuTable(const std::vector<CaseRecord>& cases) {
-    std::printf("\nGPU pose update per pipeline: GPU time of each stage (timer queries) and wall "
-                "time of Deformer calls, ms\n");
+    std::printf(
+        "\nGPU pose update per pipeline: GPU time of each stage (timer queries) and wall "
+        "time of Deformer calls, ms\n");
     std::printf("%-10s %4s %-13s | %9s %9s %9s %9s %9s | %9s %9s | %9s %9s\n", "image", "V",
                 "pipeline", "positions", "raster", "gather", "GPU total", "readback", "deform",
                 "maps", "create 1st", "create");
     for (const CaseRecord& c : cases) {
-        for (int p : {cv::multicage::GPU_PIPELINE_COMPUTE, cv::multicage::GPU_PIPELINE_VERTEX_SHADER}) {
+        for (int p :
+             {cv::multicage::GPU_PIPELINE_COMPUTE, cv::multicage::GPU_PIPELINE_VERTEX_SHADER}) {
             const PipelineFigures& f = c.gpu.pipelines[p];
             char size[16];
             std::snprintf(size, sizeof size, "%dx%d", c.size.width, c.size.height);
@@ -256,7 +270,8 @@ cv::Size parseSize(const std::string& text) {
     char x = 0, extra = 0;
     if (std::sscanf(text.c_str(), "%d%c%d%c", &w, &x, &h, &extra) != 3 || (x != 'x' && x != 'X') ||
         w < 16 || h < 16 || w > 16384 || h > 16384)
-        throw Failure("--size wants WIDTHxHEIGHT between 16 and 16384, e.g. 4096x3072; got '" + text + "'");
+        throw Failure("--size wants WIDTHxHEIGHT between 16 and 16384, e.g. 4096x3072; got '" +
+                      text + "'");
     return {w, h};
 }
 
@@ -264,7 +279,8 @@ cv::Size parseSize(const std::string& text) {
 
 // The first pose after Deformer::create, what the CLI and deformImage pay, next to a warm one:
 // each of `repeats` fresh Deformers (made from one binding) is timed on its first deform.
-void printCpuFirstCall(const BenchOptions& o, const cv::Mat& image, const cv::multicage::Binding& binding,
+void printCpuFirstCall(const BenchOptions& o, const cv::Mat& image,
+                       const cv::multicage::Binding& binding,
                        const std::vector<cv::Point2f>& pose) {
     using namespace cv::multicage;
     DeformParams cpu;
@@ -282,15 +298,16 @@ void printCpuFirstCall(const BenchOptions& o, const cv::Mat& image, const cv::mu
     }
     cv::Ptr<Deformer> d = Deformer::create(image, binding, cpu);
     const double warm = medianMs(o.repeats, [&] { d->deform(pose, out); });
-    std::printf("CPU backend, %dx%d, %d vertices, grid step 1, %d threads: Deformer::create from a "
-                "binding %.1f ms, first deform %.1f ms, warm deform %.1f ms\n",
-                image.cols, image.rows, binding.coefficientCount() - 4, cv::getNumThreads(),
-                median(createMs), median(firstMs), warm);
+    std::printf(
+        "CPU backend, %dx%d, %d vertices, grid step 1, %d threads: Deformer::create from a "
+        "binding %.1f ms, first deform %.1f ms, warm deform %.1f ms\n",
+        image.cols, image.rows, binding.coefficientCount() - 4, cv::getNumThreads(),
+        median(createMs), median(firstMs), warm);
 }
 
 // Bind and pose times for 1, 2, 4, ... threads up to the current count, with the speed-up.
-void printCpuScaling(const BenchOptions& o, const cv::Mat& image, const cv::multicage::Multicage& cage,
-                     const std::vector<cv::Point2f>& pose) {
+void printCpuScaling(const BenchOptions& o, const cv::Mat& image,
+                     const cv::multicage::Multicage& cage, const std::vector<cv::Point2f>& pose) {
     using namespace cv::multicage;
     const int maxThreads = cv::getNumThreads();
     std::vector<int> counts;
@@ -298,8 +315,8 @@ void printCpuScaling(const BenchOptions& o, const cv::Mat& image, const cv::mult
     counts.push_back(maxThreads);
     std::printf("CPU scaling, %dx%d, %d vertices (medians of %d runs):\n", image.cols, image.rows,
                 cage.vertexCount(), o.repeats);
-    std::printf("%8s %9s %9s %9s %9s %9s %9s\n", "threads", "bind ms", "pose ms", "s=4 ms", "bind x",
-                "pose x", "s=4 x");
+    std::printf("%8s %9s %9s %9s %9s %9s %9s\n", "threads", "bind ms", "pose ms", "s=4 ms",
+                "bind x", "pose x", "s=4 x");
     double base[3] = {0, 0, 0};
     for (int t : counts) {
         cv::setNumThreads(t);
@@ -444,11 +461,193 @@ void printTableNotes() {
         "CPU, and the packed texture (empty blocks included) on the GPU.\n");
 }
 
+// --- multicage bench --augment: random_pose + deform against the floor of the same run ---
+//
+// Speeds differ by machine and by load, so every figure is measured next to its floor in the
+// same run, interleaved round by round (a burst of load hits both), and printed as a ratio:
+// (1) one thread, 512x512: randomPose (as MulticageWarp draws it: the fold check on its own
+// mesh) + deform against a plain cv::remap of the same image with the maps of a random pose, and
+// the usual elastic recipe (Simard et al. 2003: a uniform random field per axis, Gaussian-smoothed,
+// sigma 4, alpha 34, then cv::remap); (2) 2 threads, 1024x768, 68 vertices: the first deform after
+// Deformer::create (grid step 1) and a warm grid-step-4 deform against reading every
+// coefficient of the grid-step-1 binding once with the same threads.
+
+// Seconds of f() per item, medians over rounds; the callables are timed in turn each round.
+std::vector<double> interleavedMs(int rounds, const std::vector<std::function<void()>>& fs) {
+    std::vector<std::vector<double>> ms(fs.size());
+    for (const auto& f : fs) f();  // warm-up
+    for (int r = 0; r < rounds; ++r)
+        for (size_t i = 0; i < fs.size(); ++i) {
+            const auto t = std::chrono::steady_clock::now();
+            fs[i]();
+            ms[i].push_back(msSince(t));
+        }
+    std::vector<double> out;
+    for (auto& m : ms) out.push_back(median(m));
+    return out;
+}
+
+double loadAverage() {
+    double load[1] = {-1};
+    return getloadavg(load, 1) == 1 ? load[0] : -1;
+}
+
+// The elastic recipe: displacement fields of uniform noise smoothed by a Gaussian, then remap.
+// Its fields and maps are kept between calls (fresh buffers would add page faults that are no
+// part of the recipe).
+struct ElasticBuffers {
+    cv::Mat noiseX, noiseY, blurX, blurY, mapx, mapy;
+};
+
+void elasticWarp(const cv::Mat& image, cv::Mat& out, cv::RNG& rng, const cv::Mat& gridX,
+                 const cv::Mat& gridY, ElasticBuffers& b) {
+    const double alpha = 34, sigma = 4;
+    b.noiseX.create(image.size(), CV_32F), b.noiseY.create(image.size(), CV_32F);
+    rng.fill(b.noiseX, cv::RNG::UNIFORM, -1, 1);
+    rng.fill(b.noiseY, cv::RNG::UNIFORM, -1, 1);
+    cv::GaussianBlur(b.noiseX, b.blurX, cv::Size(), sigma);
+    cv::GaussianBlur(b.noiseY, b.blurY, cv::Size(), sigma);
+    cv::scaleAdd(b.blurX, alpha, gridX, b.mapx);
+    cv::scaleAdd(b.blurY, alpha, gridY, b.mapy);
+    cv::remap(image, out, b.mapx, b.mapy, cv::INTER_LINEAR, cv::BORDER_REFLECT_101);
+}
+
+void printAugmentRates(const BenchOptions& o) {
+    using namespace cv::multicage;
+    const cv::Size size(512, 512);
+    const cv::Mat image = benchImage(o.image, size);
+    const Multicage cage = multicage_fixtures::lotusMulticage(size, 40);
+    const double amplitude = 12;
+    const int batch = 16, rounds = std::max(5, o.repeats);
+    cv::setNumThreads(1);
+    cv::Mat gridX(size, CV_32F), gridY(size, CV_32F);
+    for (int y = 0; y < size.height; ++y)
+        for (int x = 0; x < size.width; ++x)
+            gridX.at<float>(y, x) = float(x), gridY.at<float>(y, x) = float(y);
+    std::printf(
+        "augmentation, 1 thread, %dx%d, %d vertices, amplitude %.0f px, %d images per timing, "
+        "medians of %d interleaved rounds, load average %.2f:\n",
+        size.width, size.height, cage.vertexCount(), amplitude, batch, rounds, loadAverage());
+    std::printf("%9s %15s %15s %15s %9s %15s %9s\n", "grid step", "pose+deform/s", "cv::remap/s",
+                "pose/s", "ratio", "elastic/s", "ratio");
+    for (int step : {4, 2}) {
+        DeformParams cpu;
+        cpu.backend = BACKEND_CPU;
+        cpu.gridStep = step;
+        cv::Ptr<Deformer> d = Deformer::create(image, cage, cpu);
+        cv::RNG rng(7);
+        cv::Mat mapx, mapy, out;
+        d->computeMaps(randomPose(cage, d->binding(), amplitude, rng), mapx, mapy);
+        uint64 seed = 1;
+        std::vector<std::vector<cv::Point2f>> poses(batch);
+        ElasticBuffers elasticBuffers;
+        const std::vector<double> ms = interleavedMs(
+            rounds, {[&] {
+                         for (int k = 0; k < batch; ++k) {
+                             cv::RNG r(seed++);
+                             d->deform(randomPose(cage, amplitude, r), out);
+                         }
+                     },
+                     [&] {
+                         for (int k = 0; k < batch; ++k)
+                             cv::remap(image, out, mapx, mapy, cv::INTER_LINEAR,
+                                       cv::BORDER_CONSTANT);
+                     },
+                     [&] {
+                         for (int k = 0; k < batch; ++k) {
+                             cv::RNG r(seed++);
+                             poses[k] = randomPose(cage, amplitude, r);
+                         }
+                     },
+                     [&] {
+                         for (int k = 0; k < batch; ++k)
+                             elasticWarp(image, out, rng, gridX, gridY, elasticBuffers);
+                     }});
+        const double ours = ms[0] / batch, floor = ms[1] / batch, pose = ms[2] / batch,
+                     elastic = ms[3] / batch;
+        std::printf("%9d %15.1f %15.1f %15.1f %8.2fx %15.1f %8.2fx\n", step, 1e3 / ours,
+                    1e3 / floor, 1e3 / pose, ours / floor, 1e3 / elastic, ours / elastic);
+        std::fflush(stdout);
+    }
+    std::printf(
+        "  ratio: time per image over cv::remap's (the floor; target 1.5x at step 4, 3x at step "
+        "2), "
+        "and over the elastic recipe's (< 1: faster). pose/s: randomPose alone (its fold check on "
+        "its own mesh of about 160 nodes along the longer side, as multicage.MulticageWarp "
+        "draws).\n");
+}
+
+void printAugmentFirstDeform(const BenchOptions& o) {
+    using namespace cv::multicage;
+    const cv::Size size(1024, 768);
+    const cv::Mat image = benchImage(o.image, size);
+    const Multicage cage = multicage_fixtures::lotusMulticage(size, 68);
+    const std::vector<cv::Point2f> pose = multicage_fixtures::wavePose(cage, 12.f, 0.5f);
+    cv::setNumThreads(2);
+    const Binding binding = bind(cage, MEAN_VALUE, 1);
+    DeformParams cpu;
+    cpu.backend = BACKEND_CPU;
+    const cv::Mat& c = binding.coefficients;
+    volatile float sink = 0;
+    auto readOnce = [&] {  // every coefficient once, rows split between the threads
+        std::vector<float> sums(c.rows, 0.f);
+        cv::parallel_for_(cv::Range(0, c.rows), [&](const cv::Range& r) {
+            for (int j = r.start; j < r.end; ++j) {
+                const float* p = c.ptr<float>(j);
+                float a[8] = {0, 0, 0, 0, 0, 0, 0, 0};
+                for (int k = 0; k + 8 <= c.cols; k += 8)
+                    for (int i = 0; i < 8; ++i) a[i] += p[k + i];
+                sums[j] = a[0] + a[1] + a[2] + a[3] + a[4] + a[5] + a[6] + a[7];
+            }
+        });
+        sink = sink + sums[0];
+    };
+    cpu.gridStep = 4;
+    cv::Ptr<Deformer> d4 = Deformer::create(image, cage, cpu);
+    cpu.gridStep = 1;
+    cv::Mat out4;
+    const int rounds = std::max(5, o.repeats);
+    // The warm grid-step-4 deform, interleaved with reads.
+    const std::vector<double> ms =
+        interleavedMs(rounds, {readOnce, [&] { d4->deform(pose, out4); }});
+    // A fresh Deformer each round, its first deform timed, then a read in the same round.
+    std::vector<double> firstMs, readMs;
+    for (int r = 0; r < rounds; ++r) {
+        cv::Ptr<Deformer> d = Deformer::create(image, binding, cpu);
+        cv::Mat fresh;  // a new output, as a first call has
+        auto t = std::chrono::steady_clock::now();
+        d->deform(pose, fresh);
+        firstMs.push_back(msSince(t));
+        t = std::chrono::steady_clock::now();
+        readOnce();
+        readMs.push_back(msSince(t));
+    }
+    const double read = median(readMs), firstDeform = median(firstMs);
+    std::printf(
+        "first deform, 2 threads, %dx%d, %d vertices (%.0f MB of coefficients), medians of %d "
+        "interleaved rounds, load average %.2f:\n  read the coefficients once %.1f ms; first "
+        "deform after create (grid step 1) %.1f ms = %.2fx the read (target 1.6x)\n  read %.1f ms; "
+        "warm grid-step-4 deform %.2f ms = %.2fx the read (target 0.35x)\n",
+        size.width, size.height, cage.vertexCount(), c.total() * 4.0 / 1e6, rounds, loadAverage(),
+        read, firstDeform, firstDeform / read, ms[0], ms[1], ms[1] / ms[0]);
+}
+
+void printAugment(const BenchOptions& o) {
+    const int threads = cv::getNumThreads();
+    printAugmentRates(o);
+    printAugmentFirstDeform(o);
+    cv::setNumThreads(threads);
+}
+
 void runBench(const BenchOptions& o) {
     using namespace cv::multicage;
     // Everything that can fail on bad input fails before the first line of output.
     const std::vector<BenchCase> cases = benchCases(o);
     if (!o.image.empty()) readImage(o.image);
+    if (o.augment) {
+        printAugment(o);
+        return;
+    }
     if (o.threads > 0) cv::setNumThreads(o.threads);
     std::printf("multicage bench: medians of %d runs, %d threads, OpenCV %s%s\n", o.repeats,
                 cv::getNumThreads(), CV_VERSION,
@@ -490,20 +689,29 @@ void addBenchCommand(CLI::App& app) {
         "On an NVIDIA machine, one command fills the README's GPU table:\n"
         "  multicage bench --first --json gpu.json && multicage bench --size 4096x3072 --half "
         "--gpu-only --json gpu_4k.json");
-    cmd->add_option("--repeats", o->repeats, "Timed runs per figure (the median is printed)")->capture_default_str()
+    cmd->add_option("--repeats", o->repeats, "Timed runs per figure (the median is printed)")
+        ->capture_default_str()
         ->check(CLI::Range(1, 1000));
     cmd->add_flag("--first", o->paperOnly, "Only the first case (1024x768, 68 vertices)");
+    cmd->add_flag(
+        "--augment", o->augment,
+        "Only the augmentation figures: randomPose + deform at 512x512 (1 thread, grid "
+        "steps 4 and 2) against cv::remap and the elastic recipe in the same run, and the "
+        "first deform at 1024x768 (2 threads) against reading the coefficients once");
     cmd->add_flag("--no-peer", o->noPeer, "Skip the thin-plate spline peer");
     cmd->add_flag("--no-gpu", o->noGpu, "Skip the GPU columns");
-    cmd->add_option("--threads", o->threads,
-                    "CPU threads (cv::setNumThreads) for the whole bench; the scaling table goes up "
-                    "to this count (default: OpenCV's, all cores)")
+    cmd->add_option(
+           "--threads", o->threads,
+           "CPU threads (cv::setNumThreads) for the whole bench; the scaling table goes up "
+           "to this count (default: OpenCV's, all cores)")
         ->check(CLI::Range(1, 1024));
-    cmd->add_option("--image", o->image, "Photograph to resize for every case (default: a pattern)");
+    cmd->add_option("--image", o->image,
+                    "Photograph to resize for every case (default: a pattern)");
     cmd->add_option("--size", o->size,
                     "One case of this size (WIDTHxHEIGHT, e.g. 4096x3072) instead of Table 1's");
     cmd->add_option("--vertices", o->vertices, "User vertices of the --size case")
-        ->capture_default_str()->check(CLI::Range(8, 4096));
+        ->capture_default_str()
+        ->check(CLI::Range(8, 4096));
     cmd->add_flag("--half", o->half, "Half-float coefficients on the GPU (RGBA16F)");
     cmd->add_flag("--gpu-only", o->gpuOnly,
                   "GPU figures only (no CPU binding, no peer): for sizes whose CPU binding would "

@@ -10,6 +10,12 @@ one multicage is proposed on the first and used for all (a dataset of one framin
 multicage.random_pose(cage, AMPLITUDE, seed=k), drawn before timing (their cost is printed too).
 Each way keeps its COUNT outputs (as a data loader building a batch does).
 CPU backend; OpenCV's thread count is cv2.getNumThreads() (every core unless --threads).
+
+--augment: instead, multicage.MulticageWarp as a training loop calls it (one image, a mask
+and 8 boxes per call, a new random pose each, one thread) against a plain cv2.remap of the
+same image and the elastic recipe (Simard et al. 2003: uniform noise fields smoothed by a
+Gaussian, sigma 4, alpha 34, then cv2.remap), timed in turn, round after round, in one run:
+rates and ratios (a machine's load hits all of them alike).
 """
 
 import argparse
@@ -46,6 +52,69 @@ def best_of(repeats, run):
     return statistics.median(times)
 
 
+def elastic(image, rng, grid_x, grid_y, alpha=34.0, sigma=4.0):
+    """The usual elastic recipe: a smoothed uniform random field per axis, then remap."""
+    h, w = image.shape[:2]
+    dx = cv2.GaussianBlur(rng.uniform(-1, 1, (h, w)).astype(np.float32), (0, 0), sigma)
+    dy = cv2.GaussianBlur(rng.uniform(-1, 1, (h, w)).astype(np.float32), (0, 0), sigma)
+    return cv2.remap(image, grid_x + alpha * dx, grid_y + alpha * dy, cv2.INTER_LINEAR,
+                     borderMode=cv2.BORDER_REFLECT_101)
+
+
+def augment_rates(args, images):
+    """MulticageWarp against cv2.remap and the elastic recipe, interleaved: per grid step,
+    medians over rounds of COUNT images each."""
+    cv2.setNumThreads(1)
+    size = args.size
+    image = images[0]
+    mask = (mc.propose_segmentation(image) > 0).astype(np.uint8)
+    boxes = [(40 + 50 * k, 60, 100 + 50 * k, 200) for k in range(8)]
+    grid_x, grid_y = np.meshgrid(np.arange(size, dtype=np.float32), np.arange(size, dtype=np.float32))
+    rng = np.random.default_rng(0)
+    load = os.getloadavg()[0] if hasattr(os, "getloadavg") else float("nan")
+    print(f"{cpu_model()}, OpenCV threads 1, load average {load:.2f}; {size}x{size}, amplitude "
+          f"{args.amplitude:g} px, medians of {args.repeats} interleaved rounds of {args.count} images")
+    print(f"{'grid step':>9} | {'MulticageWarp image':>19} | {'+ mask + 8 boxes':>16} | {'cv2.remap':>10} | "
+          f"{'ratio':>6} | {'elastic':>8} | ratio")
+    for step in (int(s) for s in args.grid_steps.split(",")):
+        warp = mc.MulticageWarp(amplitude=args.amplitude, grid_step=step, seed=0)
+        warp(image=image, name="photo", index=0)  # proposes and binds once, as a loader's first batch
+        mx, my = mc.Deformer(image, warp._cage_for(image, "photo")[1], backend="cpu",
+                             grid_step=step).compute_maps(mc.random_pose(warp._cage_for(image, "photo")[1], 8, seed=1))
+        counter = [0]
+
+        def run_warp():
+            for _ in range(args.count):
+                counter[0] += 1
+                warp(image=image, name="photo", index=counter[0])
+
+        def run_full():
+            for _ in range(args.count):
+                counter[0] += 1
+                warp(image=image, mask=mask, bboxes=boxes, name="photo", index=counter[0])
+
+        def run_remap():
+            for _ in range(args.count):
+                cv2.remap(image, mx, my, cv2.INTER_LINEAR)
+
+        def run_elastic():
+            for _ in range(args.count):
+                elastic(image, rng, grid_x, grid_y)
+
+        runs = (run_warp, run_full, run_remap, run_elastic)
+        times = [[] for _ in runs]
+        for _ in range(args.repeats):
+            for k, run in enumerate(runs):
+                t0 = time.perf_counter()
+                run()
+                times[k].append(time.perf_counter() - t0)
+        rates = [args.count / statistics.median(t) for t in times]
+        print(f"{step:>9} | {rates[0]:>12.1f} img/s | {rates[1]:>10.1f} img/s | {rates[2]:>4.0f} img/s | "
+              f"{rates[2] / rates[0]:>5.2f}x | {rates[3]:>4.0f}/s | {rates[3] / rates[0]:.2f}x")
+    print("ratio: MulticageWarp's time per image (image only) over cv2.remap's, and over the elastic recipe's")
+    return 0
+
+
 def main(argv=None):
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     p.add_argument("--size", type=int, default=512, help="photos are SIZE x SIZE (default: %(default)s)")
@@ -54,6 +123,8 @@ def main(argv=None):
     p.add_argument("--amplitude", type=float, default=12, help="random pose amplitude, px (default: %(default)s)")
     p.add_argument("--repeats", type=int, default=3, help="runs per figure, the median is shown (default: %(default)s)")
     p.add_argument("--threads", type=int, default=None, help="cv2.setNumThreads (default: all cores)")
+    p.add_argument("--augment", action="store_true",
+                   help="MulticageWarp (one thread) against cv2.remap and the elastic recipe instead")
     args = p.parse_args(argv)
     if args.threads is not None:
         cv2.setNumThreads(args.threads)
@@ -61,6 +132,8 @@ def main(argv=None):
     photos = [cv2.resize(mc.imread(os.path.join(DATA, n), cv2.IMREAD_COLOR), (args.size, args.size), interpolation=cv2.INTER_AREA)
               for n in names]
     images = [photos[k % len(photos)] for k in range(args.count)]
+    if args.augment:
+        return augment_rates(args, images)
     cage = mc.propose_multicage(images[0])
     t0 = time.perf_counter()
     poses = [mc.random_pose(cage, args.amplitude, seed=k) for k in range(args.count)]

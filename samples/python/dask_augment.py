@@ -2,9 +2,9 @@
 """Data augmentation at scale with Dask: every image of a folder, on a local cluster or a real one.
 
 For each image of IMAGES_DIR (a task of its own): a multicage (proposed from the image, or
---cage scaled to it), COPIES random poses (multicage.random_pose, each from a seed made of
---seed, the image's name and the copy number, so any machine draws the same), and for each
-pose the deformed image, its deformed mask and its moved annotations, written to OUT_DIR:
+--cage scaled to it), and COPIES calls of one multicage.MulticageWarp on it (each seeded by
+--seed, the image's name and the copy number, so any machine draws the same): the deformed
+image, its deformed mask and its moved annotations, written to OUT_DIR:
 
     NAME_000.png        the image deformed to pose 0 (16-bit images stay 16-bit; float: .tiff)
     NAME_000_mask.png   the mask deformed with the same maps (nearest neighbour: labels stay labels)
@@ -15,7 +15,8 @@ pose the deformed image, its deformed mask and its moved annotations, written to
 Masks: IMAGES_DIR/NAME_mask.png when it exists (any label image), else the proposal's own
 segmentation. Annotations: IMAGES_DIR/NAME.json when it exists, {"keypoints": [[x, y], ...],
 "boxes": [[x0, y0, x1, y1], ...]} in pixels; keypoints move with the image
-(Deformer.transform_points) and each box becomes the bounding box of its four moved corners.
+(Deformer.transform_points; "keypoints_visible" says which landed inside the output) and each
+box becomes the bounds of its moved outline (MulticageWarp: a bent edge stays inside its box).
 
 Images are read as the CLI reads them (multicage.imread): a damaged file (a truncated JPEG or
 PNG, an empty file, a file that is not an image) gets no output and is named in the summary;
@@ -142,18 +143,6 @@ def fallback_cage(size):
     return cage
 
 
-def move_annotations(deformer, pose, annotations):
-    """Keypoints moved with the image; each box the bounding box of its moved corners."""
-    out = {}
-    keypoints = np.asarray(annotations.get("keypoints", []), np.float64).reshape(-1, 2)
-    out["keypoints"] = deformer.transform_points(pose, keypoints).tolist()
-    boxes = np.asarray(annotations.get("boxes", []), np.float64).reshape(-1, 4)
-    corners = np.stack([boxes[:, [0, 1]], boxes[:, [2, 1]], boxes[:, [2, 3]], boxes[:, [0, 3]]], 1)
-    moved = deformer.transform_points(pose, corners)
-    out["boxes"] = np.concatenate([moved.min(1), moved.max(1)], 1).tolist() if len(boxes) else []
-    return out
-
-
 def augment_image(images_dir, name, out_dir, cage_path, copies, seed, amplitude, grid_step, cv_threads):
     """One task: the copies of one image that are not written yet. Returns a line for the log."""
     if cv_threads:
@@ -204,21 +193,28 @@ def augment_image(images_dir, name, out_dir, cage_path, copies, seed, amplitude,
         if os.path.exists(annotations_path):
             with open(annotations_path) as f:
                 annotations = json.load(f)
-        deformer = mc.Deformer(image, cage, backend="cpu", grid_step=grid_step)
         a = amplitude if amplitude is not None else 0.025 * max(w, h)
+        # The transform, with this image's multicage; fold_check='exact' checks every pose on
+        # the mesh the copies are deformed with.
+        warp = mc.MulticageWarp(amplitude=a, grid_step=grid_step, cage=cage, fold_check="exact")
+        keypoints = np.asarray(annotations.get("keypoints", []), np.float32).reshape(-1, 2)
+        boxes = np.asarray(annotations.get("boxes", []), np.float32).reshape(-1, 4)
         seeds = [copy_seed(seed, stem, k) for k in range(copies)]
-        poses = [mc.random_pose(cage, a, seed=s, deformer=deformer) for s in seeds]
-        deformed = deformer.deform_many([poses[k] for k in missing])  # all cores (see --cv-threads)
-        for k, out in zip(missing, deformed):
+        poses = []
+        for k in range(copies):
+            # Every copy's pose goes in the cage file; only the missing copies are written.
+            out = warp(image=image, mask=mask, keypoints=keypoints, bboxes=boxes, seed=seeds[k],
+                       return_params=True)
+            poses.append(out["replay"]["pose"])
+            if k not in missing:
+                continue
             base, mask_file, meta_file = outputs[k]
-            mapx, mapy = deformer.compute_maps(poses[k])
-            mask_out = cv2.remap(mask, mapx, mapy, cv2.INTER_NEAREST, borderMode=cv2.BORDER_CONSTANT)
             meta = {"image": os.path.basename(base + image_ext), "mask": os.path.basename(mask_file),
                     "source": name, "copy": k, "seed": seeds[k], "amplitude": a,
-                    "pose": poses[k].tolist()}
-            meta.update(move_annotations(deformer, poses[k], annotations))
-            write_atomic(base + image_ext, encode(base + image_ext, out))
-            write_atomic(mask_file, encode(mask_file, mask_out))
+                    "pose": poses[k].tolist(), "keypoints": out["keypoints"].tolist(),
+                    "keypoints_visible": out["keypoints_visible"].tolist(), "boxes": out["bboxes"].tolist()}
+            write_atomic(base + image_ext, encode(base + image_ext, out["image"]))
+            write_atomic(mask_file, encode(mask_file, out["mask"]))
             write_atomic(meta_file, (json.dumps(meta, indent=1) + "\n").encode())  # last: the copy is done
         for k, pose in enumerate(poses):
             cage.add_pose(f"aug{k:03d}", pose)

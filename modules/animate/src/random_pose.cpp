@@ -1,13 +1,12 @@
 // Random poses for data augmentation (augment.hpp): per-polygon similarities composed along
 // the nesting, jitter, scaling to the amplitude, checks, retries and scale-downs.
+#include <algorithm>
+#include <cmath>
+#include <memory>
 #include <opencv2/multicage/augment.hpp>
 #include <opencv2/multicage/coordinates.hpp>
 #include <opencv2/multicage/internal/geometry.hpp>
 #include <opencv2/multicage/internal/point_input.hpp>
-
-#include <algorithm>
-#include <cmath>
-#include <memory>
 
 namespace cv {
 namespace multicage {
@@ -53,17 +52,21 @@ VertexRoom vertexRoom(const Multicage& cage, const std::vector<Polygon>& polygon
     std::vector<std::pair<int, int>> owner;  // (polygon, edge index); frame: polygon -1
     for (size_t p = 0; p < polygons.size(); ++p)
         for (size_t e = 0; e < polygons[p].size(); ++e)
-            edges.emplace_back(Point2d(polygons[p][e]), Point2d(polygons[p][(e + 1) % polygons[p].size()])),
+            edges.emplace_back(Point2d(polygons[p][e]),
+                               Point2d(polygons[p][(e + 1) % polygons[p].size()])),
                 owner.emplace_back(static_cast<int>(p), static_cast<int>(e));
     const std::vector<Point2f> frame = cage.frame();
-    for (int e = 0; e < 4; ++e) edges.emplace_back(Point2d(frame[e]), Point2d(frame[(e + 1) % 4])), owner.emplace_back(-1, e);
+    for (int e = 0; e < 4; ++e)
+        edges.emplace_back(Point2d(frame[e]), Point2d(frame[(e + 1) % 4])),
+            owner.emplace_back(-1, e);
     VertexRoom room;
     for (size_t p = 0; p < polygons.size(); ++p) {
         const int n = static_cast<int>(polygons[p].size());
         for (int v = 0; v < n; ++v) {
             const Point2d x(polygons[p][v]);
-            room.shortestEdge.push_back(std::min(cv::norm(x - Point2d(polygons[p][(v + 1) % n])),
-                                                 cv::norm(x - Point2d(polygons[p][(v + n - 1) % n]))));
+            room.shortestEdge.push_back(
+                std::min(cv::norm(x - Point2d(polygons[p][(v + 1) % n])),
+                         cv::norm(x - Point2d(polygons[p][(v + n - 1) % n]))));
             double d = INFINITY;
             for (size_t k = 0; k < edges.size(); ++k) {
                 const bool incident = owner[k].first == static_cast<int>(p) &&
@@ -81,18 +84,19 @@ adjacent edge and of the distance to every edge not incident to it (frame includ
 std::vector<double> jitterLimits(const Multicage& cage, const std::vector<Polygon>& polygons) {
     const VertexRoom room = vertexRoom(cage, polygons);
     std::vector<double> limit(room.clearance.size());
-    for (size_t j = 0; j < limit.size(); ++j) limit[j] = 0.2 * std::min(room.clearance[j], room.shortestEdge[j]);
+    for (size_t j = 0; j < limit.size(); ++j)
+        limit[j] = 0.2 * std::min(room.clearance[j], room.shortestEdge[j]);
     return limit;
 }
 
 /** Fold-over near the cage vertices, where mean value coordinates bend most (the map is a cone
 around a vertex, the same at every scale, so a grid can miss a fold there): a small polar mesh
 around every user vertex (rings of radius 0.3, 1.5, 3 and 6 px, 16 directions: sectors of 22.5
-degrees, and of 112.5 degrees within half the distance to the nearest other edge), its points' coordinates
-computed once (Algorithm 1 at arbitrary points), then moved by each pose and checked for
+degrees, and of 112.5 degrees within half the distance to the nearest other edge), its points'
+coordinates computed once (Algorithm 1 at arbitrary points), then moved by each pose and checked for
 reversed triangles. Empty for harmonic coordinates (they exist only on the grid). */
 class VertexFans {
-public:
+  public:
     VertexFans() = default;
     VertexFans(const Multicage& cage) {
         static const double radii[] = {0.3, 1.5, 3.0, 6.0};
@@ -101,12 +105,15 @@ public:
         const std::vector<Point2f> vertices = cage.vertices();
         const int users = cage.vertexCount();
         const VertexRoom room = vertexRoom(cage, polygonsOf(cage));
-        auto inside = [&](Point2d p) { return p.x > -0.5 && p.y > -0.5 && p.x < size.width - 0.5 && p.y < size.height - 0.5; };
+        auto inside = [&](Point2d p) {
+            return p.x > -0.5 && p.y > -0.5 && p.x < size.width - 0.5 && p.y < size.height - 0.5;
+        };
         for (int j = 0; j < users; ++j) {
             const Point2d v(vertices[j]);
             const int centre = static_cast<int>(points_.size());
             points_.push_back(Point2f(v));
             centres_.push_back(centre);
+            triangleStart_.push_back(static_cast<int>(triangles_.size()));
             std::vector<int> index(kRings * kDirections, -1);
             for (int r = 0; r < kRings; ++r)
                 for (int k = 0; k < kDirections; ++k) {
@@ -123,7 +130,8 @@ public:
                 addTriangle(centre, index[k], index[k1]);
                 for (int r = 0; r + 1 < kRings; ++r) {  // the quads between rings
                     const int a = index[r * kDirections + k], b = index[r * kDirections + k1];
-                    const int c = index[(r + 1) * kDirections + k], d = index[(r + 1) * kDirections + k1];
+                    const int c = index[(r + 1) * kDirections + k],
+                              d = index[(r + 1) * kDirections + k1];
                     addTriangle(a, c, b), addTriangle(b, c, d);
                 }
                 // Wide sectors too: a mesh triangle with a corner on the vertex spans up to 90
@@ -134,7 +142,8 @@ public:
                 // polygon's edge, into a region that moves apart, and turn over with no fold.
                 for (int r = 0; r < kRings; ++r)
                     if (radii[r] <= 0.5 * room.clearance[j])
-                        addTriangle(centre, index[r * kDirections + k], index[r * kDirections + (k + 5) % kDirections]);
+                        addTriangle(centre, index[r * kDirections + k],
+                                    index[r * kDirections + (k + 5) % kDirections]);
             }
         }
         // Algorithm 1 at the sample points: every polygon's raw weights (signed as if oriented
@@ -142,16 +151,21 @@ public:
         const int count = static_cast<int>(points_.size()), c = users + 4;
         Mat total(count, c, CV_64F, Scalar(0));
         std::vector<std::pair<std::vector<Point2f>, int>> polygons;
-        for (int p = 0; p < cage.polygonCount(); ++p) polygons.emplace_back(cage.polygon(p), cage.polygonOffset(p));
+        for (int p = 0; p < cage.polygonCount(); ++p)
+            polygons.emplace_back(cage.polygon(p), cage.polygonOffset(p));
         polygons.emplace_back(cage.frame(), users);
         for (size_t p = 0; p < polygons.size(); ++p) {
             double sign = 1;
             if (static_cast<int>(p) < cage.polygonCount())
-                sign = (cage.signedArea(static_cast<int>(p)) > 0) == (cage.depth(static_cast<int>(p)) % 2 == 0) ? 1 : -1;
+                sign = (cage.signedArea(static_cast<int>(p)) > 0) ==
+                               (cage.depth(static_cast<int>(p)) % 2 == 0)
+                           ? 1
+                           : -1;
             Mat w;
             meanValueCoordinates(polygons[p].first, points_, w, false);
             for (int i = 0; i < count; ++i)
-                for (int k = 0; k < w.cols; ++k) total.at<double>(i, polygons[p].second + k) = sign * w.at<float>(i, k);
+                for (int k = 0; k < w.cols; ++k)
+                    total.at<double>(i, polygons[p].second + k) = sign * w.at<float>(i, k);
         }
         coefficients_.create(count, c, CV_64F);
         for (int i = 0; i < count; ++i) {
@@ -163,72 +177,64 @@ public:
             coefficients_.row(centres_[j]).setTo(0);
             coefficients_.at<double>(centres_[j], j) = 1;
         }
+        byVertex_ = coefficients_.colRange(0, users).t();
     }
 
     /** Whether pose (user vertices) reverses a triangle of a fan. */
     bool folds(const std::vector<Point2f>& pose, const std::vector<Point2f>& rest) const {
         if (points_.empty()) return false;
-        const int users = static_cast<int>(pose.size()), count = coefficients_.rows;
-        std::vector<double> dx(users), dy(users);
-        for (int j = 0; j < users; ++j) dx[j] = pose[j].x - rest[j].x, dy[j] = pose[j].y - rest[j].y;
+        const int users = static_cast<int>(pose.size()), count = byVertex_.cols;
+        std::vector<int> moved;
+        std::vector<double> dx, dy;
+        for (int j = 0; j < users; ++j)
+            if (pose[j].x != rest[j].x || pose[j].y != rest[j].y)
+                moved.push_back(j), dx.push_back(pose[j].x - rest[j].x),
+                    dy.push_back(pose[j].y - rest[j].y);
+        // Fan by fan (a fan's triangles use only its own samples), so that a draw that folds
+        // stops at the first fan that does. Each sample: sample + sum_j CC_j (v'_j - v_j), the
+        // sum over j in order as one point at a time would add it (vertices at rest add
+        // nothing), a vertex at a time across the fan's samples (contiguous in byVertex_ rows:
+        // the inner loop vectorises).
+        std::vector<double> sx, sy;
         std::vector<Point2d> m(count);
-        for (int i = 0; i < count; ++i) {  // sample + sum_j CC_j (v'_j - v_j)
-            const double* cc = coefficients_.ptr<double>(i);
-            double sx = 0, sy = 0;
-            for (int j = 0; j < users; ++j) sx += cc[j] * dx[j], sy += cc[j] * dy[j];
-            m[i] = Point2d(points_[i]) + Point2d(sx, sy);
-        }
-        for (const Vec3i& t : triangles_) {
-            const Point2d a = m[t[0]], b = m[t[1]], c = m[t[2]];
-            const Point2d ra(points_[t[0]]), rb(points_[t[1]]), rc(points_[t[2]]);
-            const double before = (rb - ra).cross(rc - ra), after = (b - a).cross(c - a);
-            if ((before > 0) != (after > 0)) return true;
+        for (size_t f = 0; f < centres_.size(); ++f) {
+            const int begin = centres_[f];
+            const int end = f + 1 < centres_.size() ? centres_[f + 1] : count;
+            sx.assign(end - begin, 0.0), sy.assign(end - begin, 0.0);
+            for (size_t q = 0; q < moved.size(); ++q) {
+                const double* cc = byVertex_.ptr<double>(moved[q]) + begin;
+                const double ddx = dx[q], ddy = dy[q];
+                double* __restrict px = sx.data();
+                double* __restrict py = sy.data();
+                for (int i = 0; i < end - begin; ++i) px[i] += cc[i] * ddx, py[i] += cc[i] * ddy;
+            }
+            for (int i = begin; i < end; ++i)
+                m[i] = Point2d(points_[i]) + Point2d(sx[i - begin], sy[i - begin]);
+            const int tEnd = f + 1 < centres_.size() ? triangleStart_[f + 1]
+                                                     : static_cast<int>(triangles_.size());
+            for (int k = triangleStart_[f]; k < tEnd; ++k) {
+                const Vec3i& t = triangles_[k];
+                const Point2d a = m[t[0]], b = m[t[1]], c = m[t[2]];
+                const Point2d ra(points_[t[0]]), rb(points_[t[1]]), rc(points_[t[2]]);
+                const double before = (rb - ra).cross(rc - ra), after = (b - a).cross(c - a);
+                if ((before > 0) != (after > 0)) return true;
+            }
         }
         return false;
     }
 
-private:
+  private:
     void addTriangle(int a, int b, int c) {  // -1: a sample outside the frame
         if (a >= 0 && b >= 0 && c >= 0) triangles_.emplace_back(a, b, c);
     }
 
     std::vector<Point2f> points_;  // fan centres (the vertices) and ring samples
-    std::vector<int> centres_;     // index of each user vertex's centre in points_
+    std::vector<int> centres_;  // index of each user vertex's centre in points_ (its fan's first)
+    std::vector<int> triangleStart_;  // index of each fan's first triangle in triangles_
     std::vector<Vec3i> triangles_;
     Mat coefficients_;  // samples x (users + 4), CV_64F
+    Mat byVertex_;      // users x samples, CV_64F: the user vertices' columns, transposed
 };
-
-/** What the checks of one multicage need, made once per thread for the last multicage seen
-(augmentation draws many poses of one multicage): the coarse binding of the overload without
-a binding, and the vertex fans. */
-struct CageChecks {
-    Size size;
-    std::vector<Point2f> vertices;
-    std::vector<int> sizes;
-    int coordinates = -2, step = -1;
-    Binding binding;  // step > 0 only
-    VertexFans fans;
-};
-
-const CageChecks& cageChecks(const Multicage& cage, int step) {
-    thread_local std::unique_ptr<CageChecks> cache;
-    std::vector<int> sizes(cage.polygonCount());
-    for (int i = 0; i < cage.polygonCount(); ++i) sizes[i] = static_cast<int>(cage.polygon(i).size());
-    const int coordinates = resolveCoordinates(cage, COORDINATES_FROM_CAGE);
-    if (!cache || cache->size != cage.imageSize() || cache->vertices != cage.vertices() || cache->sizes != sizes ||
-        cache->coordinates != coordinates) {
-        std::unique_ptr<CageChecks> fresh(new CageChecks);
-        fresh->size = cage.imageSize(), fresh->vertices = cage.vertices(), fresh->sizes = sizes;
-        fresh->coordinates = coordinates;
-        if (coordinates == MEAN_VALUE) fresh->fans = VertexFans(cage);
-        cache = std::move(fresh);
-    }
-    if (step > 0 && cache->step != step) {
-        cache->binding = bind(cage, coordinates, step);
-        cache->step = step;
-    }
-    return *cache;
-}
 
 /** Per polygon, the distance to the nearest other polygon (the frame not counted; infinity when
 alone): the room its own motion has relative to its neighbours. */
@@ -242,7 +248,8 @@ std::vector<double> polygonRoom(const std::vector<Polygon>& polygons) {
             const Polygon& e = polygons[k];
             for (const Point2f& v : polygons[i])
                 for (size_t a = 0; a < e.size(); ++a) {
-                    const double d = segmentDistance(Point2d(v), Point2d(e[a]), Point2d(e[(a + 1) % e.size()]));
+                    const double d =
+                        segmentDistance(Point2d(v), Point2d(e[a]), Point2d(e[(a + 1) % e.size()]));
                     room[i] = std::min(room[i], d), room[k] = std::min(room[k], d);
                 }
         }
@@ -250,14 +257,18 @@ std::vector<double> polygonRoom(const std::vector<Polygon>& polygons) {
 }
 
 class PoseDrawer {
-public:
-    PoseDrawer(const Multicage& cage, const RandomPoseParams& params)
-        : cage_(cage), params_(params), polygons_(polygonsOf(cage)), parents_(parentsOf(polygons_)),
-          jitter_(jitterLimits(cage, polygons_)), room_(polygonRoom(polygons_)) {}
+  public:
+    explicit PoseDrawer(const Multicage& cage)
+        : size_(cage.imageSize()),
+          polygons_(polygonsOf(cage)),
+          parents_(parentsOf(polygons_)),
+          jitter_(jitterLimits(cage, polygons_)),
+          room_(polygonRoom(polygons_)) {}
 
     /** A pose at this amplitude; margin: RandomPoseParams::frameMargin resolved (the asked-for
     amplitude when negative, kept when the amplitude is scaled down). */
-    std::vector<Point2f> draw(double amplitude, double margin, RNG& rng) const {
+    std::vector<Point2f> draw(double amplitude, double margin, RNG& rng,
+                              const RandomPoseParams& params) const {
         const size_t count = polygons_.size();
         // Each polygon's own similarity x -> c + s R (x - c) + t, kept as its displacement
         // x -> (s R - I) x + b, an affine map; a polygon's motion is its own displacement plus
@@ -273,23 +284,26 @@ public:
             c *= 1.0 / poly.size();
             double r = 1e-9;
             for (const Point2f& v : poly) r = std::max(r, cv::norm(Point2d(v) - c));
-            const double maxAngle = std::min(params_.maxRotation * CV_PI / 180.0, amplitude / r);
+            const double maxAngle = std::min(params.maxRotation * CV_PI / 180.0, amplitude / r);
             const double angle = rng.uniform(-1.0, 1.0) * maxAngle;
-            const double scale = 1.0 + rng.uniform(-1.0, 1.0) * std::min(params_.maxScale, amplitude / r);
+            const double scale =
+                1.0 + rng.uniform(-1.0, 1.0) * std::min(params.maxScale, amplitude / r);
             const Point2d t(rng.uniform(-amplitude, amplitude), rng.uniform(-amplitude, amplitude));
             const double a = scale * std::cos(angle) - 1, b = scale * std::sin(angle);
             Matx23d d(a, -b, -a * c.x + b * c.y + t.x, b, a, -b * c.x - a * c.y + t.y);
             double largest = 0;
-            for (const Point2f& v : poly) largest = std::max(largest, cv::norm(apply(d, Point2d(v))));
+            for (const Point2f& v : poly)
+                largest = std::max(largest, cv::norm(apply(d, Point2d(v))));
             const double limit = 0.25 * room_[i];
             own[i] = largest > limit ? d * (limit / largest) : d;
         }
         std::vector<Point2d> displacement;
         for (size_t i = 0; i < count; ++i)
-            for (const Point2f& v : polygons_[i]) displacement.push_back(motion(static_cast<int>(i), Point2d(v), own));
+            for (const Point2f& v : polygons_[i])
+                displacement.push_back(motion(static_cast<int>(i), Point2d(v), own));
         size_t k = 0;
         for (; k < displacement.size(); ++k) {
-            const double j = std::min(params_.jitter * amplitude, jitter_[k]);
+            const double j = std::min(params.jitter * amplitude, jitter_[k]);
             displacement[k] += Point2d(rng.uniform(-j, j), rng.uniform(-j, j));
         }
         double longest = 0;
@@ -298,7 +312,7 @@ public:
         // The frame stays fixed: a vertex near it moves less (linearly less from twice the
         // margin down to 0 at the frame), so the narrow band between it and the frame is not
         // sheared over; and it never gets closer than the margin, or than it was at rest.
-        const Size size = cage_.imageSize();
+        const Size size = size_;
         k = 0;
         for (const Polygon& poly : polygons_)
             for (const Point2f& v : poly) {
@@ -321,9 +335,10 @@ public:
         return pose;
     }
 
-private:
+  private:
     static Point2d apply(const Matx23d& m, Point2d x) {
-        return Point2d(m(0, 0) * x.x + m(0, 1) * x.y + m(0, 2), m(1, 0) * x.x + m(1, 1) * x.y + m(1, 2));
+        return Point2d(m(0, 0) * x.x + m(0, 1) * x.y + m(0, 2),
+                       m(1, 0) * x.x + m(1, 1) * x.y + m(1, 2));
     }
     Point2d motion(int i, Point2d x, const std::vector<Matx23d>& own) const {
         Point2d d(0, 0);
@@ -331,39 +346,78 @@ private:
         return d;
     }
 
-    const Multicage& cage_;
-    RandomPoseParams params_;
+    Size size_;
     std::vector<Polygon> polygons_;
     std::vector<int> parents_;
     std::vector<double> jitter_;
     std::vector<double> room_;
 };
 
+/** What the checks of one multicage need, made once per thread for the last multicage seen
+(augmentation draws many poses of one multicage): the coarse binding of the overload without
+a binding, the vertex fans and the pose drawer's tables. */
+struct CageChecks {
+    Size size;
+    std::vector<Point2f> vertices;
+    std::vector<int> sizes;
+    int coordinates = -2, step = -1;
+    Binding binding;  // step > 0 only
+    VertexFans fans;
+    std::unique_ptr<PoseDrawer> drawer;  // its per-polygon tables (rooms, jitter limits, nesting)
+};
+
+const CageChecks& cageChecks(const Multicage& cage, int step) {
+    thread_local std::unique_ptr<CageChecks> cache;
+    std::vector<int> sizes(cage.polygonCount());
+    for (int i = 0; i < cage.polygonCount(); ++i)
+        sizes[i] = static_cast<int>(cage.polygon(i).size());
+    const int coordinates = resolveCoordinates(cage, COORDINATES_FROM_CAGE);
+    if (!cache || cache->size != cage.imageSize() || cache->vertices != cage.vertices() ||
+        cache->sizes != sizes || cache->coordinates != coordinates) {
+        std::unique_ptr<CageChecks> fresh(new CageChecks);
+        fresh->size = cage.imageSize(), fresh->vertices = cage.vertices(), fresh->sizes = sizes;
+        fresh->coordinates = coordinates;
+        if (coordinates == MEAN_VALUE) fresh->fans = VertexFans(cage);
+        fresh->drawer.reset(new PoseDrawer(cage));
+        cache = std::move(fresh);
+    }
+    if (step > 0 && cache->step != step) {
+        cache->binding = bind(cage, coordinates, step);
+        cache->step = step;
+    }
+    return *cache;
+}
+
 void checkArguments(const Multicage& cage, double amplitude, const RandomPoseParams& params) {
     std::string why;
     if (!cage.validateGeometry(&why)) CV_Error(Error::StsBadArg, "multicage: randomPose: " + why);
     if (!std::isfinite(amplitude) || amplitude < 0)
         CV_Error_(Error::StsBadArg, ("multicage: randomPose: the amplitude must be a finite number "
-                                     ">= 0 (pixels), got %g", amplitude));
+                                     ">= 0 (pixels), got %g",
+                                     amplitude));
     if (params.attempts < 1 || params.scaleDowns < 0 || params.checkGridStep < 0 ||
-        !(params.maxRotation >= 0) || !(params.maxScale >= 0 && params.maxScale < 1) || !(params.jitter >= 0))
-        CV_Error(Error::StsBadArg, "multicage: randomPose: RandomPoseParams out of range (attempts >= 1, "
-                                   "scaleDowns >= 0, checkGridStep >= 0, maxRotation >= 0, 0 <= maxScale < 1, "
-                                   "jitter >= 0)");
+        !(params.maxRotation >= 0) || !(params.maxScale >= 0 && params.maxScale < 1) ||
+        !(params.jitter >= 0))
+        CV_Error(Error::StsBadArg,
+                 "multicage: randomPose: RandomPoseParams out of range (attempts >= 1, "
+                 "scaleDowns >= 0, checkGridStep >= 0, maxRotation >= 0, 0 <= maxScale < 1, "
+                 "jitter >= 0)");
 }
 
-std::vector<Point2f> drawPose(const Multicage& cage, const Binding& binding, const VertexFans& fans,
-                              double amplitude, RNG& rng, const RandomPoseParams& params) {
+std::vector<Point2f> drawPose(const Multicage& cage, const Binding& binding,
+                              const CageChecks& checks, double amplitude, RNG& rng,
+                              const RandomPoseParams& params) {
     std::vector<Point2f> rest = cage.vertices();
     rest.resize(cage.vertexCount());
     if (amplitude == 0 || cage.polygonCount() == 0) return rest;
-    const PoseDrawer drawer(cage, params);
+    const PoseDrawer& drawer = *checks.drawer;
+    const VertexFans& fans = checks.fans;
     const Mat restNodes = binding.nodes();
     const double margin = params.frameMargin >= 0 ? params.frameMargin : amplitude;
     Mat positions;
     for (int level = 0; level <= params.scaleDowns; ++level, amplitude *= 0.5) {
         for (int attempt = 0; attempt < params.attempts; ++attempt) {
-            std::vector<Point2f> pose = drawer.draw(amplitude, margin, rng);
+            std::vector<Point2f> pose = drawer.draw(amplitude, margin, rng, params);
             if (!validatePose(cage, pose) || fans.folds(pose, rest)) continue;
             binding.apply(pose, positions);
             if (countFoldedTriangles(positions, restNodes) == 0) return pose;
@@ -385,18 +439,23 @@ bool validatePose(const Multicage& cage, InputArray poseIn, std::string* why) {
         const std::vector<Point2f> frame = cage.frame();
         if (!std::equal(frame.begin(), frame.end(), pose.begin() + n))
             return fail("the pose moves the frame corners (vertices " + std::to_string(n) + "-" +
-                        std::to_string(n + 3) + "); only poses with the rest frame are checked here");
+                        std::to_string(n + 3) +
+                        "); only poses with the rest frame are checked here");
         pose.resize(n);
     }
     if (static_cast<int>(pose.size()) != n)
-        return fail(format("the pose has %d vertices, the multicage has %d", static_cast<int>(pose.size()), n));
+        return fail(format("the pose has %d vertices, the multicage has %d",
+                           static_cast<int>(pose.size()), n));
     const Multicage posed = cage.posed(pose);
     std::string reason;
     if (!posed.validateGeometry(&reason)) return fail("posed: " + reason);
-    const std::vector<int> before = parentsOf(polygonsOf(cage)), after = parentsOf(polygonsOf(posed));
+    const std::vector<int> before = parentsOf(polygonsOf(cage)),
+                           after = parentsOf(polygonsOf(posed));
     for (size_t i = 0; i < before.size(); ++i)
         if (before[i] != after[i]) {
-            auto name = [](int p) { return p < 0 ? std::string("no polygon") : "polygon " + std::to_string(p); };
+            auto name = [](int p) {
+                return p < 0 ? std::string("no polygon") : "polygon " + std::to_string(p);
+            };
             return fail("posed: polygon " + std::to_string(i) + " lies inside " + name(after[i]) +
                         ", at rest inside " + name(before[i]));
         }
@@ -404,22 +463,26 @@ bool validatePose(const Multicage& cage, InputArray poseIn, std::string* why) {
     return true;
 }
 
-std::vector<Point2f> randomPose(const Multicage& cage, double amplitude, RNG& rng, const RandomPoseParams& params) {
-    checkArguments(cage, amplitude, params);
-    const Size size = cage.imageSize();
-    const int step = params.checkGridStep > 0 ? params.checkGridStep
-                                              : std::max(1, (std::max(size.width, size.height) + 159) / 160);
-    const CageChecks& checks = cageChecks(cage, step);
-    return drawPose(cage, checks.binding, checks.fans, amplitude, rng, params);
-}
-
-std::vector<Point2f> randomPose(const Multicage& cage, const Binding& binding, double amplitude, RNG& rng,
+std::vector<Point2f> randomPose(const Multicage& cage, double amplitude, RNG& rng,
                                 const RandomPoseParams& params) {
     checkArguments(cage, amplitude, params);
-    if (binding.empty() || binding.imageSize != cage.imageSize() || binding.restVertices != cage.vertices())
-        CV_Error(Error::StsBadArg, "multicage: randomPose: the binding was not made for this multicage (its "
-                                   "image size or rest vertices differ); bind the multicage itself");
-    return drawPose(cage, binding, cageChecks(cage, 0).fans, amplitude, rng, params);
+    const Size size = cage.imageSize();
+    const int step = params.checkGridStep > 0
+                         ? params.checkGridStep
+                         : std::max(1, (std::max(size.width, size.height) + 159) / 160);
+    const CageChecks& checks = cageChecks(cage, step);
+    return drawPose(cage, checks.binding, checks, amplitude, rng, params);
+}
+
+std::vector<Point2f> randomPose(const Multicage& cage, const Binding& binding, double amplitude,
+                                RNG& rng, const RandomPoseParams& params) {
+    checkArguments(cage, amplitude, params);
+    if (binding.empty() || binding.imageSize != cage.imageSize() ||
+        binding.restVertices != cage.vertices())
+        CV_Error(Error::StsBadArg,
+                 "multicage: randomPose: the binding was not made for this multicage (its "
+                 "image size or rest vertices differ); bind the multicage itself");
+    return drawPose(cage, binding, cageChecks(cage, 0), amplitude, rng, params);
 }
 
 }  // namespace multicage

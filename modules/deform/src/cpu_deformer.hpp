@@ -2,28 +2,34 @@
 #ifndef MULTICAGE_CPU_DEFORMER_HPP
 #define MULTICAGE_CPU_DEFORMER_HPP
 
+#include <functional>
 #include <opencv2/multicage/deformer.hpp>
 #include <opencv2/multicage/internal/backend_contract.hpp>
-
-#include <functional>
 #include <vector>
 
 namespace cv {
 namespace multicage {
 
-Ptr<Deformer> createCpuDeformer(const Mat& image, const Binding& binding, const DeformParams& params);
+Ptr<Deformer> createCpuDeformer(const Mat& image, const Binding& binding,
+                                const DeformParams& params);
 
 /** checkImage, and the given size and type (a Deformer's setImage and batches). */
 void checkSameImage(InputArray image, Size size, int type);
 /** The inputs of Deformer::deformBatch checked and converted: every pose completed with its
-frame corners (readPose), images empty or one per pose of this size and type. Errors name the item. */
+frame corners (readPose), images empty or one per pose of this size and type. Errors name the item.
+*/
 void batchInputs(InputArrayOfArrays poses, InputArrayOfArrays images,
-                 const std::function<std::vector<Point2f>(InputArray)>& readPose, Size size, int type,
-                 std::vector<std::vector<Point2f>>& posesOut, std::vector<Mat>& imagesOut);
+                 const std::function<std::vector<Point2f>(InputArray)>& readPose, Size size,
+                 int type, std::vector<std::vector<Point2f>>& posesOut,
+                 std::vector<Mat>& imagesOut);
 /** The outputs of a batch, allocated together: one block in 2 MB pages where the kernel offers
 them (a fresh 4 KiB page costs ~12 us on this project's VM, a batch of 32 512x512 BGR outputs
 6,000 of them), each output a view of it that keeps it alive. */
 std::vector<Mat> batchOutputs(int count, Size size, int type);
+
+/** A Mat that owns its memory (reference counted, so it may outlive whoever made it), in 2 MB
+pages where the kernel offers them. */
+Mat ownedHugePageMat(Size size, int type);
 /** Throws e again, its message prefixed with "batch item k". */
 [[noreturn]] void rethrowForItem(const Exception& e, int k);
 /** dst (a std::vector<Mat> or another array of arrays) gets the items, without copies where it
@@ -40,8 +46,9 @@ Mat hugePageMat(Size size, int type, std::vector<Mat>& owners);
 nodes on the image frame around it, (n+2) x (m+2). It is made once per Deformer and reused by
 every pose, so a pose allocates nothing and touches no fresh memory. */
 class RasterMesh {
-public:
-    /** Allocates (and touches) the mesh for these rest nodes (gridSize CV_32FC2) and output size. */
+  public:
+    /** Allocates (and touches) the mesh for these rest nodes (gridSize CV_32FC2) and output size.
+     */
     void reset(const Mat& restNodes, Size outputSize);
     /** The same for a binding's node grid and image size, without making its node matrix. */
     void reset(const Binding& binding);
@@ -56,7 +63,7 @@ public:
     /** Inverse maps (outputSize CV_32F, every pixel written) for the current nodes and frame. */
     void draw(Mat& mapx, Mat& mapy);
 
-private:
+  private:
     template <typename F>
     void forEachRingNode(F&& f) const;
     template <typename RestNode>

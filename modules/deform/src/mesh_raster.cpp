@@ -9,14 +9,13 @@
 #elif defined(__clang__)
 #pragma clang fp contract(off)
 #endif
+#include <climits>
+#include <cmath>
+#include <memory>
 #include <opencv2/core/utility.hpp>
 #include <opencv2/multicage/deformer.hpp>
 
 #include "cpu_deformer.hpp"
-
-#include <climits>
-#include <cmath>
-#include <memory>
 #if defined(__linux__)
 #include <sys/mman.h>
 #endif
@@ -26,11 +25,14 @@ namespace multicage {
 
 namespace {
 
-inline double cross(Point2d a, Point2d b) { return a.x * b.y - a.y * b.x; }
+inline double cross(Point2d a, Point2d b) {
+    return a.x * b.y - a.y * b.x;
+}
 
 // The triangle kernel is compiled twice, for AVX2 and for the baseline (GCC function
 // multiversioning), without fused multiply-adds: both give the same bits.
-#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && !defined(__SANITIZE_ADDRESS__)
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && \
+    !defined(__SANITIZE_ADDRESS__)
 #define MULTICAGE_TARGET_CLONES __attribute__((target_clones("arch=x86-64-v3", "default")))
 #else
 #define MULTICAGE_TARGET_CLONES
@@ -59,7 +61,8 @@ struct TriangleSetup {
     float qx[3][kRunTriangles], qy[3][kRunTriangles], px[3][kRunTriangles], py[3][kRunTriangles];
     double minY[kRunTriangles], maxY[kRunTriangles], minX[kRunTriangles], maxX[kRunTriangles];
     double area[kRunTriangles];
-    double ax[3][kRunTriangles], ay[3][kRunTriangles], a0[3][kRunTriangles], invAx[3][kRunTriangles];
+    double ax[3][kRunTriangles], ay[3][kRunTriangles], a0[3][kRunTriangles],
+        invAx[3][kRunTriangles];
     double mxx[kRunTriangles], mxy[kRunTriangles], mx0[kRunTriangles];
     double myx[kRunTriangles], myy[kRunTriangles], my0[kRunTriangles];
 };
@@ -88,7 +91,8 @@ inline void setUpTriangles(TriangleSetup& s, int count) {
             s.ax[i][t] = ax[i], s.ay[i][t] = ay[i], s.a0[i][t] = a0[i];
             s.invAx[i][t] = ax[i] != 0 ? r : 0.0;
         }
-        // The rest position as an affine function of the output pixel: r = p2 + l0 (p0-p2) + l1 (p1-p2).
+        // The rest position as an affine function of the output pixel: r = p2 + l0 (p0-p2) + l1
+        // (p1-p2).
         const double p2x = s.px[2][t], p2y = s.py[2][t];
         const double d0x = double(s.px[0][t]) - p2x, d0y = double(s.py[0][t]) - p2y;
         const double d1x = double(s.px[1][t]) - p2x, d1y = double(s.py[1][t]) - p2y;
@@ -132,10 +136,14 @@ inline void drawTriangle(const TriangleSetup& s, int t, int y0, int y1, Point2f 
     for (int y = ya; y <= yb; ++y) {
         double left = xa, right = xb;
         for (int i = 0; i < 3; ++i) {  // l_i(x) = ax x + c >= eps
+            // Selects, not branches (a triangle is a few rows, so the branches of each edge's
+            // side mispredict); the same values: an edge bounds the left (ax > 0), the right
+            // (ax < 0), or, neither, empties the row when c < eps (NaN ax included).
             const double c = a0[i] + ay[i] * y;
-            if (ax[i] > 0) left = std::max(left, (eps - c) * invAx[i]);
-            else if (ax[i] < 0) right = std::min(right, (eps - c) * invAx[i]);
-            else if (c < eps) right = -1;
+            const double v = (eps - c) * invAx[i];
+            left = std::max(left, ax[i] > 0 ? v : -INFINITY);
+            right = std::min(right, ax[i] < 0 ? v : INFINITY);
+            right = !(ax[i] > 0) && !(ax[i] < 0) && c < eps ? -1.0 : right;
         }
         if (!(left <= right)) continue;  // empty span (or NaN) before converting to int
         const int xl = static_cast<int>(std::ceil(left)), xr = static_cast<int>(std::floor(right));
@@ -153,8 +161,9 @@ inline void drawTriangle(const TriangleSetup& s, int t, int y0, int y1, Point2f 
 // Draws the cells of one row of the mesh (nodes rows p0/p1 deformed, r0/r1 rest, `cells`
 // cells) into output rows [y0, y1), in order: cell by cell, its kCellTriangles in turn.
 MULTICAGE_TARGET_CLONES
-void drawCellRow(const Point2f* p0, const Point2f* p1, const Point2f* r0, const Point2f* r1, int cells,
-                 int y0, int y1, Point2f lo, Point2f hi, Mat& mapx, Mat& mapy, TriangleSetup& s) {
+void drawCellRow(const Point2f* p0, const Point2f* p1, const Point2f* r0, const Point2f* r1,
+                 int cells, int y0, int y1, Point2f lo, Point2f hi, Mat& mapx, Mat& mapy,
+                 TriangleSetup& s) {
     for (int first = 0; first < cells; first += kRunCells) {
         const int n = std::min(kRunCells, cells - first);
         for (int k = 0; k < n; ++k) {
@@ -208,14 +217,17 @@ void RasterMesh::resetWith(Size grid, Size outputSize, bool separable, RestNode&
     restX_.assign(m + 2, 0.f), restY_.assign(n + 2, 0.f);
     R_.release();
     if (separable) {
-        for (int ex = 0; ex < m + 2; ++ex) restX_[ex] = rest(std::min(std::max(ex - 1, 0), m - 1), 0).x;
-        for (int ey = 0; ey < n + 2; ++ey) restY_[ey] = rest(0, std::min(std::max(ey - 1, 0), n - 1)).y;
+        for (int ex = 0; ex < m + 2; ++ex)
+            restX_[ex] = rest(std::min(std::max(ex - 1, 0), m - 1), 0).x;
+        for (int ey = 0; ey < n + 2; ++ey)
+            restY_[ey] = rest(0, std::min(std::max(ey - 1, 0), n - 1)).y;
     } else {
         R_ = hugePageMat(Size(m + 2, n + 2), CV_32FC2, owners_);
         for (int ey = 0; ey < n + 2; ++ey) {
             Point2f* row = R_.ptr<Point2f>(ey);
             const int gy = std::min(std::max(ey - 1, 0), n - 1);
-            for (int ex = 0; ex < m + 2; ++ex) row[ex] = rest(std::min(std::max(ex - 1, 0), m - 1), gy);
+            for (int ex = 0; ex < m + 2; ++ex)
+                row[ex] = rest(std::min(std::max(ex - 1, 0), m - 1), gy);
         }
     }
     rowMin_.resize(n + 1), rowMax_.resize(n + 1);
@@ -231,7 +243,8 @@ const Point2f* RasterMesh::restRow(int ey, std::vector<Point2f>& buffer) const {
 
 void RasterMesh::reset(const Mat& rest, Size outputSize) {
     CV_Assert(rest.type() == CV_32FC2 && rest.rows >= 2 && rest.cols >= 2);
-    resetWith(rest.size(), outputSize, false, [&](int gx, int gy) { return rest.at<Point2f>(gy, gx); });
+    resetWith(rest.size(), outputSize, false,
+              [&](int gx, int gy) { return rest.at<Point2f>(gy, gx); });
 }
 
 void RasterMesh::reset(const Binding& binding) {
@@ -240,7 +253,8 @@ void RasterMesh::reset(const Binding& binding) {
     std::vector<float> xs(binding.gridSize.width), ys(binding.gridSize.height);
     for (int gx = 0; gx < binding.gridSize.width; ++gx) xs[gx] = binding.node(gx, 0).x;
     for (int gy = 0; gy < binding.gridSize.height; ++gy) ys[gy] = binding.node(0, gy).y;
-    resetWith(binding.gridSize, binding.imageSize, true, [&](int gx, int gy) { return Point2f(xs[gx], ys[gy]); });
+    resetWith(binding.gridSize, binding.imageSize, true,
+              [&](int gx, int gy) { return Point2f(xs[gx], ys[gy]); });
 }
 
 template <typename F>
@@ -263,7 +277,8 @@ void RasterMesh::setFrame(const Point2f* frame) {
     if (frame) std::copy(frame, frame + 4, corners.begin());
     const int m = P_.cols - 2, n = P_.rows - 2;
     forEachRingNode([&](int ex, int ey) {
-        const Point2f source = R_.empty() ? Point2f(restX_[ex], restY_[ey]) : R_.at<Point2f>(ey, ex);
+        const Point2f source =
+            R_.empty() ? Point2f(restX_[ex], restY_[ey]) : R_.at<Point2f>(ey, ex);
         const float rx = ex == 0 ? -0.5f : ex == m + 1 ? W - 0.5f : source.x;
         const float ry = ey == 0 ? -0.5f : ey == n + 1 ? H - 0.5f : source.y;
         const float u = (rx + 0.5f) / W, v = (ry + 0.5f) / H;
@@ -278,33 +293,43 @@ void RasterMesh::setOutputSize(Size outputSize) {
 }
 
 void RasterMesh::draw(Mat& mapx, Mat& mapy) {
-    CV_Assert(mapx.type() == CV_32F && mapy.type() == CV_32F && mapx.size() == out_ && mapy.size() == out_);
+    CV_Assert(mapx.type() == CV_32F && mapy.type() == CV_32F && mapx.size() == out_ &&
+              mapy.size() == out_);
     const Mat& P = P_;
     // Vertical extent of each row of cells, so that a band of output rows skips whole cell
     // rows: each node row's extent first (in parallel), then pairs of rows.
     std::vector<float> nodeMin(P.rows), nodeMax(P.rows);
-    parallel_for_(Range(0, P.rows), [&](const Range& r) {
-        for (int gy = r.start; gy < r.end; ++gy) {
-            const Point2f* p = P.ptr<Point2f>(gy);
-            float lo = INFINITY, hi = -INFINITY;
-            for (int gx = 0; gx < P.cols; ++gx) lo = std::min(lo, p[gx].y), hi = std::max(hi, p[gx].y);
-            nodeMin[gy] = lo, nodeMax[gy] = hi;
-        }
-    }, std::max(1.0, P.rows / 64.0));
+    parallel_for_(
+        Range(0, P.rows),
+        [&](const Range& r) {
+            for (int gy = r.start; gy < r.end; ++gy) {
+                const Point2f* p = P.ptr<Point2f>(gy);
+                float lo = INFINITY, hi = -INFINITY;
+                for (int gx = 0; gx < P.cols; ++gx)
+                    lo = std::min(lo, p[gx].y), hi = std::max(hi, p[gx].y);
+                nodeMin[gy] = lo, nodeMax[gy] = hi;
+            }
+        },
+        std::max(1.0, P.rows / 64.0));
     for (int gy = 0; gy + 1 < P.rows; ++gy)
-        rowMin_[gy] = std::min(nodeMin[gy], nodeMin[gy + 1]), rowMax_[gy] = std::max(nodeMax[gy], nodeMax[gy + 1]);
+        rowMin_[gy] = std::min(nodeMin[gy], nodeMin[gy + 1]),
+        rowMax_[gy] = std::max(nodeMax[gy], nodeMax[gy + 1]);
     const std::vector<float>& rowMin = rowMin_;
     const std::vector<float>& rowMax = rowMax_;
     const Point2f lo = lo_, hi = hi_;
     const Size outputSize = out_;
     // Bands of output rows in parallel; each clears its rows, then walks the cells in the same
     // order, so where the mesh folds over, the later triangle wins exactly as in a GPU draw call.
-    const int bands = std::max(1, std::min(outputSize.height, std::max(getNumThreads() * 4, outputSize.height / 32)));
+    // Bands of 64 rows (two maps of 512 px: 256 KB, in cache while drawn) or more: the cell
+    // rows across a band's edge are set up by both bands, so narrower ones repeat more work.
+    const int bands = std::max(
+        1, std::min(outputSize.height, std::max(getNumThreads() * 4, outputSize.height / 64)));
     parallel_for_(Range(0, bands), [&](const Range& range) {
         std::unique_ptr<TriangleSetup> setup(new TriangleSetup);
         std::vector<Point2f> rest0, rest1;  // rest rows of a regular grid
         for (int band = range.start; band < range.end; ++band) {
-            const int y0 = outputSize.height * band / bands, y1 = outputSize.height * (band + 1) / bands;
+            const int y0 = outputSize.height * band / bands,
+                      y1 = outputSize.height * (band + 1) / bands;
             for (int y = y0; y < y1; ++y) {
                 std::fill_n(mapx.ptr<float>(y), outputSize.width, kUncovered);
                 std::fill_n(mapy.ptr<float>(y), outputSize.width, kUncovered);
@@ -350,13 +375,20 @@ int countFoldedTriangles(InputArray positionsIn, InputArray restIn) {
         const double d = cross(Point2d(b - a), Point2d(c - a));
         return (d > 0) - (d < 0);
     };
+    // Row pointers instead of Mat::at (a random pose is checked on every node of the mesh it
+    // will deform, so this runs once per drawn pose); the same triangles, the same arithmetic.
     int folded = 0;
-    for (int gy = 0; gy + 1 < P.rows; ++gy)
+    for (int gy = 0; gy + 1 < P.rows; ++gy) {
+        const Point2f* p[2] = {P.ptr<Point2f>(gy), P.ptr<Point2f>(gy + 1)};
+        const Point2f* r[2] = {R.ptr<Point2f>(gy), R.ptr<Point2f>(gy + 1)};
         for (int gx = 0; gx + 1 < P.cols; ++gx)
             for (const auto& t : kCellTriangles) {
-                auto at = [&](const Mat& M, int v) { return M.at<Point2f>(gy + t[v][1], gx + t[v][0]); };
-                folded += orientationOf(at(P, 0), at(P, 1), at(P, 2)) != orientationOf(at(R, 0), at(R, 1), at(R, 2));
+                const int x0 = gx + t[0][0], x1 = gx + t[1][0], x2 = gx + t[2][0];
+                const int y0 = t[0][1], y1 = t[1][1], y2 = t[2][1];
+                folded += orientationOf(p[y0][x0], p[y1][x1], p[y2][x2]) !=
+                          orientationOf(r[y0][x0], r[y1][x1], r[y2][x2]);
             }
+    }
     return folded;
 }
 

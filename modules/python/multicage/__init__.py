@@ -23,7 +23,10 @@ backend='gpu' works, auto_backend() what backend='auto' takes. Multicage, Pose, 
 Deformer pickle (multiprocessing, Dask). For augmentation: random_pose(cage, amplitude, seed)
 draws valid random poses, Deformer.transform_points moves keypoints with the image, and
 Deformer.deform(pose, image=...) and Deformer.deform_many deform other images of the same size
-with one binding.
+with one binding. MulticageWarp (multicage.transforms) does all of it as one transform,
+called as albumentations transforms are: warp(image=, mask=, masks=, keypoints=, bboxes=)
+returns the same keys moved by one deformation, seeded per sample and replayable;
+TorchMulticageWarp is the same inside a torchvision Compose on CHW tensors.
 
 imread(path) reads an image as the CLI does: a truncated JPEG or PNG, an empty file or one
 that is not an image raises multicage.Error naming the file (cv2.imread decodes a cut file
@@ -124,6 +127,7 @@ from ._multicage import (
     resize_pose,
     validate_pose,
 )
+from .transforms import MulticageWarp, TorchMulticageWarp, box_outline, default_multicage, sample_seed
 
 __all__ = [
     "CONDITIONING_WARNING",
@@ -150,4 +154,9 @@ __all__ = [
     "random_pose",
     "resize_pose",
     "validate_pose",
+    "MulticageWarp",
+    "TorchMulticageWarp",
+    "box_outline",
+    "default_multicage",
+    "sample_seed",
 ]

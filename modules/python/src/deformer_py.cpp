@@ -1,9 +1,9 @@
 // multicage.Deformer and deform_image().
-#include "common.hpp"
-
 #include <algorithm>
 #include <memory>
 #include <mutex>
+
+#include "common.hpp"
 
 namespace multicage_py {
 namespace {
@@ -137,6 +137,23 @@ cv::Mat sameImage(PyDeformer& d, const py::handle& obj, const char* what, py::ob
                               ", but the deformer was made for " + matDescription(mine) +
                               "; make a Deformer for it (or bind once per size)");
     return m;
+}
+
+/** An output map given by the caller: a writeable C-contiguous HxW float32 array of the
+deformer's image size, as a Mat over its memory. */
+cv::Mat mapOut(const py::object& obj, const char* what, cv::Size size) {
+    if (!py::isinstance<py::array>(obj))
+        throw py::type_error(std::string(what) + ": expected a numpy array, got " +
+                             shortValue(obj));
+    py::array a = py::reinterpret_borrow<py::array>(obj);
+    const bool ok = a.ndim() == 2 && a.dtype().is(py::dtype::of<float>()) &&
+                    (a.flags() & py::array::c_style) && a.writeable() &&
+                    a.shape(0) == size.height && a.shape(1) == size.width;
+    if (!ok)
+        throw py::value_error(std::string(what) + ": expected a writeable C-contiguous " +
+                              std::to_string(size.height) + "x" + std::to_string(size.width) +
+                              " float32 array, got " + shortValue(obj));
+    return cv::Mat(size, CV_32F, a.mutable_data());
 }
 
 /** Deformer.deform_many: the inputs converted under the GIL, the batch run without it. */
@@ -358,20 +375,33 @@ void defineDeformerCalls(DeformerClass& cls) {
             "outside the image follow the frame (with the frame fixed, they stay).")
         .def(
             "compute_maps",
-            [](PyDeformer& d, const py::object& pose) {
+            [](PyDeformer& d, const py::object& pose, const py::object& mapxObj,
+               const py::object& mapyObj) {
                 const std::vector<cv::Point2f> p = d.pose(pose);
                 cv::Mat mapx, mapy;
+                if (mapxObj.is_none() != mapyObj.is_none())
+                    throw py::value_error("mapx, mapy: give both output maps, or neither");
+                if (!mapxObj.is_none()) {
+                    // Written in place: fresh maps every call cost page faults (two maps of a
+                    // 512x512 image are 512 fresh 4 KiB pages) that can exceed the raster.
+                    mapx = mapOut(mapxObj, "mapx", d.imageSize);
+                    mapy = mapOut(mapyObj, "mapy", d.imageSize);
+                    if (mapx.data == mapy.data)
+                        throw py::value_error("mapx, mapy: the same array given twice");
+                }
                 {
                     py::gil_scoped_release release;
                     std::lock_guard<std::mutex> lock(d.mutex);
                     d.deformer->computeMaps(p, mapx, mapy);
                 }
+                if (!mapxObj.is_none()) return py::make_tuple(mapxObj, mapyObj);
                 return py::make_tuple(arrayFromMat(mapx), arrayFromMat(mapy));
             },
-            py::arg("pose"),
+            py::arg("pose"), py::arg("mapx") = py::none(), py::arg("mapy") = py::none(),
             "Inverse maps (mapx, mapy) for cv2.remap, HxW float32: for each output pixel its "
-            "source "
-            "position; uncovered pixels get -1e4. Remap masks and labels with cv2.INTER_NEAREST.")
+            "source position; uncovered pixels get -1e4. Remap masks and labels with "
+            "cv2.INTER_NEAREST. mapx, mapy: C-contiguous writeable HxW float32 arrays to write "
+            "into (returned), reused between calls to save fresh memory's page faults.")
         .def(
             "folded_triangles",
             [](PyDeformer& d, const py::object& pose) {
