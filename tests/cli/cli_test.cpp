@@ -295,7 +295,9 @@ TEST(Cli, MemoryBudgetRaisesTheGridStepAndSaysSoInPlainWords) {
 }
 
 // Issue 13 item 8: every `auto` run without a GPU printed a 300-character WARN line, and the
-// EGL probe (~110 ms) was counted as bind time (142 ms auto vs 1 ms cpu at step 4).
+// EGL probe (~110 ms) was counted as bind time (142 ms auto vs 1 ms cpu at step 4). The two
+// bind times are printed, not compared: a time bar fails on a loaded machine (issue 22 item 4:
+// 139 ms against 50 ms beside other builds); the probe runs before the bind is timed.
 TEST(Cli, AutoBackendIsSaidOnceInTheOutput) {
     const std::string dir = multicage_testing::tempDir("cli_auto");
     const std::string args = "deform " + sample("butterfly.jpg") + " " + sample("../butterfly.yml") + " -o " + dir +
@@ -305,11 +307,8 @@ TEST(Cli, AutoBackendIsSaidOnceInTheOutput) {
     ASSERT_EQ(cpuRun.code, 0) << cpuRun.err;
     EXPECT_EQ(autoRun.err, "") << "auto printed on stderr";
     EXPECT_EQ(countOf(autoRun.out, "(auto)"), 1) << autoRun.out;
-    // That the probe is kept out of the bind time (probeAutoBackend before the clock starts) is
-    // a timing, and no test asserts one (the suite runs on busy machines): the figures are
-    // printed for a person to read.
-    std::printf("bind at grid step 4: auto %.0f ms, cpu %.0f ms\n", numberAfter(autoRun.out, "bind "),
-                numberAfter(cpuRun.out, "bind "));
+    const double bindAuto = numberAfter(autoRun.out, "bind "), bindCpu = numberAfter(cpuRun.out, "bind ");
+    std::printf("bind at grid step 4: auto %.0f ms, cpu %.0f ms\n", bindAuto, bindCpu);
 }
 
 // Issue 13 item 9: a long harmonic binding showed no progress and could not be interrupted
