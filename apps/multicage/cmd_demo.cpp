@@ -87,9 +87,10 @@ Scene butterflyScene() {
     // Inner polygons only where a region is more textured than the butterfly around it (the
     // proposal's texture rule): say what this proposal holds, not what it used to.
     printProposal(s.cage, msSince(t),
-                  s.cage.polygonCount() > 1 ? "inner polygons protect what they hold while the outline moves"
-                                            : "an outline around the butterfly; no region inside is more textured "
-                                              "than the butterfly itself, so no inner polygon");
+                  s.cage.polygonCount() > 1
+                      ? "inner polygons protect what they hold while the outline moves"
+                      : "an outline around the butterfly; no region inside is more textured "
+                        "than the butterfly itself, so no inner polygon");
     // The pose: the outline stretched outwards, so the band between it and the protected
     // patterns takes the stretch; the inner polygons stay at rest.
     s.cage.addPose("stretch", stretchInside(s.cage, 0, 1.04f, 1.15f), 1.0);
@@ -197,7 +198,8 @@ void addDemoCommand(CLI::App& app) {
     CLI::App* cmd = app.add_subcommand(
         "demo",
         "Run the built-in example: a butterfly photo, a multicage proposed from it (an outline "
-        "around the butterfly, and inner polygons around what is more textured than it), a pose that "
+        "around the butterfly, and inner polygons around what is more textured than it), a pose "
+        "that "
         "stretches the outline, and the output images in a folder.\n"
         "--faces: the face scene instead: a footballer (messi5.jpg), an outline around him and "
         "a polygon hugging his face (found by OpenCV's face cascades, Debian package "
