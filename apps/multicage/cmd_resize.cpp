@@ -85,11 +85,8 @@ cv::Mat overlayPicture(const cv::Mat& image, const cv::multicage::Multicage& cag
     };
     cv::Mat left = bgr(image), right = bgr(out);
     cage.draw(left, 2);
-    Multicage moved(out.size());
-    for (int i = 0; i < cage.polygonCount(); ++i) {
-        const int begin = cage.polygonOffset(i), n = static_cast<int>(cage.polygon(i).size());
-        moved.addPolygon(std::vector<cv::Point2f>(pose.begin() + begin, pose.begin() + begin + n));
-    }
+    Multicage moved = cage.posed(pose);
+    moved.setImageSize(out.size());
     moved.draw(right, 2);
     const int h = std::max(left.rows, right.rows), gap = 8;
     cv::Mat sheet(h, left.cols + gap + right.cols, CV_8UC3, cv::Scalar::all(255));

@@ -23,11 +23,8 @@ std::vector<cv::Size> targetsFor(cv::Size s) {
 }
 
 Multicage movedCage(const Multicage& cage, const std::vector<cv::Point2f>& pose, cv::Size size) {
-    Multicage moved(size);
-    for (int i = 0; i < cage.polygonCount(); ++i) {
-        const int begin = cage.polygonOffset(i), n = static_cast<int>(cage.polygon(i).size());
-        moved.addPolygon(std::vector<cv::Point2f>(pose.begin() + begin, pose.begin() + begin + n));
-    }
+    Multicage moved = cage.posed(pose);
+    moved.setImageSize(size);
     return moved;
 }
 

@@ -109,11 +109,8 @@ Point2f frameScaling(Point2f p, Size image, Size target) {
 }
 
 bool validGeometry(const Multicage& cage, const std::vector<Point2f>& pose, Size target) {
-    Multicage moved(target);
-    for (int i = 0; i < cage.polygonCount(); ++i) {
-        const int begin = cage.polygonOffset(i), n = static_cast<int>(cage.polygon(i).size());
-        moved.addPolygon(std::vector<Point2f>(pose.begin() + begin, pose.begin() + begin + n));
-    }
+    Multicage moved = cage.posed(pose);
+    moved.setImageSize(target);
     return moved.validateGeometry();
 }
 
