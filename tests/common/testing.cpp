@@ -1,6 +1,9 @@
 #include "testing.hpp"
 
+#include <cstdlib>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <opencv2/calib3d.hpp>
 #include <opencv2/imgcodecs.hpp>
 
@@ -42,6 +45,17 @@ cv::multicage::Multicage butterflyCage(bool withBody) {
     if (withBody) cage.addPolygon(body);
     cage.orient();
     return cage;
+}
+
+std::string slurp(const std::string& path) {
+    std::ifstream f(path);
+    return std::string(std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>());
+}
+
+CliRun runCli(const std::string& tool, const std::string& dir, const std::string& args) {
+    const int status =
+        std::system((tool + " " + args + " > " + dir + "/out.txt 2> " + dir + "/err.txt").c_str());
+    return {status, slurp(dir + "/out.txt"), slurp(dir + "/err.txt")};
 }
 
 }  // namespace multicage_testing

@@ -30,6 +30,16 @@ using multicage_fixtures::boxNodes;
 using multicage_fixtures::boxResidual;
 using multicage_fixtures::similarityResidual;
 
+/** What a command-line tool printed: its std::system status, stdout and stderr. */
+struct CliRun {
+    int status;
+    std::string out, err;
+};
+/** Runs `TOOL ARGS` with stdout and stderr caught in files of `dir`. */
+CliRun runCli(const std::string& tool, const std::string& dir, const std::string& args);
+/** The whole content of a file ("" when it cannot be read). */
+std::string slurp(const std::string& path);
+
 }  // namespace multicage_testing
 
 #endif

@@ -769,22 +769,11 @@ TEST(ProposeCli, WritesAValidCageAndRefusesBlankImages) {
 
 #ifdef MULTICAGE_CLI_PATH
 namespace {
-struct CliRun {
-    int status;
-    std::string out, err;
-};
-
-std::string slurp(const std::string& path) {
-    std::ifstream f(path);
-    return std::string(std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>());
-}
+using multicage_testing::CliRun;
 
 // Runs `multicage ARGS` with stdout and stderr caught in files of `dir`.
 CliRun runCli(const std::string& dir, const std::string& args) {
-    const int status = std::system((std::string(MULTICAGE_CLI_PATH) + " " + args + " > " + dir +
-                                    "/out.txt 2> " + dir + "/err.txt")
-                                       .c_str());
-    return {status, slurp(dir + "/out.txt"), slurp(dir + "/err.txt")};
+    return multicage_testing::runCli(MULTICAGE_CLI_PATH, dir, args);
 }
 
 int countOf(const std::string& text, const std::string& what) {

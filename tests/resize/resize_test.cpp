@@ -215,19 +215,9 @@ TEST(ResizeErrors, BadSizesAndCagesThrowClearly) {
 
 #ifdef MULTICAGE_CLI_PATH
 namespace {
-struct CliRun {
-    int status;
-    std::string out, err;
-};
-std::string slurp(const std::string& path) {
-    std::ifstream f(path);
-    return std::string(std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>());
-}
+using multicage_testing::CliRun;
 CliRun runCli(const std::string& dir, const std::string& args) {
-    const int status = std::system((std::string(MULTICAGE_CLI_PATH) + " " + args + " > " + dir +
-                                    "/out.txt 2> " + dir + "/err.txt")
-                                       .c_str());
-    return {status, slurp(dir + "/out.txt"), slurp(dir + "/err.txt")};
+    return multicage_testing::runCli(MULTICAGE_CLI_PATH, dir, args);
 }
 }  // namespace
 
