@@ -85,14 +85,6 @@ std::vector<Reference> readReferences(const std::string& dir) {
     return refs;
 }
 
-cv::Mat fill(const std::vector<cv::Point2f>& polygon, cv::Size size) {
-    cv::Mat m = cv::Mat::zeros(size, CV_8U);
-    std::vector<cv::Point> pts;
-    for (const cv::Point2f& p : polygon) pts.emplace_back(cvRound(p.x), cvRound(p.y));
-    cv::fillPoly(m, std::vector<std::vector<cv::Point>>{pts}, cv::Scalar(255));
-    return m;
-}
-
 cv::Rect inner80(const cv::Rect& f) {
     return cv::Rect(f.x + f.width / 10, f.y + f.height / 10, f.width - 2 * (f.width / 10),
                     f.height - 2 * (f.height / 10));
@@ -108,7 +100,7 @@ Score score(const Reference& r, const Multicage& cage, bool harmonic) {
     const cv::Size size = r.image.size();
     cv::Mat outlines = cv::Mat::zeros(size, CV_8U);
     for (int p = 0; p < cage.polygonCount(); ++p)
-        if (cage.depth(p) == 1) outlines |= fill(cage.polygon(p), size);
+        if (cage.depth(p) == 1) outlines |= multicage_fixtures::polygonMask(cage.polygon(p), size);
     s.iou = cv::countNonZero(outlines & r.mask) /
             std::max(1.0, static_cast<double>(cv::countNonZero(outlines | r.mask)));
     cv::Mat protectedByRef = cv::Mat::zeros(size, CV_8U);
@@ -117,7 +109,7 @@ Score score(const Reference& r, const Multicage& cage, bool harmonic) {
     for (int p = 0; p < cage.polygonCount(); ++p) {
         if (cage.depth(p) < 2) continue;
         ++s.inner;
-        const cv::Mat m = fill(cage.polygon(p), size);
+        const cv::Mat m = multicage_fixtures::polygonMask(cage.polygon(p), size);
         if (cv::countNonZero(m & protectedByRef) < 0.5 * cv::countNonZero(m)) ++s.stray;
     }
     s.faces = static_cast<int>(r.faces.size());
@@ -127,18 +119,14 @@ Score score(const Reference& r, const Multicage& cage, bool harmonic) {
         int holders = 0;
         for (int p = 0; p < cage.polygonCount(); ++p) {
             if (cage.depth(p) < 2) continue;
-            const cv::Mat m = fill(cage.polygon(p), size);
+            const cv::Mat m = multicage_fixtures::polygonMask(cage.polygon(p), size);
             if (cv::countNonZero(m(in)) >= 0.95 * in.area() &&
                 cv::countNonZero(m) <= 3.0 * f.area())
                 ++holders;
         }
         s.hugged += holders == 1;
         // The outline around the face, stretched 20% horizontally about its centroid.
-        const cv::Point2f c(f.x + 0.5f * f.width, f.y + 0.5f * f.height);
-        int outline = -1;
-        for (int p = 0; p < cage.polygonCount(); ++p)
-            if (cage.depth(p) == 1 && cv::pointPolygonTest(cage.polygon(p), c, false) > 0)
-                outline = p;
+        const int outline = multicage_fixtures::outlineAround(cage, f);
         if (outline < 0) {
             s.residual = HUGE_VAL;
             continue;

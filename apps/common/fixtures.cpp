@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <opencv2/imgproc.hpp>
 
 namespace multicage_fixtures {
 
@@ -164,6 +165,23 @@ double boxResidual(const cv::multicage::Binding& binding, const std::vector<Poin
             after.push_back(moved.at<Point2f>(gy, gx));
         }
     return rest.size() < 3 ? INFINITY : similarityResidual(rest, after);
+}
+
+cv::Mat polygonMask(const std::vector<cv::Point2f>& polygon, cv::Size size) {
+    cv::Mat m = cv::Mat::zeros(size, CV_8U);
+    std::vector<cv::Point> pts;
+    for (const cv::Point2f& p : polygon) pts.emplace_back(cvRound(p.x), cvRound(p.y));
+    cv::fillPoly(m, std::vector<std::vector<cv::Point>>{pts}, cv::Scalar(255));
+    return m;
+}
+
+int outlineAround(const cv::multicage::Multicage& cage, const cv::Rect& box) {
+    int around = -1;
+    const cv::Point2f centre(box.x + box.width / 2.f, box.y + box.height / 2.f);
+    for (int p = 0; p < cage.polygonCount(); ++p)
+        if (cage.depth(p) == 1 && cv::pointPolygonTest(cage.polygon(p), centre, false) > 0)
+            around = p;
+    return around;
 }
 
 }  // namespace multicage_fixtures

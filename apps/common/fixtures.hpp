@@ -49,6 +49,14 @@ when fewer than 3 nodes lie in the box. */
 double boxResidual(const cv::multicage::Binding& binding, const std::vector<cv::Point2f>& pose,
                    const cv::Rect2d& box, double inner = 0.8);
 
+/** Pixels inside a polygon (vertices rounded to the nearest pixel), 255 on 0, of `size`: the
+mask the proposal benchmark and its tests score outlines with. */
+cv::Mat polygonMask(const std::vector<cv::Point2f>& polygon, cv::Size size);
+
+/** The outline (depth-1 polygon) of cage holding the centre of box, or -1: the polygon a
+face's scores are measured against. */
+int outlineAround(const cv::multicage::Multicage& cage, const cv::Rect& box);
+
 }  // namespace multicage_fixtures
 
 #endif

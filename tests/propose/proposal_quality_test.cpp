@@ -27,18 +27,11 @@ cv::Mat benchMask(const std::string& name) {
     return m > 127;
 }
 
-cv::Mat fill(const std::vector<cv::Point2f>& polygon, cv::Size size) {
-    cv::Mat m = cv::Mat::zeros(size, CV_8U);
-    std::vector<cv::Point> pts;
-    for (const cv::Point2f& p : polygon) pts.emplace_back(cvRound(p.x), cvRound(p.y));
-    cv::fillPoly(m, std::vector<std::vector<cv::Point>>{pts}, cv::Scalar(255));
-    return m;
-}
-
 cv::Mat outlinesMask(const Multicage& cage) {
     cv::Mat m = cv::Mat::zeros(cage.imageSize(), CV_8U);
     for (int p = 0; p < cage.polygonCount(); ++p)
-        if (cage.depth(p) == 1) m |= fill(cage.polygon(p), cage.imageSize());
+        if (cage.depth(p) == 1)
+            m |= multicage_fixtures::polygonMask(cage.polygon(p), cage.imageSize());
     return m;
 }
 
@@ -104,7 +97,7 @@ TEST(ProposeDefaults, EveryDetectedFaceIsHuggedByExactlyOneInnerPolygon) {
             int holders = 0;
             for (int p = 0; p < cage.polygonCount(); ++p) {
                 if (cage.depth(p) < 2) continue;
-                const cv::Mat m = fill(cage.polygon(p), image.size());
+                const cv::Mat m = multicage_fixtures::polygonMask(cage.polygon(p), image.size());
                 if (cv::countNonZero(m(in)) >= 0.95 * in.area() &&
                     cv::countNonZero(m) <= 3.0 * f.area())
                     ++holders;
@@ -147,16 +140,10 @@ TEST(ProposePerson, TheOutlineAroundAFaceLeavesItAtMostAThirdOfAFaceOfRoom) {
         const Multicage cage = proposeProtectedMulticage(image, ProposeParams(), &faces);
         ASSERT_FALSE(faces.empty()) << name;
         for (const cv::Rect& f : faces) {
-            int around = -1;
-            for (int p = 0; p < cage.polygonCount(); ++p)
-                if (cage.depth(p) == 1 &&
-                    cv::pointPolygonTest(cage.polygon(p),
-                                         cv::Point2f(f.x + f.width / 2.f, f.y + f.height / 2.f),
-                                         false) > 0)
-                    around = p;
+            const int around = multicage_fixtures::outlineAround(cage, f);
             ASSERT_GE(around, 0) << name;
             // The face box is inside its outline.
-            const cv::Mat m = fill(cage.polygon(around), image.size());
+            const cv::Mat m = multicage_fixtures::polygonMask(cage.polygon(around), image.size());
             EXPECT_EQ(cv::countNonZero(m(f & cv::Rect(cv::Point(), image.size()))),
                       (f & cv::Rect(cv::Point(), image.size())).area())
                 << name;
@@ -203,13 +190,7 @@ TEST(ProposeDefaults, FacesStayWithinAPixelOfASimilarityWhenTheOutlineStretches)
         ASSERT_FALSE(faces.empty()) << name;
         const Binding binding = bind(cage, MEAN_VALUE, 2);
         for (const cv::Rect& f : faces) {
-            int around = -1;
-            for (int p = 0; p < cage.polygonCount(); ++p)
-                if (cage.depth(p) == 1 &&
-                    cv::pointPolygonTest(cage.polygon(p),
-                                         cv::Point2f(f.x + f.width / 2.f, f.y + f.height / 2.f),
-                                         false) > 0)
-                    around = p;
+            const int around = multicage_fixtures::outlineAround(cage, f);
             ASSERT_GE(around, 0) << name;
             const double r = multicage_testing::boxResidual(
                 binding, multicage_fixtures::stretchPolygon(cage, around, 1.2f, 1.0f), f);
