@@ -34,7 +34,7 @@ void writeStatus(const Editor& e, const View& v, const Settings& s, const std::s
       << "playing: " << e.playing << "\nplayhead: " << e.playhead << "\n"
       << "folded: " << v.folded << "\nmin_conditioning: " << v.binding.minConditioning << "\n"
       << "bind_ms: " << v.bindMs << "\ngrid_step: " << s.gridStep
-      << "\ncoordinates: " << (s.coordinates == mc::HARMONIC ? "harmonic" : "mean_value") << "\n"
+      << "\ncoordinates: " << mc::coordinateTypeName(s.coordinates) << "\n"
       << "selection:";
     for (int i : e.selection) o << " " << i;
     o << "\nrest:";

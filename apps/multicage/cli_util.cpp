@@ -197,7 +197,8 @@ int coordinatesArg(const std::string& name) {
     return type;
 }
 
-void addDeformOptions(CLI::App* cmd, DeformOptions& o) {
+void addDeformOptions(CLI::App* cmd, DeformOptions& o, int defaultCoordinates) {
+    o.defaultCoordinates = defaultCoordinates;
     using namespace cv::multicage;
     std::vector<std::string> backends;  // "auto (a hardware GPU if there is one, else the CPU)", "cpu", "gpu"
     for (const std::string& name : backendNames())
@@ -213,7 +214,11 @@ void addDeformOptions(CLI::App* cmd, DeformOptions& o) {
         ->check(CLI::IsMember(backendNames()));
     cmd->add_option(
            "--coords", o.coords,
-           "Cage coordinates: " + orList(coordinates) + " (default: the cage file's choice)")
+           "Cage coordinates: " + orList(coordinates) + " (default: " +
+               (defaultCoordinates == COORDINATES_FROM_CAGE
+                    ? std::string("the cage file's choice")
+                    : std::string(coordinateTypeName(defaultCoordinates))) +
+               ")")
         ->check(CLI::IsMember(coordinateNames()));
     o.gridStepOption =
         cmd->add_option(
@@ -236,7 +241,10 @@ cv::multicage::DeformParams deformParams(const DeformOptions& o, const std::stri
                                          std::string* stepChange) {
     cv::multicage::DeformParams params;
     params.backend = backendArg(o.backend);
-    params.coordinates = o.coords.empty() ? cage.coordinates() : coordinatesArg(o.coords);
+    params.coordinates = !o.coords.empty() ? coordinatesArg(o.coords)
+                         : o.defaultCoordinates == cv::multicage::COORDINATES_FROM_CAGE
+                             ? cage.coordinates()
+                             : o.defaultCoordinates;
     if (!o.memoryBudget.empty()) params.memoryBudget = parseMemorySize(o.memoryBudget);
     const bool typed = o.gridStepOption && o.gridStepOption->count() > 0;
     params.gridStep = chooseGridStep(command, imageSize, cage.vertexCount(), o.gridStep, typed,

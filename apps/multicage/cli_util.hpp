@@ -74,7 +74,7 @@ std::vector<std::string> backendNames();
 std::vector<std::string> coordinateNames();
 // The library's names (cv::multicage::parseBackend, parseCoordinateType), as a Failure when unknown.
 int backendArg(const std::string& name);       // auto | cpu | gpu
-int coordinatesArg(const std::string& name);   // mvc | harmonic
+int coordinatesArg(const std::string& name);   // mvc | harmonic | local_mvc
 
 /** The options of a deformation that deform, animate and demo share, as typed. */
 struct DeformOptions {
@@ -84,12 +84,17 @@ struct DeformOptions {
     int gridStep = 1;              //!< --grid-step
     std::vector<double> border;    //!< --border: 1 to 4 channel values; empty: 0
     const CLI::Option* gridStepOption = nullptr;  //!< set by addDeformOptions: typed or not
+    /** The coordinates without --coords: COORDINATES_FROM_CAGE (the cage's own) or a type the
+    command prefers (resize: local mean value, so what an outline holds keeps its shape). */
+    int defaultCoordinates = cv::multicage::COORDINATES_FROM_CAGE;
 };
 /** Adds --backend, --coords, --grid-step, --memory-budget and --border to cmd, stored in o
-(which must live as long as cmd). The valid names are the library's. */
-void addDeformOptions(CLI::App* cmd, DeformOptions& o);
+(which must live as long as cmd). The valid names are the library's; defaultCoordinates is
+what no --coords means (and what the help says). */
+void addDeformOptions(CLI::App* cmd, DeformOptions& o,
+                      int defaultCoordinates = cv::multicage::COORDINATES_FROM_CAGE);
 /** The DeformParams the options ask for on this image and cage: backend and coordinates
-parsed (no --coords: the cage's own), memory budget and border, and the grid step
+parsed (no --coords: o.defaultCoordinates, the cage's own by default), memory budget and border, and the grid step
 chooseGridStep() picks (`command` and *stepChange as there). Throws a Failure for a bad
 --memory-budget. */
 cv::multicage::DeformParams deformParams(const DeformOptions& o, const std::string& command,

@@ -202,7 +202,7 @@ void addResizeCommand(CLI::App& app) {
     cmd->add_option("--protect", o->protect,
                     "What the proposal protects inside each outline: saliency, faces or all "
                     "(default: the proposal's)");
-    addDeformOptions(cmd, o->deform);
+    addDeformOptions(cmd, o->deform, cv::multicage::ResizeParams().coordinates);
     cmd->add_flag("-q,--quiet", o->quiet, "Print only the files written");
     cmd->callback([o]() { runResize(*o); });
 }

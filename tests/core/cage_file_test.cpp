@@ -75,7 +75,7 @@ TEST(CageFile, MalformedFilesNameTheField) {
         {"polygons:\n  - [ 1, 1, 5, 1, 5, 5 ]\n", "image_size: missing"},
         {"image_size: [ 10 ]\npolygons: []\n", "image_size: must be [ width, height ]"},
         {"image_size: [ 10, 10 ]\n", "polygons: missing"},
-        {"image_size: [ 10, 10 ]\ncoordinates: wachspress\npolygons: []\n", "coordinates: must be mean_value or harmonic"},
+        {"image_size: [ 10, 10 ]\ncoordinates: wachspress\npolygons: []\n", "coordinates: must be mean_value, harmonic or local_mean_value"},
         {"image_size: [ 10, 10 ]\npolygons:\n  - [ 1, 1, 5, 1, 5, 5 ]\n  - [ 1, 7, 2, 7, 2 ]\n",
          "polygons[1]: odd number of coordinates (5)"},
         {"image_size: [ 10, 10 ]\npolygons:\n  - [ 1, 1, 5, one, 5, 5 ]\n",

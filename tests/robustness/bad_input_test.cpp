@@ -78,7 +78,7 @@ TEST(BadInput, CageFilesOfEveryMalformedKind) {
         {"image_size not integers", "realsize.yml", std::string(kYaml) + "image_size: [ 10.5, 10 ]\npolygons: []\n",
          "image_size: must be [ width, height ] with two positive integers"},
         {"unknown coordinates", "coords.yml", std::string(kYaml) + "coordinates: green\n" + ok,
-         "coordinates: must be mean_value or harmonic"},
+         "coordinates: must be mean_value, harmonic or local_mean_value"},
         {"polygons missing", "nopolygons.yml", std::string(kYaml) + "image_size: [ 10, 10 ]\n", "polygons: missing"},
         {"polygons not a list", "polygons5.yml", std::string(kYaml) + "image_size: [ 10, 10 ]\npolygons: 5\n",
          "polygons: is not a list of polygons"},

@@ -3,6 +3,7 @@
 #include <opencv2/multicage/coordinates.hpp>
 
 #include <cstring>
+#include <memory>
 #include <mutex>
 #if defined(__linux__)
 #include <sys/mman.h>
@@ -11,6 +12,7 @@
 #include <opencv2/multicage/internal/backend_contract.hpp>
 #include <opencv2/multicage/internal/geometry.hpp>
 #include "harmonic.hpp"
+#include "local_regions.hpp"
 #include "mean_value.hpp"
 #include <opencv2/multicage/internal/point_input.hpp>
 
@@ -215,9 +217,12 @@ struct SumsAt {
 // Hormann & Floater 2006: t_i = tan(alpha_i / 2), w_i = (t_{i-1} + t_i) / r_i. The float
 // kernel flags nodes on or near a vertex or an edge; those are redone in double by the caller.
 // out[i] receives vertex i's row; tbuf is n*m scratch.
+// keep (local mean value coordinates; nullptr: every node) is 0 at nodes whose region this
+// polygon does not bound: their weights are 0, and nothing of this polygon flags them.
 MULTICAGE_TARGET_CLONES
 void rawWeightsRow(const Point2f* v, int n, float sign, const float* xs, int m, float y,
-                   float* const* out, float* tbuf, int* nearSingular, const SumsAt& sums) {
+                   float* const* out, float* tbuf, int* nearSingular, const SumsAt& sums,
+                   const int* keep) {
     for (int i = 0; i < n; ++i) {  // r_i, kept in the output row until pass 3
         const float vx = v[i].x, dy = v[i].y - y;
         float* r = out[i];
@@ -245,14 +250,21 @@ void rawWeightsRow(const Point2f* v, int n, float sign, const float* xs, int m, 
             t[k] = sign * num / den;
             // near a vertex (r small) or an edge (A small while the edge is seen at > 90 deg)
             const bool bad = ri[k] < 1e-3f || (D <= 0.f && std::abs(A) < 1e-4f * rr);
-            nearSingular[k] |= static_cast<int>(bad);
+            nearSingular[k] |= static_cast<int>(bad) & (keep ? keep[k] : 1);
         }
     }
     for (int i = 0; i < n; ++i) {  // w_i
         const float* __restrict tprev = tbuf + static_cast<size_t>(i == 0 ? n - 1 : i - 1) * m;
         const float* __restrict t = tbuf + static_cast<size_t>(i) * m;
         float* __restrict w = out[i];
-        for (int k = 0; k < m; ++k) w[k] = (tprev[k] + t[k]) / w[k];
+        if (keep) {
+            for (int k = 0; k < m; ++k) {
+                const float wk = (tprev[k] + t[k]) / w[k];
+                w[k] = keep[k] ? wk : 0.f;  // a select: NaN or inf of a far polygon is dropped
+            }
+        } else {
+            for (int k = 0; k < m; ++k) w[k] = (tprev[k] + t[k]) / w[k];
+        }
     }
     // The sums Algorithm 1 and the projection need, in double: for 8 nodes at a time, all n
     // vertices in order with the 8 nodes' sums kept in registers (GCC vector extensions: one
@@ -289,11 +301,13 @@ void rawWeightsRow(const Point2f* v, int n, float sign, const float* xs, int m, 
 // Sums of the rest vertices' coordinates, for the Gram matrix of the linear-precision projection.
 struct VertexMoments {
     double n = 0, sx = 0, sy = 0, sxx = 0, sxy = 0, syy = 0;
+    VertexMoments() = default;
     explicit VertexMoments(const std::vector<Point2f>& v) {
-        for (const Point2f& p : v) {
-            n += 1, sx += p.x, sy += p.y;
-            sxx += double(p.x) * p.x, sxy += double(p.x) * p.y, syy += double(p.y) * p.y;
-        }
+        for (const Point2f& p : v) add(p);
+    }
+    void add(Point2f p) {
+        n += 1, sx += p.x, sy += p.y;
+        sxx += double(p.x) * p.x, sxy += double(p.x) * p.y, syy += double(p.y) * p.y;
     }
 };
 
@@ -334,14 +348,22 @@ inline void projectionTerms(const VertexMoments mo, double y, int m, const doubl
 // CC_j = w_j / W + l0 + l1 dx_j + l2 dy_j, (l0, l1, l2) from the 3x3 Gram system (in double).
 // Writes each node's conditioning |W| / sum |w_j| to kappa and flags non-finite or cancelling
 // totals in nearSingular (the caller redoes those nodes exactly).
+// active (local mean value coordinates; nullptr: all) flags the vertices of the polygons that
+// bound the nodes' region: the projection spreads over those alone (M holds their moments), and
+// the others stay exactly 0.
 MULTICAGE_TARGET_CLONES
 void normalizeAndProject(float* const* out, int c, const Point2f* v, const VertexMoments& M,
                          double y, int m, const SumsAt& s, int* nearSingular, double* kappa,
-                         float* inv, float* l0, float* l1, float* l2) {
+                         float* inv, float* l0, float* l1, float* l2,
+                         const unsigned char* active) {
     projectionTerms(M, y, m, s.xs, s.W, s.absW, s.sx, s.sy, nearSingular, kappa, inv, l0, l1, l2);
     for (int j = 0; j < c; ++j) {
         const float vx = v[j].x, dy = static_cast<float>(v[j].y - y);
         float* w = out[j];
+        if (active && !active[j]) {
+            std::fill(w, w + m, 0.f);
+            continue;
+        }
         for (int k = 0; k < m; ++k) {
             const float dx = vx - static_cast<float>(s.xs[k]);
             w[k] = w[k] * inv[k] + (l0[k] + l1[k] * dx + l2[k] * dy);
@@ -351,10 +373,14 @@ void normalizeAndProject(float* const* out, int c, const Point2f* v, const Verte
 
 // Algorithm 1 for one node in double precision, with the exact vertex/edge policy.
 // Writes the c coefficients to cc and returns the conditioning |sum w| / sum |w|.
-double bindNodeExact(const std::vector<BoundPolygon>& polygons, Point2d x, double* cc, int c) {
+// keep (local mean value coordinates; empty: all): the polygons bounding x's region.
+double bindNodeExact(const std::vector<BoundPolygon>& polygons, Point2d x, double* cc, int c,
+                     const std::vector<bool>& keep = {}) {
     std::fill(cc, cc + c, 0.0);
     std::vector<Point2d> v;
-    for (const BoundPolygon& p : polygons) {
+    for (size_t q = 0; q < polygons.size(); ++q) {
+        if (!keep.empty() && !keep[q]) continue;
+        const BoundPolygon& p = polygons[q];
         v.assign(p.v.begin(), p.v.end());
         const MeanValueCase where = meanValueWeights(v.data(), static_cast<int>(v.size()), x, cc + p.first);
         if (where != MeanValueCase::General) {  // the node follows this polygon alone
@@ -392,8 +418,9 @@ Binding bind(const Multicage& multicage, int coordinates, int gridStep) {
     if (!multicage.validateGeometry(&why)) CV_Error(Error::StsBadArg, "multicage: cannot bind: " + why);
     coordinates = resolveCoordinates(multicage, coordinates);
     if (coordinates == HARMONIC) return bindHarmonic(multicage, gridStep);
-    if (coordinates != MEAN_VALUE)
+    if (coordinates != MEAN_VALUE && coordinates != LOCAL_MEAN_VALUE)
         CV_Error_(Error::StsOutOfRange, ("multicage: unknown coordinate type %d", coordinates));
+    const bool local = coordinates == LOCAL_MEAN_VALUE;
     Binding b = emptyBinding(multicage, coordinates, gridStep);
     const int c = b.coefficientCount(), m = b.gridSize.width, N = b.nodeCount();
 
@@ -409,6 +436,28 @@ Binding bind(const Multicage& multicage, int coordinates, int gridStep) {
     polygons.push_back(BoundPolygon{multicage.frame(), c - 4, 1.f});
 
     const VertexMoments moments(b.restVertices);
+    // Local mean value coordinates: per region, the polygons bounding it (their raw weights are
+    // the only ones summed there), their vertices, and those vertices' moments.
+    std::unique_ptr<LocalRegions> regions;
+    std::vector<std::vector<bool>> boundingPolygons;
+    std::vector<std::vector<unsigned char>> activeVertices;
+    std::vector<VertexMoments> regionMoments;
+    if (local) {
+        regions.reset(new LocalRegions(multicage));
+        const int R = regions->frame() + 1;
+        boundingPolygons.assign(R, std::vector<bool>(polygons.size()));
+        activeVertices.assign(R, std::vector<unsigned char>(c));
+        regionMoments.resize(R);
+        for (int r = 0; r < R; ++r)
+            for (size_t q = 0; q < polygons.size(); ++q) {
+                if (!regions->bounds(static_cast<int>(q), r)) continue;
+                boundingPolygons[r][q] = true;
+                for (size_t i = 0; i < polygons[q].v.size(); ++i) {
+                    activeVertices[r][polygons[q].first + i] = 1;
+                    regionMoments[r].add(polygons[q].v[i]);
+                }
+            }
+    }
     b.coefficients.create(c, N, CV_32F);
     adviseHugePages(b.coefficients);
     std::mutex worstLock;
@@ -421,6 +470,8 @@ Binding bind(const Multicage& multicage, int coordinates, int gridStep) {
         std::vector<double> kappa(m);
         RowSums sums(m);
         std::vector<int> nearSingular(m);  // int, not uchar: the AVX2 kernel needs no packing
+        std::vector<int> region(local ? m : 0), keep(local ? kChunk : 0);
+        std::vector<float*> runOut(local ? c : 0);
         std::vector<float*> out(c), chunkOut(c);
         std::vector<double> exact(c);
         double localWorst = 2.0;
@@ -431,6 +482,7 @@ Binding bind(const Multicage& multicage, int coordinates, int gridStep) {
             for (int j = 0; j < c; ++j) out[j] = b.coefficients.ptr<float>(j) + static_cast<size_t>(gy) * m;
             std::fill(nearSingular.begin(), nearSingular.end(), 0);
             sums.clear();
+            if (local) regions->regionsOfRow(xs.data(), m, y, region.data());
             // The row in chunks of nodes small enough that every pass over a chunk (distances,
             // half-angle tangents, weights and sums, normalisation) stays in the L1/L2 cache.
             // Each node's arithmetic is the same whatever the chunk.
@@ -438,16 +490,41 @@ Binding bind(const Multicage& multicage, int coordinates, int gridStep) {
                 const int K = std::min(kChunk, m - k0);
                 for (int j = 0; j < c; ++j) chunkOut[j] = out[j] + k0;
                 const SumsAt at(sums, k0);
-                for (const BoundPolygon& p : polygons)
+                for (size_t q = 0; q < polygons.size(); ++q) {
+                    const BoundPolygon& p = polygons[q];
+                    if (local) {  // a polygon bounding no region of this chunk adds nothing
+                        int any = 0;
+                        for (int k = 0; k < K; ++k)
+                            any |= keep[k] = regions->bounds(static_cast<int>(q), region[k0 + k]);
+                        if (!any) continue;  // its weights here: zeroed below
+                    }
                     rawWeightsRow(p.v.data(), static_cast<int>(p.v.size()), p.sign, xs.data() + k0, K,
-                                  float(y), chunkOut.data() + p.first, tbuf.data(), nearSingular.data() + k0, at);
-                normalizeAndProject(chunkOut.data(), c, b.restVertices.data(), moments, y, K, at,
-                                    nearSingular.data() + k0, kappa.data() + k0, inv.data(), l0.data(),
-                                    l1.data(), l2.data());
+                                  float(y), chunkOut.data() + p.first, tbuf.data(), nearSingular.data() + k0, at,
+                                  local ? keep.data() : nullptr);
+                }
+                if (!local) {
+                    normalizeAndProject(chunkOut.data(), c, b.restVertices.data(), moments, y, K, at,
+                                        nearSingular.data() + k0, kappa.data() + k0, inv.data(), l0.data(),
+                                        l1.data(), l2.data(), nullptr);
+                    continue;
+                }
+                // Each run of nodes of one region is projected onto that region's vertices.
+                for (int a = 0; a < K;) {
+                    const int r = region[k0 + a];
+                    int e = a + 1;
+                    while (e < K && region[k0 + e] == r) ++e;
+                    for (int j = 0; j < c; ++j) runOut[j] = chunkOut[j] + a;
+                    normalizeAndProject(runOut.data(), c, b.restVertices.data(), regionMoments[r], y,
+                                        e - a, SumsAt(sums, k0 + a), nearSingular.data() + k0 + a,
+                                        kappa.data() + k0 + a, inv.data(), l0.data(), l1.data(),
+                                        l2.data(), activeVertices[r].data());
+                    a = e;
+                }
             }
             for (int k = 0; k < m; ++k) {
                 if (nearSingular[k]) {
-                    kappa[k] = bindNodeExact(polygons, Point2d(xs[k], y), exact.data(), c);
+                    kappa[k] = bindNodeExact(polygons, Point2d(xs[k], y), exact.data(), c,
+                                             local ? boundingPolygons[region[k]] : std::vector<bool>());
                     for (int j = 0; j < c; ++j) out[j][k] = static_cast<float>(exact[j]);
                 }
                 if (kappa[k] < localWorst) localWorst = kappa[k], localAt = Point2f(xs[k], float(y));

@@ -88,7 +88,10 @@ void checkYamlLayout(const std::string& text, const std::string& where) {
 void Multicage::write(FileStorage& fs) const {
     fs << "image_size" << "[:" << imageSize_.width << imageSize_.height << "]";
     // The file spells mean value coordinates out (parseCoordinateType reads both spellings).
-    fs << "coordinates" << (coordinates_ == HARMONIC ? "harmonic" : "mean_value");
+    fs << "coordinates"
+       << (coordinates_ == HARMONIC           ? "harmonic"
+           : coordinates_ == LOCAL_MEAN_VALUE ? "local_mean_value"
+                                              : "mean_value");
     fs << "polygons" << "[";
     for (const auto& polygon : polygons_) writeCoordinates(fs, polygon);
     fs << "]";
@@ -114,7 +117,7 @@ void Multicage::read(const FileNode& root) {
     const FileNode coordinates = root["coordinates"];  // optional, mean value by default
     if (!coordinates.empty()) {
         const std::string name = coordinates.isString() ? static_cast<std::string>(coordinates) : "";
-        if (!parseCoordinateType(name, cage.coordinates_)) malformed("coordinates", "must be mean_value or harmonic");
+        if (!parseCoordinateType(name, cage.coordinates_)) malformed("coordinates", "must be mean_value, harmonic or local_mean_value");
     }
 
     const FileNode polygons = root["polygons"];

@@ -264,25 +264,35 @@ const char* coordinateTypeName(int type) {
     switch (type) {
     case MEAN_VALUE: return "mvc";
     case HARMONIC: return "harmonic";
+    case LOCAL_MEAN_VALUE: return "local_mvc";
     case COORDINATES_FROM_CAGE: return "cage";
     default: return nullptr;
     }
 }
 
 const char* coordinateTypeDescription(int type) {
-    return type == HARMONIC ? "harmonic" : type == MEAN_VALUE ? "mean value" : "the cage's";
+    switch (type) {
+    case MEAN_VALUE: return "mean value";
+    case HARMONIC: return "harmonic";
+    case LOCAL_MEAN_VALUE: return "local mean value";
+    default: return "the cage's";
+    }
 }
 
 bool parseCoordinateType(const String& name, int& type) {
     if (name == "mvc" || name == "mean_value") type = MEAN_VALUE;
     else if (name == "harmonic") type = HARMONIC;
+    else if (name == "local_mvc" || name == "local_mean_value") type = LOCAL_MEAN_VALUE;
     else return false;
     return true;
 }
 
 void Multicage::setCoordinates(int coordinates) {
-    if (coordinates != MEAN_VALUE && coordinates != HARMONIC)
-        CV_Error_(Error::StsOutOfRange, ("multicage: unknown coordinate type %d (0 mean value, 1 harmonic)", coordinates));
+    if (coordinates != MEAN_VALUE && coordinates != HARMONIC && coordinates != LOCAL_MEAN_VALUE)
+        CV_Error_(Error::StsOutOfRange,
+                  ("multicage: unknown coordinate type %d (0 mean value, 1 harmonic, 2 local mean "
+                   "value)",
+                   coordinates));
     coordinates_ = coordinates;
 }
 

@@ -105,13 +105,15 @@ int parseCoordinates(const py::handle& obj) {
     return enumFromObject(obj, "coordinates",
                           {{coordinateTypeName(MEAN_VALUE), MEAN_VALUE},
                            {"mean_value", MEAN_VALUE},  // the cage file's spelling
-                           {coordinateTypeName(HARMONIC), HARMONIC}},
-                          2);
+                           {coordinateTypeName(HARMONIC), HARMONIC},
+                           {coordinateTypeName(LOCAL_MEAN_VALUE), LOCAL_MEAN_VALUE},
+                           {"local_mean_value", LOCAL_MEAN_VALUE}},
+                          3);
 }
 
 const char* coordinatesName(int c) {
     // COORDINATES_FROM_CAGE reads as mvc, the cage's default, where a name must be given.
-    return coordinateTypeName(c == HARMONIC ? HARMONIC : MEAN_VALUE);
+    return coordinateTypeName(c == COORDINATES_FROM_CAGE ? MEAN_VALUE : c);
 }
 
 DeformParams deformParams(const py::object& coordinates, const py::object& gridStep,

@@ -50,7 +50,8 @@ void defineEnums(py::module_& m) {
         .value("GPU", BACKEND_GPU);
     py::enum_<CoordinateType>(m, "CoordinateType", "Cage coordinates.")
         .value("MEAN_VALUE", MEAN_VALUE)
-        .value("HARMONIC", HARMONIC);
+        .value("HARMONIC", HARMONIC)
+        .value("LOCAL_MEAN_VALUE", LOCAL_MEAN_VALUE);
     py::enum_<ProposeMethod>(m, "ProposeMethod", "How propose_multicage finds objects.")
         .value("AUTO", PROPOSE_AUTO)
         .value("THRESHOLD", PROPOSE_THRESHOLD)

@@ -93,13 +93,19 @@ Similarity outlineSimilarity(const std::vector<Point2f>& outline, Size image, Si
     return sim;
 }
 
-// The depth-1 polygon holding polygon i (itself for an outline).
-int outlineOf(const Multicage& cage, int i) {
-    if (cage.depth(i) <= 1) return i;
+// The polygon of the given depth holding polygon i (itself at that depth or above).
+int ancestorOf(const Multicage& cage, int i, int depth) {
+    if (cage.depth(i) <= depth) return i;
     const Point2f probe = cage.polygon(i)[0];
     for (int j = 0; j < cage.polygonCount(); ++j)
-        if (cage.depth(j) == 1 && pointPolygonTest(cage.polygon(j), probe, false) > 0) return j;
+        if (cage.depth(j) == depth && pointPolygonTest(cage.polygon(j), probe, false) > 0)
+            return j;
     return i;  // not reached for a valid multicage
+}
+
+// The depth-1 polygon holding polygon i (itself for an outline).
+int outlineOf(const Multicage& cage, int i) {
+    return ancestorOf(cage, i, 1);
 }
 
 // The frame's own scaling: the cv::resize pose (valid and fold-free for any multicage).
@@ -202,21 +208,32 @@ std::vector<Point2f> resizePose(const Multicage& cage, const Binding& binding, S
     const size_t users = rest.size() - 4;
     for (int k = 0; k < 4; ++k) similar[users + k] = scaled[users + k] = frame[k];
 
-    // Inner polygons' centres, for keeping them similarities while their outline blends.
-    std::vector<int> owner(rest.size(), -1);  // the inner polygon a vertex belongs to
+    // Inner polygons' centres, for keeping them similarities while their outline blends: a
+    // depth-2 polygon and everything nested in it move as one (the eyes with their face).
+    std::vector<int> owner(rest.size(), -1);  // per vertex: the depth-2 polygon it moves with
     std::vector<Point2f> centre(cage.polygonCount());
     for (int i = 0; i < cage.polygonCount(); ++i) {
-        if (cage.depth(i) < 2) continue;
+        if (cage.depth(i) != 2) continue;
         const std::vector<Point2f> poly = cage.polygon(i);
         Point2f c;
         for (const Point2f& p : poly) c += p;
         centre[i] = c * (1.f / poly.size());
-        for (int k = 0; k < static_cast<int>(poly.size()); ++k)
-            owner[cage.polygonOffset(i) + k] = i;
+    }
+    for (int i = 0; i < cage.polygonCount(); ++i) {
+        if (cage.depth(i) < 2) continue;
+        const int group = ancestorOf(cage, i, 2);
+        for (int k = 0; k < static_cast<int>(cage.polygon(i).size()); ++k)
+            owner[cage.polygonOffset(i) + k] = group;
     }
     // Stage 1 (t in [0, 1]): outlines go t of the way from the frame's scaling to their
-    // similarity; inner polygons keep their similarity (same scale), carried along with their
-    // centre. Stage 2 (whole = true): every vertex does, inner ones included.
+    // similarity; inner polygons stay similarities all the way, their centre carried from the
+    // frame's scaling of it to the outline's similarity of it, their scale from the frame's
+    // smaller scale (a uniform copy at that scale fits inside the frame's scaling of the
+    // polygon, so inside the outline at t = 0) to the outline's. With local coordinates what
+    // they hold then keeps its shape exactly, whatever t the fold check allows. Stage 2 (whole
+    // = true): every vertex blends, inner ones included.
+    const double smallerScale =
+        std::min(double(newSize.width) / image.width, double(newSize.height) / image.height);
     auto blend = [&](double t, bool whole) {
         std::vector<Point2f> pose(rest.size());
         for (size_t k = 0; k < rest.size(); ++k) {
@@ -225,7 +242,8 @@ std::vector<Point2f> resizePose(const Multicage& cage, const Binding& binding, S
             if (i < 0 || whole) continue;
             const Similarity& sim = outlines[outlineOf(cage, i)];
             const Point2f c = frameScaling(centre[i], image, newSize), cs = sim(centre[i]);
-            pose[k] = c + float(t) * (cs - c) + float(sim.s) * (rest[k] - centre[i]);
+            const double s0 = std::min(sim.s, smallerScale), s = s0 + t * (sim.s - s0);
+            pose[k] = c + float(t) * (cs - c) + float(s) * (rest[k] - centre[i]);
         }
         return pose;
     };
@@ -267,7 +285,7 @@ std::vector<Point2f> resizePose(const Multicage& cage, Size newSize, const Resiz
     if (!cage.validate(&why))
         CV_Error_(Error::StsBadArg,
                   ("multicage: resize: the multicage is not valid: %s", why.c_str()));
-    return resizePose(cage, bind(cage, MEAN_VALUE, params.gridStep), newSize, params);
+    return resizePose(cage, bind(cage, params.coordinates, params.gridStep), newSize, params);
 }
 
 }  // namespace multicage

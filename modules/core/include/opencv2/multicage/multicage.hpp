@@ -16,16 +16,26 @@ enum CoordinateType {
     holds everywhere: the cage file's choice unless the caller names a type. */
     COORDINATES_FROM_CAGE = -1,
     MEAN_VALUE = 0,  //!< Hormann & Floater 2006; smooth, may be negative, global support
-    HARMONIC = 1     //!< DeRose & Meyer 2006; non-negative, each region sees only its polygons
+    HARMONIC = 1,    //!< DeRose & Meyer 2006; non-negative, each region sees only its polygons
+    /** Mean value coordinates restricted, node by node, to the polygons that bound the node's
+    region (the region inside a polygon and outside its children sees that polygon and its
+    children; the frame's region sees the frame and the outlines): local as harmonic
+    coordinates are, at the cost of mean value ones. What an innermost polygon holds follows
+    that polygon alone, so a protected polygon moved by a similarity moves its content by
+    exactly that similarity, whatever the outline and the frame do. Continuous across every
+    edge (on an edge both sides give the edge's linear interpolation); partition of unity and
+    linear precision hold. Not the paper's Algorithm 1: see docs/coordinates.md. */
+    LOCAL_MEAN_VALUE = 2
 };
 
-/** The name of a CoordinateType in the CLI, Python and editor: "mvc", "harmonic", or "cage"
-for COORDINATES_FROM_CAGE; nullptr for any other value. */
+/** The name of a CoordinateType in the CLI, Python and editor: "mvc", "harmonic", "local_mvc",
+or "cage" for COORDINATES_FROM_CAGE; nullptr for any other value. */
 CV_EXPORTS const char* coordinateTypeName(int type);
-/** The words for a CoordinateType in sentences: "mean value", "harmonic". */
+/** The words for a CoordinateType in sentences: "mean value", "harmonic", "local mean value". */
 CV_EXPORTS const char* coordinateTypeDescription(int type);
 /** The CoordinateType called name: "mvc" or "mean_value" (the cage file's spelling) for
-MEAN_VALUE, "harmonic" for HARMONIC. False, type untouched, for any other name. */
+MEAN_VALUE, "harmonic" for HARMONIC, "local_mvc" or "local_mean_value" for LOCAL_MEAN_VALUE.
+False, type untouched, for any other name. */
 CV_EXPORTS bool parseCoordinateType(const String& name, int& type);
 
 /** Why name cannot be a pose name ("\"p \" starts or ends with a space"), or "" when it can.
@@ -120,8 +130,9 @@ public:
     /** Index of the pose called name, or -1. */
     int findPose(const std::string& name) const;
 
-    /** The cage coordinates this multicage is meant to be bound with (MEAN_VALUE or
-    HARMONIC), saved in the cage file as `coordinates: mean_value|harmonic`. */
+    /** The cage coordinates this multicage is meant to be bound with (MEAN_VALUE, HARMONIC or
+    LOCAL_MEAN_VALUE), saved in the cage file as
+    `coordinates: mean_value|harmonic|local_mean_value`. */
     int coordinates() const;
     void setCoordinates(int coordinates);
 

@@ -11,7 +11,11 @@ namespace multicage {
 
 /** Parameters of resizePose() and contentAwareResize(). */
 struct CV_EXPORTS ResizeParams {
-    int coordinates = MEAN_VALUE;  //!< CoordinateType of the binding contentAwareResize() makes
+    /** CoordinateType of the binding contentAwareResize() makes (COORDINATES_FROM_CAGE: the
+    cage's). Local mean value coordinates by default: what an outline holds then follows the
+    outline's similarity exactly, where Algorithm 1's global sums leak the frame's stretch
+    into it (docs/resize). */
+    int coordinates = LOCAL_MEAN_VALUE;
     int gridStep = 1;              //!< its grid step (DeformParams::gridStep)
     int backend = BACKEND_AUTO;    //!< its Backend
     /** ProtectDetector of the default proposal (an empty cage in contentAwareResize()):
@@ -48,7 +52,7 @@ always validates and folds no triangle of `binding`'s mesh.
 cage: a valid multicage; newSize: each side at least 1 and at most params.maxScale x the
 image's (else cv::Exception StsOutOfRange naming the limit). Returns vertexCount()+4 points,
 frame corners last: Deformer::deform renders it into a newSize image.
-The first form checks folds on a mean value binding of cage at params.gridStep (it binds: use
+The first form checks folds on a binding of cage with params.coordinates at params.gridStep (it binds: use
 the second form with the Deformer's binding to resize many times). */
 CV_EXPORTS std::vector<Point2f> resizePose(const Multicage& cage, Size newSize,
                                            const ResizeParams& params = ResizeParams());

@@ -1,0 +1,80 @@
+// Which polygons bound each node's region, for local mean value coordinates.
+#include "local_regions.hpp"
+
+#include <algorithm>
+#include <numeric>
+
+namespace cv {
+namespace multicage {
+
+namespace {
+
+// Where the edges of a polygon cross the line y (an edge counts when exactly one of its ends is
+// at or above y: each crossing is counted once, also through a vertex), sorted.
+void rowCrossings(const std::vector<Point2d>& v, double y, std::vector<double>& out) {
+    out.clear();
+    const size_t n = v.size();
+    for (size_t i = 0, j = n - 1; i < n; j = i++) {
+        const Point2d a = v[j], b = v[i];
+        if ((a.y <= y) == (b.y <= y)) continue;
+        out.push_back(a.x + (y - a.y) * (b.x - a.x) / (b.y - a.y));
+    }
+    std::sort(out.begin(), out.end());
+}
+
+}  // namespace
+
+LocalRegions::LocalRegions(const Multicage& multicage) {
+    const int P = multicage.polygonCount();
+    polygons_.resize(P);
+    for (int p = 0; p < P; ++p) {
+        const std::vector<Point2f> poly = multicage.polygon(p);
+        polygons_[p].assign(poly.begin(), poly.end());
+    }
+    parent_.assign(P, P);
+    byDepth_.resize(P);
+    std::iota(byDepth_.begin(), byDepth_.end(), 0);
+    std::vector<int> depth(P);
+    for (int p = 0; p < P; ++p) depth[p] = multicage.depth(p);
+    std::stable_sort(byDepth_.begin(), byDepth_.end(),
+                     [&](int a, int b) { return depth[a] < depth[b]; });
+    std::vector<double> scratch;
+    // The parent is the polygon one level up holding the child's first vertex (polygons of a
+    // valid multicage are nested or disjoint, so any vertex of the child decides).
+    for (int p = 0; p < P; ++p)
+        for (int q = 0; q < P; ++q)
+            if (depth[q] == depth[p] - 1 && insidePolygon(q, polygons_[p][0], scratch))
+                parent_[p] = q;
+}
+
+bool LocalRegions::insidePolygon(int p, Point2d x, std::vector<double>& scratch) const {
+    rowCrossings(polygons_[p], x.y, scratch);
+    const size_t before = std::lower_bound(scratch.begin(), scratch.end(), x.x) - scratch.begin();
+    return before % 2 == 1;
+}
+
+void LocalRegions::regionsOfRow(const float* xs, int m, double y, int* region) const {
+    std::fill(region, region + m, frame());
+    std::vector<double> crossings;
+    // Shallowest first: a deeper polygon's inside overwrites its parent's.
+    for (int p : byDepth_) {
+        rowCrossings(polygons_[p], y, crossings);
+        // xs rises along the row: walk the crossings and the nodes together.
+        size_t c = 0;
+        for (int k = 0; k < m; ++k) {
+            while (c < crossings.size() && crossings[c] < xs[k]) ++c;
+            if (c % 2 == 1) region[k] = p;
+        }
+    }
+}
+
+int LocalRegions::regionOf(Point2d x) const {
+    int r = frame();
+    std::vector<double> scratch;
+    for (int p : byDepth_)
+        if (insidePolygon(p, x, scratch)) r = p;
+    return r;
+}
+
+}  // namespace multicage
+}  // namespace cv
