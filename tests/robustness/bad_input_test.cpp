@@ -224,7 +224,7 @@ TEST(BadInput, BadParametersAreRefused) {
     p.coordinates = 5;
     expectError("unknown coordinate type", [&] { Deformer::create(image, cage, p); }, "unknown coordinate type 5");
     expectError("unknown coordinate type in a multicage", [&] { Multicage(cage).setCoordinates(3); },
-                "unknown coordinate type 3 (0 mean value, 1 harmonic)");
+                "unknown coordinate type 3 (0 mean value, 1 harmonic, 2 local mean value)");
 }
 
 // Rows "huge images": over the memory budget, refused with what would fit or stepped up.
