@@ -1,8 +1,10 @@
 // Content-aware resizing against its anchors, in one run on one photo (issue 25, item 6):
 //   bench_resize [IMAGE] [--repeats N] [--threads T] [--no-liquid]
-// Binds once, then times each target size as resizePose + deform on the CPU, next to a pose at
-// the original size, cv::resize at the same sizes, and ImageMagick's -liquid-rescale (seam
-// carving through liblqr; Debian package imagemagick) where installed. Medians; ratios printed.
+// Binds once (ResizeParams' coordinates), then times each target size as resizePose + deform on
+// the CPU, next to a pose at the original size (every user vertex moved: a pose pays for its
+// moved vertices, and the rest pose moves none), cv::resize at the same sizes, and ImageMagick's
+// -liquid-rescale (seam carving through liblqr; Debian package imagemagick) where installed.
+// Medians; ratios printed.
 #include <unistd.h>
 
 #include <chrono>
@@ -15,6 +17,8 @@
 #include <opencv2/imgproc.hpp>
 #include <opencv2/multicage.hpp>
 #include <string>
+
+#include "fixtures.hpp"
 
 namespace {
 
@@ -34,6 +38,11 @@ double medianMs(int repeats, F&& f) {
     }
     std::nth_element(t.begin(), t.begin() + t.size() / 2, t.end());
     return t[t.size() / 2];
+}
+
+double loadAverage() {
+    double load[1] = {-1};
+    return getloadavg(load, 1) == 1 ? load[0] : -1;
 }
 
 bool haveLiquidRescale() {
@@ -77,19 +86,23 @@ int main(int argc, char** argv) {
     const double proposeMs = ms(t0);
     DeformParams params;
     params.backend = BACKEND_CPU;
+    params.coordinates = ResizeParams().coordinates;
     t0 = Clock::now();
     cv::Ptr<Deformer> d = Deformer::create(image, cage, params);
     const Binding& binding = d->binding();
     const double bindMs = ms(t0);
     std::printf(
         "bench_resize: %s at 1024x768, %d threads, CPU backend, %d polygons, %d vertices; "
-        "propose %.0f ms, bind %.0f ms (once)\n",
+        "%s coordinates, propose %.0f ms, bind %.0f ms (once); load average %.1f\n",
         std::filesystem::path(path).filename().c_str(), threads, cage.polygonCount(),
-        cage.vertexCount(), proposeMs, bindMs);
+        cage.vertexCount(), coordinateTypeDescription(binding.coordinates), proposeMs, bindMs,
+        loadAverage());
 
     cv::Mat out;
     const std::vector<cv::Point2f> rest = cage.vertices();
-    const double poseMs = medianMs(repeats, [&] { d->deform(rest, out); });
+    const std::vector<cv::Point2f> wave = multicage_fixtures::wavePose(cage, 12.f);
+    const double restMs = medianMs(repeats, [&] { d->deform(rest, out); });
+    const double poseMs = medianMs(repeats, [&] { d->deform(wave, out); });
     const bool lqr = liquid && haveLiquidRescale();
     const std::string dir =
         (std::filesystem::temp_directory_path() / ("bench_resize_" + std::to_string(::getpid())))
@@ -106,14 +119,17 @@ int main(int argc, char** argv) {
         });
 
     std::printf(
-        "\n| target | ours: pose + deform | / pose at 1024x768 | cv::resize | liquid rescale "
-        "(ImageMagick) | liquid / ours |\n");
-    std::printf("|---|---|---|---|---|---|\n");
-    std::printf("| 1024x768 (rest pose) | %.1f ms | 1.00 | | | |\n", poseMs);
+        "\n| target | ours: resizePose + deform | resizePose alone | / pose at 1024x768 | "
+        "cv::resize | liquid rescale (ImageMagick) | liquid / ours |\n");
+    std::printf("|---|---|---|---|---|---|---|\n");
+    std::printf("| 1024x768, a pose moving every vertex | %.1f ms | | 1.00 | | | |\n", poseMs);
+    std::printf("| 1024x768, the rest pose | %.1f ms | | %.2f | | | |\n", restMs, restMs / poseMs);
     for (const cv::Size target :
          {cv::Size(1536, 768), cv::Size(717, 768), cv::Size(1365, 768), cv::Size(1024, 1024)}) {
         const double oursMs =
             medianMs(repeats, [&] { d->deform(resizePose(cage, binding, target), out); });
+        const double resizePoseMs =
+            medianMs(repeats, [&] { (void)resizePose(cage, binding, target); });
         const double cvMs =
             medianMs(repeats, [&] { cv::resize(image, out, target, 0, 0, cv::INTER_LINEAR); });
         double lqrMs = 0;
@@ -123,8 +139,8 @@ int main(int argc, char** argv) {
                                     std::to_string(target.height) + "! " + dir + "/l.png";
             lqrMs = medianMs(3, [&] { std::system(cmd.c_str()); });
         }
-        std::printf("| %dx%d | %.1f ms | %.2f | %.2f ms | %s | %s |\n", target.width, target.height,
-                    oursMs, oursMs / poseMs, cvMs,
+        std::printf("| %dx%d | %.1f ms | %.1f ms | %.2f | %.2f ms | %s | %s |\n", target.width,
+                    target.height, oursMs, resizePoseMs, oursMs / poseMs, cvMs,
                     lqr ? cv::format("%.0f ms", lqrMs).c_str() : "not installed",
                     lqr ? cv::format("%.0fx", lqrMs / oursMs).c_str() : "");
     }

@@ -3,10 +3,11 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <functional>
 #include <opencv2/core/utils/logger.hpp>
 #include <opencv2/imgproc.hpp>
 #include <opencv2/multicage/resize.hpp>
+
+#include "fold_free_blend.hpp"
 
 namespace cv {
 namespace multicage {
@@ -98,8 +99,7 @@ int ancestorOf(const Multicage& cage, int i, int depth) {
     if (cage.depth(i) <= depth) return i;
     const Point2f probe = cage.polygon(i)[0];
     for (int j = 0; j < cage.polygonCount(); ++j)
-        if (cage.depth(j) == depth && pointPolygonTest(cage.polygon(j), probe, false) > 0)
-            return j;
+        if (cage.depth(j) == depth && pointPolygonTest(cage.polygon(j), probe, false) > 0) return j;
     return i;  // not reached for a valid multicage
 }
 
@@ -119,33 +119,6 @@ bool validGeometry(const Multicage& cage, const std::vector<Point2f>& pose, Size
     moved.setImageSize(target);
     return moved.validateGeometry();
 }
-
-/** The poses blend(t) of one stage, t in [0, 1], checked cheaply: a pose is affine in t, and so
-are the node positions (Binding::apply is linear in the pose), so the mesh at any t is
-P0 + t (P1 - P0) from two applies. */
-class BlendCheck {
-  public:
-    BlendCheck(const Multicage& cage, const Binding& binding, Size target,
-               std::function<std::vector<Point2f>(double)> blend)
-        : cage_(cage), binding_(binding), target_(target), blend_(std::move(blend)) {
-        binding.apply(blend_(0), p0_);
-        binding.apply(blend_(1), p1_);
-        subtract(p1_, p0_, p1_);  // the change from t = 0 to t = 1
-        rest_ = binding.nodes();
-    }
-    bool valid(double t) {
-        if (!validGeometry(cage_, blend_(t), target_)) return false;
-        scaleAdd(p1_, t, p0_, at_);
-        return countFoldedTriangles(at_, rest_) == 0;
-    }
-
-  private:
-    const Multicage& cage_;
-    const Binding& binding_;
-    Size target_;
-    std::function<std::vector<Point2f>(double)> blend_;
-    Mat p0_, p1_, at_, rest_;
-};
 
 }  // namespace
 
@@ -247,29 +220,46 @@ std::vector<Point2f> resizePose(const Multicage& cage, const Binding& binding, S
         }
         return pose;
     };
-    // The similarities as they are, when they fold nothing and cross nothing (one apply here;
-    // the stages below two each).
-    if (validGeometry(cage, similar, newSize)) {
-        Mat positions;
-        binding.apply(similar, positions);
-        if (countFoldedTriangles(positions, binding.nodes()) == 0) return similar;
-    }
+    // The mesh of the similarities (t = 1 of both stages). Node positions are linear in the
+    // pose (Binding::apply), and the poses of a stage are affine in t, so the mesh at t is
+    // P0 + t (P1 - P0): firstFold() finds where its first triangle folds in one pass. The
+    // meshes are kept per thread: fresh ones cost page faults on every size of a slider (up to
+    // 64 MB each: a bigger binding gives them back at the end).
+    thread_local Mat p1, p0, at;
+    struct ReleaseBig {
+        ~ReleaseBig() {
+            for (Mat* m : {&p0, &p1, &at})
+                if (m->total() * m->elemSize() > (size_t(64) << 20)) m->release();
+        }
+    } releaseBig;
+    binding.apply(similar, p1);
+    const bool similarValid = validGeometry(cage, similar, newSize);
+    if (similarValid && foldedTriangles(p1) == 0) return similar;
     // Subjects that would cross, or a fold: the least blend towards the frame's scaling that is
     // valid, outlines first (what they protect keeps its shape), then everything (t = 0 of
-    // stage 2 is the frame's scaling itself: always valid). Bisection to 1/256.
+    // stage 2 is the frame's scaling itself: always valid).
     for (bool whole : {false, true}) {
-        BlendCheck check(cage, binding, newSize, [&](double t) { return blend(t, whole); });
-        if (!whole && !check.valid(0)) continue;
-        double good = 0, bad = 1;
-        for (int it = 0; it < 8; ++it) {
-            const double t = 0.5 * (good + bad);
-            (check.valid(t) ? good : bad) = t;
+        const std::vector<Point2f> start = blend(0, whole);
+        if (!whole && !validGeometry(cage, start, newSize)) continue;
+        binding.apply(start, p0);
+        // A little short of the first fold (0 when the start folds): at the root itself a
+        // triangle is flat, and near it the image is squeezed to a line.
+        double good = std::min(1.0, 0.98 * firstFold(p0, p1));
+        if (!whole && good == 0) continue;
+        // Polygons crossing: bisection to 1/256 below that (no mesh needed).
+        if (!validGeometry(cage, blend(good, whole), newSize)) {
+            double bad = good;
+            good = 0;
+            for (int it = 0; it < 8; ++it) {
+                const double t = 0.5 * (good + bad);
+                (validGeometry(cage, blend(t, whole), newSize) ? good : bad) = t;
+            }
         }
-        // The mesh at `good` was found by interpolating positions; rounding may differ by an
-        // ulp from apply() itself: confirm, stepping back where a near-flat triangle flips.
-        for (Mat positions; good > 0; good = std::max(0.0, good - 1.0 / 256)) {
-            binding.apply(blend(good, whole), positions);
-            if (countFoldedTriangles(positions, binding.nodes()) == 0) break;
+        // The bound came from interpolated positions; apply() may round a near-flat triangle
+        // the other way: confirm, stepping back until none folds (t = 0 of stage 2 never does).
+        for (; good > 0; good = std::max(0.0, good - 1.0 / 256)) {
+            binding.apply(blend(good, whole), at);
+            if (foldedTriangles(at) == 0) break;
         }
         CV_LOG_INFO(nullptr, "multicage: resize: subjects would cross or the mesh fold; "
                                  << (whole ? "the pose" : "the outlines") << " go " << good
