@@ -121,25 +121,33 @@ class CV_EXPORTS GLDeformer {
     GLDeformer(const GLDeformer&) = delete;
     GLDeformer& operator=(const GLDeformer&) = delete;
 
-    /** The pose: vertexCount() points, or coefficientCount() with the frame corners last. */
+    /** The pose: vertexCount() points, or coefficientCount() with the frame corners last.
+    A pose whose frame corners lie on the frame of another size W'xH' (a resize pose,
+    resizePose() in resize.hpp; the rule is the CPU backend's) renders a W'xH' image: render(),
+    renderMaps() and draw() then draw the new frame. Throws StsOutOfRange when W' or H' exceeds
+    what this GPU draws (GL_MAX_TEXTURE_SIZE, GL_MAX_VIEWPORT_DIMS). */
     void setPose(InputArray pose);
     /** Replaces the image (same size and type as before). */
     void setImage(InputArray image);
     /** Draws the deformed image into the bound framebuffer with the paper's vertex-shader
-    program (whatever params.pipeline says: it draws into the caller's framebuffer): the image
-    rectangle fills the current viewport; flipY puts image row 0 at the top (a window), false
-    at the bottom (what glReadPixels returns first). Uncovered pixels are left untouched. */
+    program (whatever params.pipeline says: it draws into the caller's framebuffer): the pose's
+    frame (the image's, or a resize pose's new one: outputSize()) fills the current viewport; flipY
+    puts image row 0 at the top (a window), false at the bottom (what glReadPixels returns first).
+    Uncovered pixels are left untouched. */
     void draw(bool flipY = true);
-    /** Renders into outputTexture() (image size; border where no triangle covers a pixel)
-    and returns it. */
+    /** Renders into outputTexture() (outputSize(); border where no triangle covers a pixel)
+    and returns it. A pose of another size than the last render's makes a new texture of that
+    size (the old one is deleted: ask outputTexture() again after each render). */
     unsigned render(const Scalar& border = Scalar());
     /** Renders the inverse maps (RG32F: source x, y per pixel; -1e4 where uncovered) into
-    mapsTexture() and returns it. */
+    mapsTexture() (outputSize(), remade like outputTexture()) and returns it. */
     unsigned renderMaps();
-    /** Reads outputTexture() back as the input's size and type. */
+    /** Reads outputTexture() back: the size of the last render(), the input's type. */
     void readOutput(OutputArray dst);
-    /** Reads mapsTexture() back as two CV_32F maps for cv::remap. */
+    /** Reads mapsTexture() back as two CV_32F maps for cv::remap (the last renderMaps()'s size). */
     void readMaps(OutputArray mapx, OutputArray mapy);
+    /** The size the current pose renders into: the image's, or a resize pose's new size. */
+    Size outputSize() const;
 
     unsigned outputTexture() const;
     unsigned mapsTexture() const;
@@ -180,8 +188,8 @@ class CV_EXPORTS GLDeformer {
 };
 
 /** Mean value binding (Algorithm 1, as bind()) computed in a compute shader on a private
-headless EGL context (the process's shared one), read back to the CPU. Throws a cv::Exception when no EGL context with
-OpenGL 4.3 can be made. */
+headless EGL context (the process's shared one), read back to the CPU. Throws a cv::Exception when
+no EGL context with OpenGL 4.3 can be made. */
 CV_EXPORTS Binding bindOnGpu(const Multicage& multicage, int gridStep = 1);
 
 /** Whether a headless EGL context can be made here (any OpenGL 4.3, Mesa's llvmpipe
