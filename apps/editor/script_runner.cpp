@@ -34,6 +34,7 @@ void writeStatus(const Editor& e, const View& v, const Settings& s, const std::s
     o << "mode: " << modeName(e.mode) << "\n"
       << "resize: " << e.resizeTo.width << " " << e.resizeTo.height << "\n"
       << "output: " << out.width << " " << out.height << "\n"
+      << "view: " << e.zoom << " " << e.pan.x << " " << e.pan.y << "\n"
       << "rest_valid: " << e.restOk << "\nrest_reason: " << e.restWhy << "\n"
       << "pose_valid: " << e.poseOk << "\npose_reason: " << e.poseWhy << "\n"
       << "polygons: " << e.doc.cage.polygonCount() << "\nvertices: " << e.doc.cage.vertexCount()
