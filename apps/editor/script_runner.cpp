@@ -35,6 +35,7 @@ void writeStatus(const Editor& e, const View& v, const Settings& s, const std::s
       << "resize: " << e.resizeTo.width << " " << e.resizeTo.height << "\n"
       << "output: " << out.width << " " << out.height << "\n"
       << "view: " << e.zoom << " " << e.pan.x << " " << e.pan.y << "\n"
+      << "render_ms: " << v.renderMs << "\nresize_pose_ms: " << v.resizePoseMs << "\n"
       << "rest_valid: " << e.restOk << "\nrest_reason: " << e.restWhy << "\n"
       << "pose_valid: " << e.poseOk << "\npose_reason: " << e.poseWhy << "\n"
       << "polygons: " << e.doc.cage.polygonCount() << "\nvertices: " << e.doc.cage.vertexCount()
