@@ -1,10 +1,9 @@
 // Resize poses on the GPU (issue 25, item 1): a pose whose frame lies on the frame of another
 // size renders that size in GL, and agrees with the CPU backend pixel for pixel.
-#include <epoxy/gl.h>
-
 #include <opencv2/imgproc.hpp>
 #include <opencv2/multicage/resize.hpp>
 
+#include "caller_framebuffer.hpp"
 #include "gpu_testing.hpp"
 
 using namespace cv;
@@ -127,13 +126,10 @@ TEST(GpuResize, VertexShaderPipelineRendersOtherSizes) {
 // renders as before, bit for bit.
 TEST(GpuResize, SizesInAnyOrderGiveTheSamePictures) {
     MULTICAGE_REQUIRE_GPU();
-    const Mat image = readSample("butterfly.jpg");
-    const Multicage cage = butterflyCage(true);
-    DeformParams params;
-    params.backend = BACKEND_GPU;
-    params.gridStep = 2;
-    params.borderValue = Scalar(255, 0, 255);
-    Ptr<Deformer> d = Deformer::create(image, cage, params);
+    const GpuButterfly bf = gpuButterfly(2, Scalar(255, 0, 255));
+    const Mat& image = bf.image;
+    const Multicage& cage = bf.cage;
+    const Ptr<Deformer>& d = bf.deformer;
     const std::vector<Point2f> wave = multicage_fixtures::wavePose(cage, 12.f, 0.5f);
     const Size big(2 * image.cols, cvRound(1.2 * image.rows)),
         small(cvRound(0.6 * image.cols), image.rows);
@@ -143,7 +139,7 @@ TEST(GpuResize, SizesInAnyOrderGiveTheSamePictures) {
     d->deform(wave, first);
     d->computeMaps(wave, firstMx, firstMy);
     {
-        Ptr<Deformer> fresh = Deformer::create(image, cage, params);
+        Ptr<Deformer> fresh = Deformer::create(image, cage, bf.params);
         fresh->deform(toSmall, smallFresh);
     }
     Mat out, mx, my;
@@ -194,39 +190,25 @@ TEST(GpuResize, GLDeformerRendersAndDrawsTheNewFrame) {
     gl.readOutput(rendered);
     ASSERT_EQ(rendered.size(), target);
 
-    GLuint colour, fbo;
-    glGenTextures(1, &colour);
-    glBindTexture(GL_TEXTURE_2D, colour);
-    glTexStorage2D(GL_TEXTURE_2D, 1, GL_RGBA8, target.width, target.height);
-    glGenFramebuffers(1, &fbo);
-    glBindFramebuffer(GL_FRAMEBUFFER, fbo);
-    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, colour, 0);
-    ASSERT_EQ(glCheckFramebufferStatus(GL_FRAMEBUFFER), GLenum(GL_FRAMEBUFFER_COMPLETE));
+    CallerFramebuffer window(target);
+    ASSERT_TRUE(window.complete());
     glClearColor(1, 0, 1, 1);
     glClear(GL_COLOR_BUFFER_BIT);
     glViewport(0, 0, target.width, target.height);
-    gl.draw(false);
-    Mat drawn(target, CV_8UC3);
-    glPixelStorei(GL_PACK_ALIGNMENT, 1);
-    glReadPixels(0, 0, target.width, target.height, GL_RGB, GL_UNSIGNED_BYTE, drawn.data);
+    gl.draw(false);  // row 0 at the bottom: what readOutput() gives, unflipped
+    const Mat drawn = CallerFramebuffer::readRgb(target);
     EXPECT_EQ(glGetError(), GLenum(GL_NO_ERROR));
     const double p = psnr(drawn, rendered);
     std::printf("draw() vs render() at %dx%d: %.1f dB\n", target.width, target.height, p);
     EXPECT_GE(p, 45.0);
-    glDeleteFramebuffers(1, &fbo);
-    glDeleteTextures(1, &colour);
 }
 
 // An output beyond what the GPU draws is refused with a clear error, and the Deformer keeps
 // working.
 TEST(GpuResize, AnOutputBeyondTheGpuLimitIsRefused) {
     MULTICAGE_REQUIRE_GPU();
-    const Mat image = readSample("butterfly.jpg");
-    const Multicage cage = butterflyCage(true);
-    DeformParams params;
-    params.backend = BACKEND_GPU;
-    params.gridStep = 4;
-    Ptr<Deformer> d = Deformer::create(image, cage, params);
+    const GpuButterfly bf = gpuButterfly(4);
+    const Ptr<Deformer>& d = bf.deformer;
     std::vector<Point2f> pose = d->binding().restVertices;
     // The frame's right side (corners TR and BR) at x = 100000 - 0.5: a 100000-pixel-wide
     // output, wider than any GL_MAX_TEXTURE_SIZE.
@@ -240,5 +222,5 @@ TEST(GpuResize, AnOutputBeyondTheGpuLimitIsRefused) {
         EXPECT_NE(e.err.find("100000x"), std::string::npos) << e.err;
     }
     d->deform(d->binding().restVertices, out);
-    EXPECT_EQ(maxAbsDiff(out, image), 0.0);
+    EXPECT_EQ(maxAbsDiff(out, bf.image), 0.0);
 }
