@@ -188,8 +188,8 @@ class CV_EXPORTS GLDeformer {
 };
 
 /** Mean value binding (Algorithm 1, as bind()) computed in a compute shader on a private
-headless EGL context (the process's shared one), read back to the CPU. Throws a cv::Exception when
-no EGL context with OpenGL 4.3 can be made. */
+headless EGL context (the process's shared one), read back to the CPU. Throws a cv::Exception when no EGL context with
+OpenGL 4.3 can be made. */
 CV_EXPORTS Binding bindOnGpu(const Multicage& multicage, int gridStep = 1);
 
 /** Whether a headless EGL context can be made here (any OpenGL 4.3, Mesa's llvmpipe
