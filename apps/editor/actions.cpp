@@ -170,6 +170,7 @@ void propose(Editor& e) {
     // polygons protecting the faces and the salient features inside them).
     mc::Multicage cage = mc::proposeProtectedMulticage(e.image, mc::ProposeParams());
     edit(e);
+    if (e.mode == Mode::Resize) e.fitPending = true;  // back to the image's own size
     e.mode = Mode::Rest;
     setDocument(e, makeDocument(cage));
     e.message = "proposed " + count(cage.polygonCount(), "polygon", "polygons") + ", " +
@@ -226,7 +227,7 @@ void undo(Editor& e) {
     if (e.history.undo(e.doc)) {
         e.selection.clear();
         afterEdit(e);
-        if (!e.restOk) e.mode = Mode::Rest;
+        if (!e.restOk) setMode(e, Mode::Rest);
     }
 }
 
@@ -234,7 +235,7 @@ void redo(Editor& e) {
     if (e.history.redo(e.doc)) {
         e.selection.clear();
         afterEdit(e);
-        if (!e.restOk) e.mode = Mode::Rest;
+        if (!e.restOk) setMode(e, Mode::Rest);
     }
 }
 

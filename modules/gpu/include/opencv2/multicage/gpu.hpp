@@ -107,7 +107,7 @@ compute dispatches (GPU_PIPELINE_COMPUTE) or one draw call (GPU_PIPELINE_VERTEX_
     GLDeformer d(image, bind(cage));        // context current
     d.setPose(pose);
     glViewport(x, y, w, h); d.draw();       // into the bound framebuffer, or:
-    GLuint tex = d.render();                // into d's own texture (image size) */
+    GLuint tex = d.render();                // into d's own texture (outputSize()) */
 class CV_EXPORTS GLDeformer {
   public:
     /** Uploads a binding made on the CPU (bind()). image: 8U/16U/32F, 1, 3 or 4 channels. */
