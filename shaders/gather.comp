@@ -12,6 +12,9 @@ layout(local_size_x = 16, local_size_y = 16) in;
 
 layout(std430, binding = 0) readonly buffer Positions { vec2 positions[]; };
 layout(std430, binding = 1) buffer Owners { uint owner[]; };
+// The size of the image drawn into (raster.comp's outputSize); sources stay in the input's
+// IMAGE_W x IMAGE_H.
+layout(location = 1) uniform ivec2 outputSize;
 
 #include "mesh_triangle.glsl"
 
@@ -25,8 +28,8 @@ layout(location = 0) uniform vec4 border;
 
 void main() {
     const ivec2 px = ivec2(gl_GlobalInvocationID.xy);
-    if (px.x >= IMAGE_W || px.y >= IMAGE_H) return;
-    const uint at = uint(px.y * IMAGE_W + px.x);
+    if (px.x >= outputSize.x || px.y >= outputSize.y) return;
+    const uint at = uint(px.y * outputSize.x + px.x);
     const uint o = owner[at];
     if (o == 0u) {
 #if GATHER_MAPS

@@ -14,6 +14,10 @@ layout(local_size_x = 64) in;
 
 layout(std430, binding = 0) readonly buffer Positions { vec2 positions[]; };
 layout(std430, binding = 1) buffer Owners { uint owner[]; };  // 0: uncovered
+// The size of the image drawn into: the input's, or a resize pose's new size (the frame on
+// another size's frame, frameOutputSize in backend_contract.hpp). A uniform, not a constant,
+// so that a new size costs no new program.
+layout(location = 1) uniform ivec2 outputSize;
 
 #include "mesh_triangle.glsl"
 
@@ -27,14 +31,14 @@ void main() {
     if (!loadTriangle(t, tri)) return;
     const dvec2 q0 = tri.q0, q1 = tri.q1, q2 = tri.q2;
     const double minY = min(min(q0.y, q1.y), q2.y), maxY = max(max(q0.y, q1.y), q2.y);
-    if (!(maxY >= 0.0LF && minY <= double(IMAGE_H - 1))) return;
+    if (!(maxY >= 0.0LF && minY <= double(outputSize.y - 1))) return;
     const int ya = int(ceil(max(minY, 0.0LF)));
-    const int yb = int(floor(min(maxY, double(IMAGE_H - 1))));
+    const int yb = int(floor(min(maxY, double(outputSize.y - 1))));
     if (ya > yb) return;
     const double minX = min(min(q0.x, q1.x), q2.x), maxX = max(max(q0.x, q1.x), q2.x);
-    if (!(maxX >= 0.0LF && minX <= double(IMAGE_W - 1))) return;
+    if (!(maxX >= 0.0LF && minX <= double(outputSize.x - 1))) return;
     const int xa = int(ceil(max(minX, 0.0LF)));
-    const int xb = int(floor(min(maxX, double(IMAGE_W - 1))));
+    const int xb = int(floor(min(maxX, double(outputSize.x - 1))));
     if (xa > xb) return;
     if (!setUpTriangle(tri)) return;
     double invAx[3];
@@ -51,6 +55,6 @@ void main() {
         }
         if (!(left <= right)) continue;
         const int xl = int(ceil(left)), xr = int(floor(right));
-        for (int x = xl; x <= xr; ++x) atomicMax(owner[y * IMAGE_W + x], t + 1u);
+        for (int x = xl; x <= xr; ++x) atomicMax(owner[y * outputSize.x + x], t + 1u);
     }
 }

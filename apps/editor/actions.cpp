@@ -5,7 +5,9 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <opencv2/multicage.hpp>
+#include <opencv2/multicage/resize.hpp>
 #include <set>
 #include <stdexcept>
 #include <string>
@@ -83,6 +85,7 @@ void openImage(Editor& e, View& v, Settings& s, const std::string& path) {
         throw std::runtime_error(path + ": unsupported pixel type (8U, 16U or 32F only)");
     e.image = img;
     e.imagePath = path;
+    e.resizeTo = img.size();
     s.gridStep = defaultGridStep(img.size());
     uploadImageTexture(v, displayImage(img));
     v.deformer.reset();
@@ -138,14 +141,24 @@ void exportImage(Editor& e, const std::string& path, const Settings& s, GLFWwind
     const auto t0 = Clock::now();
     cv::Ptr<mc::Deformer> deformer = mc::Deformer::create(e.image, e.shown.cage, params);
     cv::Mat out;
-    deformer->deform(e.shown.pose, out);
+    // Resize mode: the resize pose on this deformer's own binding (as `multicage resize`).
+    const bool resizing = e.mode == Mode::Resize;
+    deformer->deform(
+        resizing ? mc::resizePose(e.shown.cage, deformer->binding(), e.resizeTo) : e.shown.pose,
+        out);
     std::string
         note;  // e.g. a float image exported to .png: stored as 16 bits, said in the message
     mc::imwriteAtomic(path, mc::convertForImageFormat(path, out, &note));
     e.exportPath = path;
-    char buf[256];
-    std::snprintf(buf, sizeof buf, "exported %s (%dx%d, %s, %.0f ms)", path.c_str(), out.cols,
-                  out.rows, deformer->backend() == mc::BACKEND_GPU ? "GPU" : "CPU", msSince(t0));
+    char buf[1200];
+    if (resizing)  // where it went, in full: the size a user asked for is easy to lose
+        std::snprintf(buf, sizeof buf, "saved the %dx%d resized image to %s (%s, %.0f ms)",
+                      out.cols, out.rows, std::filesystem::absolute(path).string().c_str(),
+                      deformer->backend() == mc::BACKEND_GPU ? "GPU" : "CPU", msSince(t0));
+    else
+        std::snprintf(buf, sizeof buf, "exported %s (%dx%d, %s, %.0f ms)", path.c_str(), out.cols,
+                      out.rows, deformer->backend() == mc::BACKEND_GPU ? "GPU" : "CPU",
+                      msSince(t0));
     e.message = buf;
     if (!note.empty()) e.message += "; " + note;
 }
@@ -157,6 +170,7 @@ void propose(Editor& e) {
     // polygons protecting the faces and the salient features inside them).
     mc::Multicage cage = mc::proposeProtectedMulticage(e.image, mc::ProposeParams());
     edit(e);
+    if (e.mode == Mode::Resize) e.fitPending = true;  // back to the image's own size
     e.mode = Mode::Rest;
     setDocument(e, makeDocument(cage));
     e.message = "proposed " + count(cage.polygonCount(), "polygon", "polygons") + ", " +
@@ -165,15 +179,21 @@ void propose(Editor& e) {
 }
 
 void setMode(Editor& e, Mode m) {
-    if (m == Mode::Pose && !e.restOk) {
-        e.message = "fix the rest multicage before posing: " + e.restWhy;
+    if (m != Mode::Rest && !e.restOk) {
+        e.message = std::string("fix the rest multicage before ") +
+                    (m == Mode::Pose ? "posing: " : "resizing: ") + e.restWhy;
         return;
     }
     e.creating = false;
     e.creation.clear();
+    // Resize mode shows another size: fit the view to it on the way in and out.
+    if ((m == Mode::Resize) != (e.mode == Mode::Resize)) e.fitPending = true;
+    if (m == Mode::Resize && e.resizeTo.area() <= 0) e.resizeTo = e.image.size();
     e.mode = m;
-    e.message =
-        m == Mode::Rest ? "rest mode: edit the polygons" : "pose mode: drag vertices to deform";
+    e.message = m == Mode::Rest   ? "rest mode: edit the polygons"
+                : m == Mode::Pose ? "pose mode: drag vertices to deform"
+                                  : "resize mode: drag the frame's right or bottom edge, or type a "
+                                    "size in the panel";
 }
 
 void finishPolygon(Editor& e) {
@@ -207,7 +227,7 @@ void undo(Editor& e) {
     if (e.history.undo(e.doc)) {
         e.selection.clear();
         afterEdit(e);
-        if (!e.restOk) e.mode = Mode::Rest;
+        if (!e.restOk) setMode(e, Mode::Rest);
     }
 }
 
@@ -215,7 +235,7 @@ void redo(Editor& e) {
     if (e.history.redo(e.doc)) {
         e.selection.clear();
         afterEdit(e);
-        if (!e.restOk) e.mode = Mode::Rest;
+        if (!e.restOk) setMode(e, Mode::Rest);
     }
 }
 

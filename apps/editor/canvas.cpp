@@ -12,6 +12,7 @@
 
 #include "actions.hpp"
 #include "canvas.hpp"
+#include "resize_mode.hpp"
 #include "view.hpp"
 
 namespace multicage_editor {
@@ -38,24 +39,8 @@ Point2f toImage(const Editor& e, ImVec2 origin, ImVec2 q) {
 
 void drawOverlay(const Editor& e, ImDrawList* dl, ImVec2 origin) {
     const std::vector<Point2f> pts = positions(e.doc, e.mode);
-    const bool bad = e.mode == Mode::Rest ? !e.restOk : !e.poseOk;
     const std::set<int> selected(e.selection.begin(), e.selection.end());
-    const mc::Multicage& cage = e.doc.cage;
-    for (int i = 0; i < cage.polygonCount(); ++i) {
-        int depth = 1;
-        try {
-            depth = cage.depth(i);
-        } catch (const std::exception&) {
-        }
-        const ImU32 colour = bad ? kInvalid : kDepthColours[(std::max(depth, 1) - 1) % 4];
-        const int offset = cage.polygonOffset(i);
-        const int n = static_cast<int>(cage.polygon(i).size());
-        std::vector<ImVec2> poly;
-        for (int k = 0; k < n; ++k)
-            poly.push_back(toScreen(e, origin, pts[static_cast<size_t>(offset + k)]));
-        dl->AddPolyline(poly.data(), n, IM_COL32(0, 0, 0, 160), ImDrawFlags_Closed, 4.f);
-        dl->AddPolyline(poly.data(), n, colour, ImDrawFlags_Closed, 2.f);
-    }
+    drawPolygons(e, pts, e.mode == Mode::Rest ? !e.restOk : !e.poseOk, dl, origin);
     for (size_t i = 0; i < pts.size(); ++i) {
         const ImVec2 c = toScreen(e, origin, pts[i]);
         const float r = selected.count(static_cast<int>(i)) ? 5.f : 4.f;
@@ -220,6 +205,10 @@ void canvasMouse(Editor& e, ImVec2 origin, bool hovered) {
     const float radius = kPickRadius / e.zoom;
     const std::vector<Point2f> pts = positions(e.doc, e.mode);
     if (zoomAndPan(e, m, hovered)) return;
+    if (e.mode == Mode::Resize) {  // the frame's edges only: no vertex edits
+        resizeMouse(e, m, radius, hovered);
+        return;
+    }
     if (insertOnDoubleClick(e, pts, m, radius, hovered)) return;
     if (hovered && ImGui::IsMouseClicked(ImGuiMouseButton_Left)) {
         press(e, pts, m, radius);
@@ -228,15 +217,23 @@ void canvasMouse(Editor& e, ImVec2 origin, bool hovered) {
     continueDrag(e, pts, m, radius);
 }
 
-/** The image, the whole of it at the next frame after an image is opened or F is pressed. */
+/** The image, the whole of it at the next frame after an image is opened or F is pressed; in
+resize mode the larger of the image and the resized one, with a quarter more room to drag the
+frame out into. */
 void fit(Editor& e, ImVec2 area) {
-    e.zoom = std::min(area.x / e.image.cols, area.y / e.image.rows) * 0.96f;
-    e.pan = Point2f((area.x - e.zoom * e.image.cols) / 2, (area.y - e.zoom * e.image.rows) / 2);
+    float w = static_cast<float>(e.image.cols), h = static_cast<float>(e.image.rows);
+    if (e.mode == Mode::Resize) {
+        w = 1.25f * std::max(w, static_cast<float>(e.resizeTo.width));
+        h = 1.25f * std::max(h, static_cast<float>(e.resizeTo.height));
+    }
+    e.zoom = std::min(area.x / w, area.y / h) * 0.96f;
+    e.pan = Point2f((area.x - e.zoom * w) / 2, (area.y - e.zoom * h) / 2);
     e.fitPending = false;
 }
 
 /** The image (the deformation in pose mode), the overlay and the box being dragged. */
 void drawImage(const Editor& e, const View& v, const Settings& s, ImDrawList* dl, ImVec2 origin) {
+    if (e.mode == Mode::Resize) return drawResized(e, v, s, dl, origin);
     const ImVec2 a = toScreen(e, origin, Point2f(-0.5f, -0.5f));
     const ImVec2 b = toScreen(e, origin, Point2f(e.image.cols - 0.5f, e.image.rows - 0.5f));
     const bool posed = e.mode == Mode::Pose && v.deformer && v.rendered;
@@ -254,11 +251,14 @@ void drawImage(const Editor& e, const View& v, const Settings& s, ImDrawList* dl
 /** The status line below the canvas (red when the edit is invalid). */
 void statusLine(const Editor& e, const View& v, ImDrawList* dl, ImVec2 origin, ImVec2 area) {
     char status[512];
+    const std::string mode = e.mode == Mode::Rest ? "REST"
+                             : e.mode == Mode::Pose
+                                 ? "POSE"
+                                 : cv::format("RESIZE %dx%d", e.resizeTo.width, e.resizeTo.height);
     std::snprintf(
         status, sizeof status, "%s mode | %s | bind %.0f ms | frame %.1f ms | folds %d%s | %s",
-        e.mode == Mode::Rest ? "REST" : "POSE",
-        e.restOk && e.poseOk ? "valid" : (!e.restOk ? e.restWhy : e.poseWhy).c_str(), v.bindMs,
-        v.frameMs, v.folded,
+        mode.c_str(), e.restOk && e.poseOk ? "valid" : (!e.restOk ? e.restWhy : e.poseWhy).c_str(),
+        v.bindMs, v.frameMs, v.folded,
         v.deformer && v.binding.minConditioning < mc::kConditioningWarning ? " | ILL-CONDITIONED"
                                                                            : "",
         e.message.c_str());
@@ -282,6 +282,9 @@ const char* kHelp =
     "  Delete                   delete selected vertices (< 3 left: the polygon)\n"
     "  Shift+Delete             delete the polygons of the selection\n"
     "Pose mode: drag vertices (Ctrl/Alt: whole polygon); the image follows\n"
+    "Resize mode (R): drag the frame's right or bottom edge (or type a size\n"
+    "  in the panel); faces and what the cage protects keep their shape;\n"
+    "  Export saves the resized image\n"
     "Animation: K stores the pose as a keyframe at the time shown, P plays / stops\n"
     "View: wheel zooms, right/middle drag pans, F fits, C shows/hides the cage\n"
     "Ctrl+Z / Ctrl+Y (Ctrl+Shift+Z) undo / redo, Ctrl+S save, Ctrl+A select all\n"
@@ -294,6 +297,27 @@ const char* kHelp =
 ImVec2 toScreen(const Editor& e, ImVec2 origin, Point2f p) {
     return ImVec2(origin.x + e.zoom * (p.x + 0.5f) + e.pan.x,
                   origin.y + e.zoom * (p.y + 0.5f) + e.pan.y);
+}
+
+void drawPolygons(const Editor& e, const std::vector<Point2f>& pts, bool bad, ImDrawList* dl,
+                  ImVec2 origin) {
+    const mc::Multicage& cage = e.doc.cage;
+    for (int i = 0; i < cage.polygonCount(); ++i) {
+        int depth = 1;
+        try {
+            depth = cage.depth(i);
+        } catch (const std::exception&) {
+        }
+        const ImU32 colour = bad ? kInvalid : kDepthColours[(std::max(depth, 1) - 1) % 4];
+        const int offset = cage.polygonOffset(i);
+        const int n = static_cast<int>(cage.polygon(i).size());
+        if (offset + n > static_cast<int>(pts.size())) return;
+        std::vector<ImVec2> poly;
+        for (int k = 0; k < n; ++k)
+            poly.push_back(toScreen(e, origin, pts[static_cast<size_t>(offset + k)]));
+        dl->AddPolyline(poly.data(), n, IM_COL32(0, 0, 0, 160), ImDrawFlags_Closed, 4.f);
+        dl->AddPolyline(poly.data(), n, colour, ImDrawFlags_Closed, 2.f);
+    }
 }
 
 void canvas(Editor& e, View& v, const Settings& s) {
@@ -353,6 +377,7 @@ void keyboard(Editor& e, Settings& s, GLFWwindow* window) {
     if (ctrl && pressed(GLFW_KEY_Q)) glfwSetWindowShouldClose(window, 1);
     if (ctrl) return;
     if (pressed(GLFW_KEY_TAB)) setMode(e, e.mode == Mode::Rest ? Mode::Pose : Mode::Rest);
+    if (pressed(GLFW_KEY_R)) setMode(e, e.mode == Mode::Resize ? Mode::Pose : Mode::Resize);
     if (pressed(GLFW_KEY_H) || pressed(GLFW_KEY_F1)) s.showHelp = !s.showHelp;
     if (pressed(GLFW_KEY_C)) s.showCage = !s.showCage;
     if (pressed(GLFW_KEY_F)) e.fitPending = true;

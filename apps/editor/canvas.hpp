@@ -11,6 +11,10 @@ namespace multicage_editor {
 
 /** Image point p on the screen, for the canvas whose top-left corner is origin. */
 ImVec2 toScreen(const Editor& e, ImVec2 origin, cv::Point2f p);
+/** The document's polygons at pts (user vertices in vertices() order), coloured by depth, or
+red when bad. */
+void drawPolygons(const Editor& e, const std::vector<cv::Point2f>& pts, bool bad, ImDrawList* dl,
+                  ImVec2 origin);
 
 /** The canvas window right of the side panel: mouse edits, then playback and the deformation
 follow them, then the image, the overlay and the status line are drawn. */

@@ -11,8 +11,10 @@
 
 namespace multicage_editor {
 
-/** Rest: the edits change the rest polygons (and rebind). Pose: they move the current pose. */
-enum class Mode { Rest, Pose };
+/** Rest: the edits change the rest polygons (and rebind). Pose: they move the current pose.
+Resize: no vertex edits; the frame's right and bottom edges set the size of a content-aware
+resize of the rest multicage (resize_mode.hpp); positions() gives the rest there. */
+enum class Mode { Rest, Pose, Resize };
 
 /** What undo stores: small, copied whole. */
 struct Document {

@@ -35,7 +35,10 @@ struct Settings {
     bool showHelp = false;
 };
 
-enum class Drag { None, Vertices, Box, Pan };
+enum class Drag { None, Vertices, Box, Pan, Frame };
+
+/** The frame edges a Drag::Frame moves (resize mode). */
+enum FrameEdge { kFrameRight = 1, kFrameBottom = 2 };
 
 struct Editor {
     std::string imagePath, cagePath = "cage.yml", exportPath = "deformed.png";
@@ -51,6 +54,10 @@ struct Editor {
     cv::Point2f dragStart, dragLast;  // image coordinates
     Document beforeDrag;
     bool dragMoved = false;
+    int frameEdges = 0;  // FrameEdge bits of a Drag::Frame
+    // Resize mode: the size the image is resized to (the image's own until the user drags a
+    // frame edge or types a size); a view setting like the zoom, not part of the document.
+    cv::Size resizeTo;
     bool restOk = true, poseOk = true;
     std::string restWhy, poseWhy;
     std::string message;
@@ -74,7 +81,13 @@ struct View {
     mc::Binding binding;
     cv::Mat restNodes;
     double bindMs = 0;
-    std::vector<cv::Point2f> renderedPose;
+    std::vector<cv::Point2f> renderedPose;  // the pose set last (a resize pose: with its frame)
+    // Resize mode: the pose of resizeTo (vertexCount() + 4 points, frame corners last) and the
+    // time resizePose() took for it.
+    std::vector<cv::Point2f> resizePose;
+    cv::Size resizedTo;
+    int bindings = 0, resizedBinding = -1;  // bindings made; the one resizePose was made on
+    double resizePoseMs = 0;
     bool rendered = false;
     int folded = 0;
     double frameMs = 0, renderMs = 0, foldMs = 0, uiMs = 0, drawMs = 0;

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "actions.hpp"
+#include "resize_mode.hpp"
 
 namespace multicage_editor {
 
@@ -64,6 +65,8 @@ void editSection(Editor& e) {
     if (ImGui::RadioButton("Rest", e.mode == Mode::Rest)) setMode(e, Mode::Rest);
     ImGui::SameLine();
     if (ImGui::RadioButton("Pose", e.mode == Mode::Pose)) setMode(e, Mode::Pose);
+    ImGui::SameLine();
+    if (ImGui::RadioButton("Resize (R)", e.mode == Mode::Resize)) setMode(e, Mode::Resize);
     if (ImGui::Button("Propose multicage", ImVec2(-1, 0))) attempt(e, [&] { propose(e); });
     ImGui::BeginDisabled(e.history.undoCount() == 0);
     if (ImGui::Button("Undo")) undo(e);
@@ -87,6 +90,30 @@ void deformationSection(Settings& s) {
     ImGui::Combo("Coordinates", &s.coordinates, coords, 2);
     ImGui::SliderInt("Grid step", &s.gridStep, 1, 16);
     ImGui::SliderInt("Export step", &s.exportGridStep, 1, 8);
+}
+
+/** Resize mode: the size typed (applied on Enter, so that typing "1" on the way to "1200"
+does not resize to one pixel), and presets. */
+void resizeSection(Editor& e, const View& v) {
+    section("Resize");
+    int size[2] = {e.resizeTo.width, e.resizeTo.height};
+    ImGui::PushItemWidth(-90);
+    if (ImGui::InputInt2("##resize", size, ImGuiInputTextFlags_EnterReturnsTrue))
+        setResizeSize(e, cv::Size(size[0], size[1]));
+    ImGui::PopItemWidth();
+    ImGui::SameLine();
+    ImGui::TextUnformatted("W x H");
+    const cv::Size image = e.image.size();
+    if (ImGui::Button("Original")) setResizeSize(e, image);
+    ImGui::SameLine();
+    if (ImGui::Button("16:9"))
+        setResizeSize(e, cv::Size(cvRound(image.height * 16.0 / 9), image.height));
+    ImGui::SameLine();
+    if (ImGui::Button("4:3"))
+        setResizeSize(e, cv::Size(cvRound(image.height * 4.0 / 3), image.height));
+    ImGui::SameLine();
+    if (ImGui::Button("1:1")) setResizeSize(e, cv::Size(image.height, image.height));
+    ImGui::Text("resize pose %.1f ms, render %.1f ms", v.resizePoseMs, v.renderMs);
 }
 
 void posesSection(Editor& e) {
@@ -144,12 +171,12 @@ void animationSection(Editor& e) {
 }
 
 void exportSection(Editor& e, const Settings& s, GLFWwindow* window) {
-    section("Export");
+    section(e.mode == Mode::Resize ? "Export (the resized image)" : "Export");
     ImGui::PushItemWidth(-70);
     inputPath("##export", e.exportPath);
     ImGui::PopItemWidth();
     ImGui::SameLine();
-    if (ImGui::Button("Export", ImVec2(-1, 0)))
+    if (ImGui::Button(e.mode == Mode::Resize ? "Save" : "Export", ImVec2(-1, 0)))
         attempt(e, [&] { exportImage(e, e.exportPath, s, window); });
 }
 
@@ -190,6 +217,7 @@ void panel(Editor& e, View& v, Settings& s, GLFWwindow* window) {
     filesSection(e, v, s);
     editSection(e);
     deformationSection(s);
+    if (e.mode == Mode::Resize) resizeSection(e, v);
     posesSection(e);
     animationSection(e);
     exportSection(e, s, window);

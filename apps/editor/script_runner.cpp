@@ -14,6 +14,7 @@
 
 #include "actions.hpp"
 #include "canvas.hpp"
+#include "resize_mode.hpp"
 #include "script_runner.hpp"
 #include "view.hpp"
 
@@ -23,9 +24,18 @@ using cv::Point2f;
 
 namespace {
 
+const char* modeName(Mode m) {
+    return m == Mode::Rest ? "rest" : m == Mode::Pose ? "pose" : "resize";
+}
+
 void writeStatus(const Editor& e, const View& v, const Settings& s, const std::string& path) {
     std::ostringstream o;
-    o << "mode: " << (e.mode == Mode::Rest ? "rest" : "pose") << "\n"
+    const cv::Size out = v.deformer ? v.deformer->outputSize() : cv::Size();
+    o << "mode: " << modeName(e.mode) << "\n"
+      << "resize: " << e.resizeTo.width << " " << e.resizeTo.height << "\n"
+      << "output: " << out.width << " " << out.height << "\n"
+      << "view: " << e.zoom << " " << e.pan.x << " " << e.pan.y << "\n"
+      << "render_ms: " << v.renderMs << "\nresize_pose_ms: " << v.resizePoseMs << "\n"
       << "rest_valid: " << e.restOk << "\nrest_reason: " << e.restWhy << "\n"
       << "pose_valid: " << e.poseOk << "\npose_reason: " << e.poseWhy << "\n"
       << "polygons: " << e.doc.cage.polygonCount() << "\nvertices: " << e.doc.cage.vertexCount()
@@ -41,6 +51,8 @@ void writeStatus(const Editor& e, const View& v, const Settings& s, const std::s
     for (const Point2f& p : positions(e.doc, Mode::Rest)) o << " " << p.x << " " << p.y;
     o << "\nshown_pose:";
     for (const Point2f& p : e.shown.pose) o << " " << p.x << " " << p.y;
+    o << "\nresize_pose:";  // the last one resize mode rendered, frame corners last
+    for (const Point2f& p : v.resizePose) o << " " << p.x << " " << p.y;
     o << "\nmessage: " << e.message << "\n";
     mc::writeFileAtomic(path, o.str());
 }
@@ -199,11 +211,30 @@ const Command kCommands[] = {
      }},
     {"mode",
      [](Session& r, const ScriptCommand& c) {
-         if (c.args[0] != "rest" && c.args[0] != "pose") throw std::runtime_error("mode rest|pose");
-         setMode(r.e, c.args[0] == "rest" ? Mode::Rest : Mode::Pose);
-         if (r.e.mode != (c.args[0] == "rest" ? Mode::Rest : Mode::Pose))
-             throw std::runtime_error(r.e.message);
+         Mode m = Mode::Rest;
+         if (c.args[0] == "pose")
+             m = Mode::Pose;
+         else if (c.args[0] == "resize")
+             m = Mode::Resize;
+         else if (c.args[0] != "rest")
+             throw std::runtime_error("mode rest|pose|resize");
+         setMode(r.e, m);
+         if (r.e.mode != m) throw std::runtime_error(r.e.message);
          return Flow::NextFrame;
+     }},
+    {"resize",
+     [](Session& r, const ScriptCommand& c) {
+         Editor& e = r.e;
+         if (e.image.empty()) throw std::runtime_error("resize: open an image first");
+         if (e.mode != Mode::Resize) setMode(e, Mode::Resize);
+         if (e.mode != Mode::Resize) throw std::runtime_error(e.message);
+         const double w = numberArg(c, 0), h = numberArg(c, 1);
+         if (w < 1 || h < 1 || w != std::floor(w) || h != std::floor(h))
+             throw std::runtime_error("resize: W and H are whole numbers of pixels, at least 1");
+         const cv::Size wanted(static_cast<int>(w), static_cast<int>(h));
+         setResizeSize(e, wanted);
+         if (e.resizeTo != wanted) throw std::runtime_error(e.message);  // clamped: say so
+         return Flow::NextFrame;  // rendered at the new size in the next frame
      }},
     {"drag",
      [](Session& r, const ScriptCommand& c) {

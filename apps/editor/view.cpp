@@ -6,6 +6,7 @@
 #include <opencv2/multicage.hpp>
 
 #include "actions.hpp"
+#include "resize_mode.hpp"
 #include "view.hpp"
 
 namespace multicage_editor {
@@ -51,7 +52,7 @@ void screenshot(GLFWwindow* window, const std::string& path) {
 }
 
 void updateDeformation(Editor& e, View& v, const Settings& s) {
-    if (e.image.empty() || e.mode != Mode::Pose) return;
+    if (e.image.empty() || e.mode == Mode::Rest) return;
     const bool restChanged = !samePolygons(v.boundRest, e.shown.cage) ||
                              v.boundCoords != s.coordinates || v.boundStep != s.gridStep;
     if (restChanged || !v.deformer) {
@@ -61,6 +62,7 @@ void updateDeformation(Editor& e, View& v, const Settings& s) {
             v.binding = mc::bind(e.shown.cage, s.coordinates, s.gridStep);
             v.deformer.reset(new mc::GLDeformer(displayImage(e.image), v.binding));
             v.bindMs = msSince(t0);
+            ++v.bindings;
             v.restNodes = v.binding.nodes();
             v.error.clear();
         } catch (const std::exception& ex) {
@@ -73,17 +75,21 @@ void updateDeformation(Editor& e, View& v, const Settings& s) {
         v.rendered = false;
     }
     if (!v.deformer) return;
-    if (v.rendered && v.renderedPose == e.shown.pose) return;
+    // Resize mode: the resize pose, whose frame on the new frame makes the GLDeformer render
+    // the new size.
+    if (e.mode == Mode::Resize && !resizePoseFor(e, v)) return;
+    const std::vector<cv::Point2f>& pose = e.mode == Mode::Resize ? v.resizePose : e.shown.pose;
+    if (v.rendered && v.renderedPose == pose) return;
     const auto t0 = Clock::now();
-    v.deformer->setPose(e.shown.pose);
+    v.deformer->setPose(pose);
     v.deformer->render(cv::Scalar(40, 40, 40, 255));
     if (v.finishForTiming) v.deformer->finish();
     v.renderMs = msSince(t0);
     const auto t1 = Clock::now();
-    v.renderedPose = e.shown.pose;
+    v.renderedPose = pose;
     v.rendered = true;
     cv::Mat positions;
-    v.binding.apply(e.shown.pose, positions);
+    v.binding.apply(pose, positions);
     v.folded = mc::countFoldedTriangles(positions, v.restNodes);
     v.foldMs = msSince(t1);
 }

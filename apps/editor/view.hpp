@@ -18,7 +18,7 @@ void uploadImageTexture(View& v, const cv::Mat& rgba);
 void screenshot(GLFWwindow* window, const std::string& path);
 
 /** The deformation: rebind when the rest multicage changes, setPose + render when the pose
-does (Pose mode only). */
+does (Pose mode), or when the size does (Resize mode: the resize pose). */
 void updateDeformation(Editor& e, View& v, const Settings& s);
 
 }  // namespace multicage_editor

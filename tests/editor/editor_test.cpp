@@ -2,6 +2,7 @@
 // scripted session in the real window under Xvfb on llvmpipe.
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
+#include <opencv2/multicage/resize.hpp>
 
 #include <cstdlib>
 #include <fstream>
@@ -526,4 +527,120 @@ TEST(EditorWindow, ProposeProtectsTheFace) {
     EXPECT_EQ(cage.depth(inner), 2);
     // It hugs the face: a polygon around the whole body would hold the face too.
     EXPECT_LE(std::abs(contourArea(cage.polygon(inner))), 6.0 * face.area());
+}
+
+namespace {
+/** The canvas region where the image point rectangle (-0.5,-0.5)-(size - 0.5) is drawn, from
+the status's view (zoom, pan) and the panel width, shrunk by `inset` screen pixels. */
+Rect onScreen(const std::string& status, Size size, int inset) {
+    std::istringstream view(field(status, "view"));
+    float zoom = 0, panX = 0, panY = 0;
+    view >> zoom >> panX >> panY;
+    const float x0 = 340.f + panX, y0 = panY;  // kPanelWidth: the canvas starts right of it
+    return Rect(cvRound(x0) + inset, cvRound(y0) + inset, cvRound(zoom * size.width) - 2 * inset,
+                cvRound(zoom * size.height) - 2 * inset);
+}
+
+Size sizeField(const std::string& status, const std::string& key) {
+    std::istringstream in(field(status, key));
+    Size s;
+    in >> s.width >> s.height;
+    return s;
+}
+}  // namespace
+
+// Issue 25 item 7: resize mode. `resize W H` and drags of the frame's right and bottom edges
+// set the size; the view shows the GLDeformer's render of the library's resize pose on the
+// editor's binding, at that size; export saves the resized image at full resolution and says
+// where; a size beyond the limit fails the script with one line.
+TEST(EditorWindow, ResizeModeFollowsTheFrameAndSavesTheNewSize) {
+    ASSERT_FALSE(std::string(MULTICAGE_XVFB_RUN).empty())
+        << "xvfb-run not found: install xvfb (.ci/deps.sh)";
+    const std::string dir = multicage_testing::tempDir("editor_resize");
+    Mat image = texturedImage(Size(493, 356));
+    GaussianBlur(image, image, Size(0, 0), 1.5);  // the screen comparison resamples it
+    ASSERT_TRUE(imwrite(dir + "/in.png", image));
+    const Multicage cage = twoOctagons();
+    cage.save(dir + "/cage.yml");
+    std::ostringstream s;
+    s << "load " << dir << "/in.png " << dir << "/cage.yml\n"
+      << "show-cage 0\nresize 740 356\nwait 3\n"
+      << "status " << dir << "/wide.txt\n"
+      << "screenshot " << dir << "/wide.png\n"
+      << "export " << dir << "/wide_out.png\n"
+      << "mouse-drag 739.5 178 600 178\n"  // the right edge, in to x = 600
+      << "mouse-drag 300 355.5 300 420\n"  // the bottom edge, out to y = 420
+      << "wait 2\n"
+      << "status " << dir << "/dragged.txt\n"
+      << "export " << dir << "/dragged_out.png\n"
+      << "quit\n";
+    const std::string log = runEditorScript(dir, s.str());
+    const std::string wide = readText(dir + "/wide.txt"), dragged = readText(dir + "/dragged.txt");
+    EXPECT_EQ(field(wide, "mode"), "resize") << log;
+    EXPECT_EQ(sizeField(wide, "resize"), Size(740, 356));
+    EXPECT_EQ(sizeField(wide, "output"), Size(740, 356)) << "the GLDeformer renders the new size";
+
+    // The live pose is the library's resize pose on the editor's binding.
+    const int step = std::stoi(field(wide, "grid_step"));
+    const Binding live = bind(cage, MEAN_VALUE, step);
+    const std::vector<Point2f> expected = resizePose(cage, live, Size(740, 356));
+    const std::vector<Point2f> shown = points(field(wide, "resize_pose"));
+    ASSERT_EQ(shown.size(), expected.size());
+    for (size_t k = 0; k < shown.size(); ++k)
+        EXPECT_LE(norm(shown[k] - expected[k]), 1e-3) << "vertex " << k;
+
+    // The canvas shows that render: closer to the deformation of that pose than to the plain
+    // stretch (which widens the octagons 1.5x where the resize pose keeps them).
+    const Mat shot = imread(dir + "/wide.png");
+    ASSERT_FALSE(shot.empty());
+    const Rect region = onScreen(wide, Size(740, 356), 3);
+    ASSERT_TRUE((region & Rect(Point(), shot.size())) == region) << region;
+    DeformParams cpu;
+    cpu.backend = BACKEND_CPU;
+    Mat liveRef, stretched, a, b;
+    Deformer::create(image, live, cpu)->deform(expected, liveRef);
+    cv::resize(image, stretched, Size(740, 356));
+    cv::resize(liveRef, a, Size(region.width + 6, region.height + 6), 0, 0, INTER_AREA);
+    cv::resize(stretched, b, Size(region.width + 6, region.height + 6), 0, 0, INTER_AREA);
+    const Rect inner(3, 3, region.width, region.height);
+    const double toPose = meanAbsDiff(shot(region), a(inner), Rect(Point(), region.size())),
+                 toStretch = meanAbsDiff(shot(region), b(inner), Rect(Point(), region.size()));
+    std::printf(
+        "canvas against the resize pose's render: %.1f, against cv::resize: %.1f (mean abs diff)\n",
+        toPose, toStretch);
+    EXPECT_LT(toPose, 0.5 * toStretch);
+
+    // Export: the full-resolution resized image, as the library makes it, and where it went.
+    const Mat out = imread(dir + "/wide_out.png");
+    ASSERT_EQ(out.size(), Size(740, 356)) << log;
+    Ptr<Deformer> d = Deformer::create(image, cage, cpu);
+    Mat reference;
+    d->deform(resizePose(cage, d->binding(), Size(740, 356)), reference);
+    const double p = multicage_testing::psnr(out, reference);
+    std::printf("saved resized image against the library's: %.1f dB\n", p);
+    EXPECT_GE(p, 40.0);
+    EXPECT_NE(log.find("saved the 740x356 resized image to " + dir + "/wide_out.png"),
+              std::string::npos)
+        << log;
+
+    // The drags moved the right edge to x = 600 and the bottom one to y = 420 (mouse positions
+    // are whole screen pixels at a zoom near 1: within a pixel).
+    const Size afterDrag = sizeField(dragged, "resize");
+    EXPECT_NEAR(afterDrag.width, 600, 1) << log;
+    EXPECT_NEAR(afterDrag.height, 420, 1);
+    EXPECT_EQ(sizeField(dragged, "output"), afterDrag);
+    EXPECT_EQ(imread(dir + "/dragged_out.png").size(), afterDrag);
+
+    // Beyond 8x the image: the script fails with one line, and no output.
+    std::ofstream(dir + "/bad.txt") << "load " << dir << "/in.png " << dir << "/cage.yml\n"
+                                    << "resize 5000 356\nexport " << dir << "/bad.png\nquit\n";
+    const std::string cmd = "MESA_SHADER_CACHE_DIR='" MULTICAGE_SHADER_CACHE
+                            "' '" MULTICAGE_XVFB_RUN
+                            "' -a -s '-screen 0 1280x800x24' '" MULTICAGE_EDITOR "' --script '" +
+                            dir + "/bad.txt' > '" + dir + "/bad_log.txt' 2>&1";
+    EXPECT_NE(std::system(cmd.c_str()), 0);
+    const std::string badLog = readText(dir + "/bad_log.txt");
+    EXPECT_NE(badLog.find("script line 2 (resize)"), std::string::npos) << badLog;
+    EXPECT_NE(badLog.find("8x"), std::string::npos) << badLog;
+    EXPECT_FALSE(std::ifstream(dir + "/bad.png").good());
 }

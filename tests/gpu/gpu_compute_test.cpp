@@ -128,12 +128,9 @@ TEST(GpuCompute, RestPoseIsExactForEveryDepthAndChannelCount) {
 // pictures, and deform and computeMaps can alternate.
 TEST(GpuCompute, EveryPoseStartsClean) {
     MULTICAGE_REQUIRE_GPU();
-    const Mat image = readSample("butterfly.jpg");
-    const Multicage cage = butterflyCage(true);
-    DeformParams params;
-    params.backend = BACKEND_GPU;
-    params.gridStep = 2;
-    Ptr<Deformer> d = Deformer::create(image, cage, params);
+    const GpuButterfly bf = gpuButterfly(2);
+    const Multicage& cage = bf.cage;
+    const Ptr<Deformer>& d = bf.deformer;
     const std::vector<Point2f> a = multicage_fixtures::wavePose(cage, 30.f, 0.3f);
     // A shrunk frame: pixels a covers, b leaves uncovered.
     std::vector<Point2f> b = d->binding().restVertices;

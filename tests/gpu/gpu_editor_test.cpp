@@ -1,6 +1,5 @@
 // The editor's path: GLDeformer::draw() into a framebuffer the caller owns and binds.
-#include <epoxy/gl.h>
-
+#include "caller_framebuffer.hpp"
 #include "gpu_testing.hpp"
 
 using namespace cv;
@@ -21,21 +20,13 @@ TEST(GpuEditor, DrawIntoCallersFramebufferMatchesRender) {
 
     // The caller's framebuffer: RGBA8 and twice the image size; the image goes into the
     // lower-left quarter, flipped as in a window (row 0 at the top).
-    GLuint tex, fbo;
-    glGenTextures(1, &tex);
-    glBindTexture(GL_TEXTURE_2D, tex);
-    glTexStorage2D(GL_TEXTURE_2D, 1, GL_RGBA8, 2 * image.cols, 2 * image.rows);
-    glGenFramebuffers(1, &fbo);
-    glBindFramebuffer(GL_FRAMEBUFFER, fbo);
-    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, tex, 0);
-    ASSERT_EQ(glCheckFramebufferStatus(GL_FRAMEBUFFER), GLenum(GL_FRAMEBUFFER_COMPLETE));
+    multicage_testing::CallerFramebuffer window(image.size() * 2);
+    ASSERT_TRUE(window.complete());
     glClearColor(0, 0, 0, 0);
     glClear(GL_COLOR_BUFFER_BIT);
     glViewport(0, 0, image.cols, image.rows);
     gl.draw(true);
-    Mat got(image.size(), CV_8UC3);
-    glPixelStorei(GL_PACK_ALIGNMENT, 1);
-    glReadPixels(0, 0, image.cols, image.rows, GL_RGB, GL_UNSIGNED_BYTE, got.data);
+    Mat got = multicage_testing::CallerFramebuffer::readRgb(image.size());
     EXPECT_EQ(glGetError(), GLenum(GL_NO_ERROR));
     flip(got, got, 0);  // glReadPixels returns the bottom row first
     // Flipped, pixel centres exactly on a shared triangle edge may go to the other triangle
@@ -45,6 +36,4 @@ TEST(GpuEditor, DrawIntoCallersFramebufferMatchesRender) {
     std::printf("draw() vs render(): PSNR %.1f dB, %d pixels differ by more than 2\n",
                 multicage_testing::psnr(got, expected), countNonZero(diff.reshape(1) > 2));
     EXPECT_GE(multicage_testing::psnr(got, expected), 45.0);
-    glDeleteFramebuffers(1, &fbo);
-    glDeleteTextures(1, &tex);
 }

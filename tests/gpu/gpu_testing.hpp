@@ -25,6 +25,24 @@ inline void gpuAndCpu(const cv::Mat& image, const cv::multicage::Binding& b,
     ASSERT_EQ((*gpu)->backend(), cv::multicage::BACKEND_GPU);
 }
 
+/** The butterfly photo, its nested cage, and a GPU Deformer (BACKEND_GPU) binding them. */
+struct GpuButterfly {
+    cv::Mat image;
+    cv::multicage::Multicage cage;
+    cv::multicage::DeformParams params;  // what made the deformer: make another alike
+    cv::Ptr<cv::multicage::Deformer> deformer;
+};
+inline GpuButterfly gpuButterfly(int gridStep, const cv::Scalar& border = cv::Scalar()) {
+    GpuButterfly b;
+    b.image = readSample("butterfly.jpg");
+    b.cage = butterflyCage(true);
+    b.params.backend = cv::multicage::BACKEND_GPU;
+    b.params.gridStep = gridStep;
+    b.params.borderValue = border;
+    b.deformer = cv::multicage::Deformer::create(b.image, b.cage, b.params);
+    return b;
+}
+
 /** Largest absolute difference, as a double. */
 inline double maxAbsDiff(const cv::Mat& a, const cv::Mat& b) {
     return cv::norm(a, b, cv::NORM_INF);

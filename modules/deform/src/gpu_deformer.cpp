@@ -36,11 +36,9 @@ class GpuDeformer final : public Deformer {
         p.pipeline = params.pipeline;
         make(image, source, params, p);
         image_ = image.clone();
-        coefficients_ = coefficientCount(source);
     }
 
     void deform(InputArray pose, OutputArray dst) override {
-        if (resizes(pose)) return resizer().deform(pose, dst);
         HeadlessGLContext::Scope scope(*context_);
         restoreOwnImage();
         gl_->setPose(pose);
@@ -49,7 +47,6 @@ class GpuDeformer final : public Deformer {
     }
 
     void computeMaps(InputArray pose, OutputArray mapx, OutputArray mapy) override {
-        if (resizes(pose)) return resizer().computeMaps(pose, mapx, mapy);
         HeadlessGLContext::Scope scope(*context_);
         gl_->setPose(pose);
         gl_->renderMaps();
@@ -58,7 +55,6 @@ class GpuDeformer final : public Deformer {
 
     void setImage(InputArray image) override {
         checkSameImage(image, image_.size(), image_.type());
-        if (resizer_) resizer_->setImage(image);
         HeadlessGLContext::Scope scope(*context_);
         gl_->setImage(image);
         image.getMat().copyTo(image_);
@@ -75,8 +71,6 @@ class GpuDeformer final : public Deformer {
         // setPose checks each pose (count, finiteness): the binding is not read back for it.
         batchInputs(posesIn, imagesIn, [](InputArray p) { return toPoints(p, "pose"); }, image_.size(),
                     image_.type(), poses, images);
-        for (const std::vector<Point2f>& p : poses)
-            if (resizes(p)) return resizer().deformBatch(posesIn, dst, imagesIn);
         std::vector<Mat> out(poses.size());
         {
             HeadlessGLContext::Scope scope(*context_);
@@ -108,27 +102,6 @@ class GpuDeformer final : public Deformer {
     String getDefaultName() const override { return "multicage.GpuDeformer"; }
 
   private:
-    static int coefficientCount(const Binding& b) { return b.coefficientCount(); }
-    static int coefficientCount(const Multicage& m) { return m.vertexCount() + 4; }
-
-    /** Whether the pose's frame lies on another size's frame (frameOutputSize): a resize pose. */
-    bool resizes(InputArray pose) const {
-        if (pose.empty() || static_cast<int>(pose.total() * pose.channels() / 2) != coefficients_) return false;
-        const std::vector<Point2f> p = toPoints(pose, "pose");
-        return frameOutputSize(&p[p.size() - 4], image_.size()) != image_.size();
-    }
-    /** Resize poses render on the CPU backend with this Deformer's binding (read back once):
-    the GL programs draw into textures of the image's size. */
-    Deformer& resizer() {
-        if (!resizer_) {
-            DeformParams cpu;
-            cpu.backend = BACKEND_CPU;
-            cpu.borderValue = border_;
-            resizer_ = createCpuDeformer(image_, binding(), cpu);
-        }
-        return *resizer_;
-    }
-
     void restoreOwnImage() {  // under the context's scope
         if (!foreignImage_) return;
         gl_->setImage(image_);
@@ -147,8 +120,6 @@ class GpuDeformer final : public Deformer {
     Scalar border_;
     Mat image_;                  // the Deformer's own image (the texture holds another after a batch)
     bool foreignImage_ = false;  // the texture holds a batch's image, not image_
-    int coefficients_ = 0;       // user vertices + the 4 frame corners
-    Ptr<Deformer> resizer_;      // the CPU backend for resize poses, made on first use
 };
 
 template <typename Source>

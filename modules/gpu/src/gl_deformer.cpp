@@ -65,6 +65,29 @@ GLuint makeFramebuffer(GLuint texture, const char* what) {
     return fbo;
 }
 
+// A texture and the framebuffer around it, of one size: the output of the sizes a pose asks for
+// (frameOutputSize), remade when the size changes (immutable storage cannot be resized).
+struct Target {
+    Size size;
+    GLuint texture = 0, fbo = 0;
+
+    void ensure(Size s, GLenum internal, const char* what) {
+        if (fbo && s == size) return;
+        release();
+        texture = makeTexture(GL_TEXTURE_2D);
+        glTexStorage2D(GL_TEXTURE_2D, 1, internal, s.width, s.height);
+        checkGl(what);
+        fbo = makeFramebuffer(texture, what);
+        size = s;
+    }
+    void release() {
+        glDeleteTextures(1, &texture);
+        glDeleteFramebuffers(1, &fbo);
+        texture = fbo = 0;
+        size = Size();
+    }
+};
+
 double msSince(std::chrono::steady_clock::time_point t) {
     return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t).count();
 }
@@ -119,8 +142,13 @@ struct GLDeformer::Impl {
     // The compute pipeline: deformed mesh vertices, and per pixel the triangle that covers it.
     GLuint positionsProgram = 0, rasterProgram = 0, gatherImageProgram = 0, gatherMapsProgram = 0;
     GLuint positions = 0, owners = 0;
+    size_t ownerCapacity = 0;  // pixels the owners buffer holds: the largest output so far
     int rasterSlices = 1;
-    GLuint coefficients = 0, pose = 0, image = 0, output = 0, maps = 0, outputFbo = 0, mapsFbo = 0;
+    GLuint coefficients = 0, pose = 0, image = 0;
+    // The size the current pose renders into (frameOutputSize), and the largest GL allows.
+    Size outSize;
+    int maxOutputSide = 0;
+    Target output, maps;
     Timings timings;
     StageClock clock;
 
@@ -140,6 +168,9 @@ struct GLDeformer::Impl {
         GLint maxTexture = 0, maxLayers = 0;
         glGetIntegerv(GL_MAX_TEXTURE_SIZE, &maxTexture);
         glGetIntegerv(GL_MAX_ARRAY_TEXTURE_LAYERS, &maxLayers);
+        GLint viewport[2] = {0, 0};
+        glGetIntegerv(GL_MAX_VIEWPORT_DIMS, viewport);
+        maxOutputSide = std::min<int>(maxTexture, std::min(viewport[0], viewport[1]));
         if (params.maxTextureSize > 0) maxTexture = std::min(maxTexture, params.maxTextureSize);
         layout =
             choosePackLayout(binding.gridSize, binding.coefficientCount(), maxTexture, maxLayers);
@@ -188,14 +219,8 @@ struct GLDeformer::Impl {
         glBindBuffer(GL_SHADER_STORAGE_BUFFER, positions);
         glBufferData(GL_SHADER_STORAGE_BUFFER, size_t(mesh.area()) * 2 * sizeof(float), nullptr,
                      GL_DYNAMIC_COPY);
-        // Zeroed once: the gather pass resets every owner it reads, so no pose needs a clear.
         glGenBuffers(1, &owners);
-        glBindBuffer(GL_SHADER_STORAGE_BUFFER, owners);
-        glBufferData(GL_SHADER_STORAGE_BUFFER, size_t(size().area()) * sizeof(GLuint), nullptr,
-                     GL_DYNAMIC_COPY);
-        const GLuint zero = 0;
-        glClearBufferData(GL_SHADER_STORAGE_BUFFER, GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT,
-                          &zero);
+        ensureOwners(size());
         checkGl("allocating the compute pipeline's buffers");
         positionsProgram = buildComputeProgram(defines, "positions.comp");
         rasterProgram = buildComputeProgram(defines, "raster.comp");
@@ -203,6 +228,21 @@ struct GLDeformer::Impl {
         gatherImageProgram = buildComputeProgram(
             defines + "#define GATHER_MAPS 0\n#define OUTPUT_FORMAT " + format + "\n", "gather.comp");
         gatherMapsProgram = buildComputeProgram(defines + "#define GATHER_MAPS 1\n", "gather.comp");
+    }
+
+    // Owners for every pixel of an output of size s. Zeroed when (re)allocated, and the gather
+    // pass resets every owner it reads, so no pose needs a clear; a smaller output uses the
+    // front of the buffer, whose owners its gather resets too.
+    void ensureOwners(Size s) {
+        const size_t need = size_t(s.width) * size_t(s.height);
+        if (need <= ownerCapacity) return;
+        glBindBuffer(GL_SHADER_STORAGE_BUFFER, owners);
+        glBufferData(GL_SHADER_STORAGE_BUFFER, need * sizeof(GLuint), nullptr, GL_DYNAMIC_COPY);
+        const GLuint zero = 0;
+        glClearBufferData(GL_SHADER_STORAGE_BUFFER, GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT,
+                          &zero);
+        checkGl("allocating the pixel owners");
+        ownerCapacity = need;
     }
 
     // The layout qualifier of the output image for imageStore (GL 4.3 image formats).
@@ -302,6 +342,12 @@ struct GLDeformer::Impl {
 
     void setPose(InputArray poseIn) {
         const std::vector<Point2f> p = binding.completePose(poseIn);
+        const Size out = frameOutputSize(&p[p.size() - 4], size());
+        if (out.width > maxOutputSide || out.height > maxOutputSide)
+            CV_Error_(Error::StsOutOfRange,
+                      ("multicage: the pose asks for a %dx%d output; this GPU draws at most %d "
+                       "pixels a side",
+                       out.width, out.height, maxOutputSide));
         // v'_j - v_j, 2 per texel, then the 4 posed frame corners, 2 per texel.
         std::vector<Vec4f> texels(2 * layout.blocks + 2, Vec4f::all(0.f));
         for (size_t j = 0; j < p.size(); ++j) {
@@ -315,6 +361,7 @@ struct GLDeformer::Impl {
         glBindTexture(GL_TEXTURE_1D, pose);
         glTexSubImage1D(GL_TEXTURE_1D, 0, 0, int(texels.size()), GL_RGBA, GL_FLOAT, texels.data());
         checkGl("uploading the pose");
+        outSize = out;
     }
 
     void bindCoefficientsAndPose() {
@@ -328,7 +375,8 @@ struct GLDeformer::Impl {
     }
 
     void draw(GLuint program, bool flipY) {
-        const float W = static_cast<float>(size().width), H = static_cast<float>(size().height);
+        // The pose's frame fills the viewport: the input's frame, or a resize pose's new one.
+        const float W = static_cast<float>(outSize.width), H = static_cast<float>(outSize.height);
         glUseProgram(program);
         // pixel centre x -> (x + 0.5) / W in [0, 1] -> clip [-1, 1]
         glUniform4f(0, 2.f / W, flipY ? -2.f / H : 2.f / H, 1.f / W - 1.f,
@@ -347,6 +395,7 @@ struct GLDeformer::Impl {
     // Compute pipeline passes 1 and 2: mesh positions, then each pixel's owning triangle.
     void rasterize() {
         const Size mesh = meshSize();
+        ensureOwners(outSize);
         bindCoefficientsAndPose();
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, positions);
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, owners);
@@ -356,6 +405,7 @@ struct GLDeformer::Impl {
         glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
         clock.mark(StageClock::kPositions);
         glUseProgram(rasterProgram);
+        glUniform2i(1, outSize.width, outSize.height);
         glDispatchCompute((2 * (mesh.width - 1) + 63) / 64, (mesh.height - 1) * rasterSlices, 1);
         glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
         clock.mark(StageClock::kRaster);
@@ -365,8 +415,9 @@ struct GLDeformer::Impl {
     // Compute pipeline pass 3 into `target` (image unit 0, of `format`).
     void gather(GLuint program, GLuint target, GLenum format) {
         glUseProgram(program);
+        glUniform2i(1, outSize.width, outSize.height);
         glBindImageTexture(0, target, 0, GL_FALSE, 0, GL_WRITE_ONLY, format);
-        glDispatchCompute((size().width + 15) / 16, (size().height + 15) / 16, 1);
+        glDispatchCompute((outSize.width + 15) / 16, (outSize.height + 15) / 16, 1);
         // Owners reset for the next pose; the target read back or sampled next.
         glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT |
                         GL_TEXTURE_UPDATE_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT |
@@ -375,28 +426,19 @@ struct GLDeformer::Impl {
         checkGl("gathering the deformed image");
     }
 
-    void ensureOutput() {
-        if (outputFbo) return;
-        output = makeTexture(GL_TEXTURE_2D);
-        glTexStorage2D(GL_TEXTURE_2D, 1, fmt.internal, size().width, size().height);
-        outputFbo = makeFramebuffer(output, "output");
-    }
-
-    void ensureMaps() {
-        if (mapsFbo) return;
-        maps = makeTexture(GL_TEXTURE_2D);
-        glTexStorage2D(GL_TEXTURE_2D, 1, GL_RG32F, size().width, size().height);
-        mapsFbo = makeFramebuffer(maps, "maps");
-    }
+    // The targets of the current pose's size: a new size costs one texture and framebuffer
+    // each (the previous size's are freed), a pose of the same size nothing.
+    void ensureOutput() { output.ensure(outSize, fmt.internal, "output"); }
+    void ensureMaps() { maps.ensure(outSize, GL_RG32F, "maps"); }
 
     void release() {
         for (GLuint p : {imageProgram, mapsProgram, positionsProgram, rasterProgram,
                          gatherImageProgram, gatherMapsProgram})
             gpu::deleteProgram(p);
-        const GLuint textures[] = {coefficients, pose, image, output, maps};
-        glDeleteTextures(5, textures);
-        const GLuint fbos[] = {outputFbo, mapsFbo};
-        glDeleteFramebuffers(2, fbos);
+        const GLuint textures[] = {coefficients, pose, image};
+        glDeleteTextures(3, textures);
+        output.release();
+        maps.release();
         const GLuint buffers[] = {indices, positions, owners};
         glDeleteBuffers(3, buffers);
         glDeleteVertexArrays(1, &vao);
@@ -474,16 +516,16 @@ unsigned GLDeformer::render(const Scalar& border) {
     if (d.pipeline == GPU_PIPELINE_COMPUTE) {
         d.rasterize();
         glProgramUniform4fv(d.gatherImageProgram, 0, 1, b);  // programs are shared: set each time
-        d.gather(d.gatherImageProgram, d.output, d.fmt.internal);
-        return d.output;
+        d.gather(d.gatherImageProgram, d.output.texture, d.fmt.internal);
+        return d.output.texture;
     }
-    glBindFramebuffer(GL_FRAMEBUFFER, d.outputFbo);
-    glViewport(0, 0, d.size().width, d.size().height);
+    glBindFramebuffer(GL_FRAMEBUFFER, d.output.fbo);
+    glViewport(0, 0, d.outSize.width, d.outSize.height);
     glClearBufferfv(GL_COLOR, 0, b);
     d.clock.mark(StageClock::kPositions);  // the vertex shader sums and draws in one pass
     d.draw(d.imageProgram, false);
     d.clock.mark(StageClock::kRaster);
-    return d.output;
+    return d.output.texture;
 }
 
 unsigned GLDeformer::renderMaps() {
@@ -492,26 +534,26 @@ unsigned GLDeformer::renderMaps() {
     d.clock.reset();
     if (d.pipeline == GPU_PIPELINE_COMPUTE) {
         d.rasterize();
-        d.gather(d.gatherMapsProgram, d.maps, GL_RG32F);
-        return d.maps;
+        d.gather(d.gatherMapsProgram, d.maps.texture, GL_RG32F);
+        return d.maps.texture;
     }
-    glBindFramebuffer(GL_FRAMEBUFFER, d.mapsFbo);
-    glViewport(0, 0, d.size().width, d.size().height);
+    glBindFramebuffer(GL_FRAMEBUFFER, d.maps.fbo);
+    glViewport(0, 0, d.outSize.width, d.outSize.height);
     const float clear[4] = {kUncovered, kUncovered, 0.f, 0.f};
     glClearBufferfv(GL_COLOR, 0, clear);
     d.clock.mark(StageClock::kPositions);
     d.draw(d.mapsProgram, false);
     d.clock.mark(StageClock::kRaster);
-    return d.maps;
+    return d.maps.texture;
 }
 
 void GLDeformer::readOutput(OutputArray dst) {
-    impl_->ensureOutput();
-    dst.create(impl_->size(), impl_->imageType);
+    if (!impl_->output.fbo) impl_->ensureOutput();
+    dst.create(impl_->output.size, impl_->imageType);
     Mat out = dst.getMat();
     CV_Assert(out.isContinuous());
     impl_->clock.mark(StageClock::kReadStart);
-    glBindFramebuffer(GL_READ_FRAMEBUFFER, impl_->outputFbo);
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, impl_->output.fbo);
     glPixelStorei(GL_PACK_ALIGNMENT, 1);
     glPixelStorei(GL_PACK_ROW_LENGTH, 0);
     // Row 0 of the Mat is the framebuffer's bottom row, where render() put image row 0.
@@ -521,10 +563,10 @@ void GLDeformer::readOutput(OutputArray dst) {
 }
 
 void GLDeformer::readMaps(OutputArray mapx, OutputArray mapy) {
-    impl_->ensureMaps();
-    Mat xy(impl_->size(), CV_32FC2);
+    if (!impl_->maps.fbo) impl_->ensureMaps();
+    Mat xy(impl_->maps.size, CV_32FC2);
     impl_->clock.mark(StageClock::kReadStart);
-    glBindFramebuffer(GL_READ_FRAMEBUFFER, impl_->mapsFbo);
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, impl_->maps.fbo);
     glPixelStorei(GL_PACK_ALIGNMENT, 4);
     glPixelStorei(GL_PACK_ROW_LENGTH, 0);
     glReadPixels(0, 0, xy.cols, xy.rows, GL_RG, GL_FLOAT, xy.data);
@@ -555,10 +597,13 @@ int GLDeformer::pipeline() const {
 }
 
 unsigned GLDeformer::outputTexture() const {
-    return impl_->output;
+    return impl_->output.texture;
 }
 unsigned GLDeformer::mapsTexture() const {
-    return impl_->maps;
+    return impl_->maps.texture;
+}
+Size GLDeformer::outputSize() const {
+    return impl_->outSize;
 }
 unsigned GLDeformer::coefficientTexture() const {
     return impl_->coefficients;

@@ -107,7 +107,7 @@ compute dispatches (GPU_PIPELINE_COMPUTE) or one draw call (GPU_PIPELINE_VERTEX_
     GLDeformer d(image, bind(cage));        // context current
     d.setPose(pose);
     glViewport(x, y, w, h); d.draw();       // into the bound framebuffer, or:
-    GLuint tex = d.render();                // into d's own texture (image size) */
+    GLuint tex = d.render();                // into d's own texture (outputSize()) */
 class CV_EXPORTS GLDeformer {
   public:
     /** Uploads a binding made on the CPU (bind()). image: 8U/16U/32F, 1, 3 or 4 channels. */
@@ -121,25 +121,33 @@ class CV_EXPORTS GLDeformer {
     GLDeformer(const GLDeformer&) = delete;
     GLDeformer& operator=(const GLDeformer&) = delete;
 
-    /** The pose: vertexCount() points, or coefficientCount() with the frame corners last. */
+    /** The pose: vertexCount() points, or coefficientCount() with the frame corners last.
+    A pose whose frame corners lie on the frame of another size W'xH' (a resize pose,
+    resizePose() in resize.hpp; the rule is the CPU backend's) renders a W'xH' image: render(),
+    renderMaps() and draw() then draw the new frame. Throws StsOutOfRange when W' or H' exceeds
+    what this GPU draws (GL_MAX_TEXTURE_SIZE, GL_MAX_VIEWPORT_DIMS). */
     void setPose(InputArray pose);
     /** Replaces the image (same size and type as before). */
     void setImage(InputArray image);
     /** Draws the deformed image into the bound framebuffer with the paper's vertex-shader
-    program (whatever params.pipeline says: it draws into the caller's framebuffer): the image
-    rectangle fills the current viewport; flipY puts image row 0 at the top (a window), false
-    at the bottom (what glReadPixels returns first). Uncovered pixels are left untouched. */
+    program (whatever params.pipeline says: it draws into the caller's framebuffer): the pose's
+    frame (the image's, or a resize pose's new one: outputSize()) fills the current viewport; flipY
+    puts image row 0 at the top (a window), false at the bottom (what glReadPixels returns first).
+    Uncovered pixels are left untouched. */
     void draw(bool flipY = true);
-    /** Renders into outputTexture() (image size; border where no triangle covers a pixel)
-    and returns it. */
+    /** Renders into outputTexture() (outputSize(); border where no triangle covers a pixel)
+    and returns it. A pose of another size than the last render's makes a new texture of that
+    size (the old one is deleted: ask outputTexture() again after each render). */
     unsigned render(const Scalar& border = Scalar());
     /** Renders the inverse maps (RG32F: source x, y per pixel; -1e4 where uncovered) into
-    mapsTexture() and returns it. */
+    mapsTexture() (outputSize(), remade like outputTexture()) and returns it. */
     unsigned renderMaps();
-    /** Reads outputTexture() back as the input's size and type. */
+    /** Reads outputTexture() back: the size of the last render(), the input's type. */
     void readOutput(OutputArray dst);
-    /** Reads mapsTexture() back as two CV_32F maps for cv::remap. */
+    /** Reads mapsTexture() back as two CV_32F maps for cv::remap (the last renderMaps()'s size). */
     void readMaps(OutputArray mapx, OutputArray mapy);
+    /** The size the current pose renders into: the image's, or a resize pose's new size. */
+    Size outputSize() const;
 
     unsigned outputTexture() const;
     unsigned mapsTexture() const;
