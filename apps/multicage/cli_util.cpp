@@ -236,6 +236,19 @@ void addDeformOptions(CLI::App* cmd, DeformOptions& o, int defaultCoordinates) {
         ->type_name("V [V V V]");
 }
 
+cv::Ptr<cv::multicage::Deformer> createWithProgress(const std::string& command, bool quiet,
+                                                    const cv::Mat& image,
+                                                    const cv::multicage::Multicage& cage,
+                                                    cv::multicage::DeformParams params) {
+    BindProgressLine progress(command, quiet);
+    params.progress = progress.callback();
+    try {
+        return cv::multicage::Deformer::create(image, cage, params);
+    } catch (const cv::Exception& e) {
+        progress.rethrow(e);
+    }
+}
+
 cv::multicage::DeformParams deformParams(const DeformOptions& o, const std::string& command,
                                          cv::Size imageSize, const cv::multicage::Multicage& cage,
                                          std::string* stepChange) {

@@ -64,12 +64,19 @@ class BindProgressLine {
     void (*previous_)(int) = nullptr;
 };
 
+/** Deformer::create(image, cage, params) with a BindProgressLine for `command`: a progress line
+on stderr while a long binding runs, and a cancelled one as that one-line Failure. */
+cv::Ptr<cv::multicage::Deformer> createWithProgress(const std::string& command, bool quiet,
+                                                    const cv::Mat& image,
+                                                    const cv::multicage::Multicage& cage,
+                                                    cv::multicage::DeformParams params);
+
 /** A CLI11 check for a whole number in [lo, hi] that names what is wrong ("'abc' is not a
 whole number", "0 is out of range: 1 to 256"). */
 CLI::Validator wholeNumber(int lo, int hi);
 
 /** The library's names of the backends (backendName: auto, cpu, gpu) and of the coordinate
-types (coordinateTypeName: mvc, harmonic). */
+types (coordinateTypeName: mvc, harmonic, local_mvc). */
 std::vector<std::string> backendNames();
 std::vector<std::string> coordinateNames();
 // The library's names (cv::multicage::parseBackend, parseCoordinateType), as a Failure when unknown.

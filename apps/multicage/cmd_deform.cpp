@@ -20,8 +20,10 @@ void runDeform(const DeformCommandOptions& o) {
     const cv::Mat image = readImage(o.image);
     const Multicage cage = loadCage(o.cage, image.size());
     if (cage.poseCount() == 0)
-        throw Failure(o.cage + ": has no poses; add one under `poses:`, e.g. `- { name: stretch, vertices: "
-                      "[ x0, y0, x1, y1, ... ] }` with every vertex in order (see multicage deform --help)");
+        throw Failure(
+            o.cage +
+            ": has no poses; add one under `poses:`, e.g. `- { name: stretch, vertices: "
+            "[ x0, y0, x1, y1, ... ] }` with every vertex in order (see multicage deform --help)");
     int poseIndex = 0;
     if (!o.pose.empty()) {
         poseIndex = cage.findPose(o.pose);
@@ -35,17 +37,8 @@ void runDeform(const DeformCommandOptions& o) {
     DeformParams params = deformParams(o.deform, "deform", image.size(), cage, &stepChange);
 
     probeAutoBackend(params.backend);  // once, and not counted as bind time
-    cv::Ptr<Deformer> deformer;
     const auto tb = std::chrono::steady_clock::now();
-    {
-        BindProgressLine progress("deform", o.quiet);
-        params.progress = progress.callback();
-        try {
-            deformer = Deformer::create(image, cage, params);
-        } catch (const cv::Exception& e) {
-            progress.rethrow(e);
-        }
-    }
+    const cv::Ptr<Deformer> deformer = createWithProgress("deform", o.quiet, image, cage, params);
     const double bindMs = msSince(tb);
     const Binding& binding = deformer->binding();
     if (binding.minConditioning < kConditioningWarning)
@@ -56,8 +49,8 @@ void runDeform(const DeformCommandOptions& o) {
     const Pose& pose = cage.pose(poseIndex);
     const int folded = deformer->foldedTriangles(pose.vertices);
     if (folded > 0)
-        std::cerr << "multicage deform: warning: pose '" << pose.name << "' folds the image over itself ("
-                  << folded << " mesh triangles inverted)\n";
+        std::cerr << "multicage deform: warning: pose '" << pose.name
+                  << "' folds the image over itself (" << folded << " mesh triangles inverted)\n";
     const auto td = std::chrono::steady_clock::now();
     cv::Mat out;
     deformer->deform(pose.vertices, out);
@@ -87,9 +80,11 @@ void addDeformCommand(CLI::App& app) {
         "  poses:\n"
         "     - { name: stretch, time: 1.0, vertices: [ 90, 70, 330, 75, 310, 250, 100, 240 ] }\n"
         "Example: multicage deform photo.jpg cage.yml -o out.png --pose stretch --grid-step 2");
-    cmd->add_option("image", o->image, "Input image (8/16-bit or float, 1, 3 or 4 channels)")->required();
+    cmd->add_option("image", o->image, "Input image (8/16-bit or float, 1, 3 or 4 channels)")
+        ->required();
     cmd->add_option("cage", o->cage, "Cage file (.yml, .yaml or .json)")->required();
-    cmd->add_option("-o,--output", o->output, "Output image; written only when complete")->required();
+    cmd->add_option("-o,--output", o->output, "Output image; written only when complete")
+        ->required();
     cmd->add_option("--pose", o->pose, "Pose name in the cage file (default: the first pose)");
     addDeformOptions(cmd, o->deform);
     cmd->add_flag("-q,--quiet", o->quiet, "No progress line while binding");

@@ -126,16 +126,7 @@ void runResize(const ResizeCommandOptions& o) {
     rp.gridStep = params.gridStep;
     probeAutoBackend(params.backend);
     const auto tb = std::chrono::steady_clock::now();
-    cv::Ptr<Deformer> deformer;
-    {
-        BindProgressLine progress("resize", o.quiet);
-        params.progress = progress.callback();
-        try {
-            deformer = Deformer::create(image, cage, params);
-        } catch (const cv::Exception& e) {
-            progress.rethrow(e);
-        }
-    }
+    const cv::Ptr<Deformer> deformer = createWithProgress("resize", o.quiet, image, cage, params);
     const Binding& binding = deformer->binding();
     const double bindMs = msSince(tb);
     if (!o.quiet)
