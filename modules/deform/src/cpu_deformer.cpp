@@ -4,6 +4,8 @@
 #include <memory>
 #include <mutex>
 #include <opencv2/imgproc.hpp>
+
+#include "remap_linear.hpp"
 #if defined(__linux__)
 #include <sys/mman.h>
 #endif
@@ -37,14 +39,14 @@ class CpuDeformer final : public Deformer {
     void deform(InputArray pose, OutputArray dst) override {
         drawMapsFor(pose);
         mesh_.draw(mapx_, mapy_);
-        if (!firstOutput_.empty() && firstOutput_.size() == mapx_.size() && dst.kind() == _InputArray::MAT &&
-            dst.empty()) {
-            remap(image_, firstOutput_, mapx_, mapy_, INTER_LINEAR, BORDER_CONSTANT, border_);
+        if (!firstOutput_.empty() && firstOutput_.size() == mapx_.size() &&
+            dst.kind() == _InputArray::MAT && dst.empty()) {
+            remapLinear(image_, firstOutput_, mapx_, mapy_, border_);
             dst.assign(firstOutput_);  // the caller's now (reference counted), no longer ours
             firstOutput_.release();
             return;
         }
-        remap(image_, dst, mapx_, mapy_, INTER_LINEAR, BORDER_CONSTANT, border_);
+        remapLinear(image_, dst, mapx_, mapy_, border_);
     }
 
     void computeMaps(InputArray pose, OutputArray mapx, OutputArray mapy) override {
@@ -81,7 +83,7 @@ class CpuDeformer final : public Deformer {
             oneSize = oneSize && sizes[k] == sizes[0];
         }
         std::vector<Mat> out = oneSize && count > 0 ? batchOutputs(count, sizes[0], image_.type())
-                                                     : std::vector<Mat>(count);
+                                                    : std::vector<Mat>(count);
         for (int k = 0; k < count; ++k) out[k].create(sizes[k], image_.type());
         if (count < 2 || getNumThreads() <= 1) {
             // One item (or one thread): in this Deformer's own mesh and maps, the loops inside
@@ -90,7 +92,7 @@ class CpuDeformer final : public Deformer {
                 const Mat& source = images.empty() ? image_ : images[k];
                 drawMapsFor(poses[k]);
                 mesh_.draw(mapx_, mapy_);
-                remap(source, out[k], mapx_, mapy_, INTER_LINEAR, BORDER_CONSTANT, border_);
+                remapLinear(source, out[k], mapx_, mapy_, border_);
             }
             setBatchOutput(dstIn, out);
             return;
@@ -116,8 +118,8 @@ class CpuDeformer final : public Deformer {
                     ws->mapx.create(sizes[k], CV_32F);
                     ws->mapy.create(sizes[k], CV_32F);
                     ws->mesh.draw(ws->mapx, ws->mapy);
-                    remap(images.empty() ? image_ : images[k], out[k], ws->mapx, ws->mapy,
-                          INTER_LINEAR, BORDER_CONSTANT, border_);
+                    remapLinear(images.empty() ? image_ : images[k], out[k], ws->mapx, ws->mapy,
+                                border_);
                 }
                 std::lock_guard<std::mutex> lock(poolMutex);
                 pool_.push_back(std::move(ws));

@@ -13,6 +13,10 @@
 #include <cmath>
 #include <memory>
 #if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__)
+// GCC 12's AVX-512 headers start vectors from _mm512_undefined_*(), which -W(maybe-)uninitialized
+// reports at every use.
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+#pragma GCC diagnostic ignored "-Wuninitialized"
 #include <immintrin.h>
 #endif
 #include <opencv2/core/utility.hpp>
