@@ -52,7 +52,7 @@ MULTICAGE_V4 void remapRow3(const uchar* src, size_t step, int W, int H, const f
                             const float* my, uchar* d, int cols, const uchar* border) {
     const __m512 scale = _mm512_set1_ps(32.f);
     const __m512i lastX = _mm512_set1_epi32(W - 1), lastY = _mm512_set1_epi32(H - 1);
-    const __m512i fraction = _mm512_set1_epi32(31), thirtyTwo = _mm512_set1_epi32(32);
+    const __m512i fraction = _mm512_set1_epi32(31);
     const __m512i stepV = _mm512_set1_epi32(static_cast<int>(step));
     const __m512i half = _mm512_set1_epi32(512);
     // Each 128-bit lane ends with 4 pixels of 4 bytes (b, g, r, junk): keep 12 bytes per lane,
@@ -60,13 +60,26 @@ MULTICAGE_V4 void remapRow3(const uchar* src, size_t step, int W, int H, const f
     const __m512i keep3 =
         _mm512_broadcast_i32x4(_mm_setr_epi8(0, 1, 2, 4, 5, 6, 8, 9, 10, 12, 13, 14, 3, 7, 11, 15));
     const __m512i lanes = _mm512_setr_epi32(0, 1, 2, 4, 5, 6, 8, 9, 10, 12, 13, 14, 3, 7, 11, 15);
+    const __m512i order = _mm512_setr_epi32(0, 1, 4, 5, 8, 9, 12, 13, 2, 3, 6, 7, 10, 11, 14, 15);
+    const __m512i pairs = _mm512_broadcast_i32x4(
+        _mm_setr_epi8(0, 3, 1, 4, 2, 5, -1, -1, 8, 11, 9, 12, 10, 13, -1, -1));
+    const __m512i thirtyTwo64 = _mm512_set1_epi64(32);
+    // The last offset an 8-byte read may start at.
+    const __m512i lastRead = _mm512_set1_epi32(static_cast<int>(step * (H - 1) + 3 * W - 8));
     int x = 0;
     for (; x + 16 <= cols; x += 16) {
         const __m512i sx = _mm512_cvtps_epi32(_mm512_mul_ps(_mm512_loadu_ps(mx + x), scale));
         const __m512i sy = _mm512_cvtps_epi32(_mm512_mul_ps(_mm512_loadu_ps(my + x), scale));
         const __m512i X = _mm512_srai_epi32(sx, 5), Y = _mm512_srai_epi32(sy, 5);
         // W and H are below 2^15 (remapLinear), so 16-bit saturation changes no inside test.
-        if ((_mm512_cmplt_epu32_mask(X, lastX) & _mm512_cmplt_epu32_mask(Y, lastY)) != 0xFFFF) {
+        const __mmask16 inside =
+            _mm512_cmplt_epu32_mask(X, lastX) & _mm512_cmplt_epu32_mask(Y, lastY);
+        if (inside != 0xFFFF ||
+            _mm512_mask_cmpgt_epi32_mask(
+                inside,
+                _mm512_add_epi32(_mm512_add_epi32(_mm512_mullo_epi32(Y, stepV), stepV),
+                                 _mm512_add_epi32(_mm512_add_epi32(X, X), X)),
+                lastRead)) {
             for (int k = x; k < x + 16; ++k)
                 samplePixel3(src, step, W, H, mx[k], my[k], border, d + 3 * k);
             continue;
@@ -75,42 +88,43 @@ MULTICAGE_V4 void remapRow3(const uchar* src, size_t step, int W, int H, const f
         const __m512i top = _mm512_add_epi32(_mm512_mullo_epi32(Y, stepV),
                                              _mm512_add_epi32(_mm512_add_epi32(X, X), X));
         const __m512i bottom = _mm512_add_epi32(top, stepV);
-        // 4 bytes from each sample: (b, g, r, next byte); the right-hand samples are read from
-        // 2 bytes earlier and shifted, so that no read passes the image's last byte.
-        const __m512i two = _mm512_set1_epi32(2);
-        const __m512i tl = _mm512_i32gather_epi32(top, src, 1);
-        const __m512i tr =
-            _mm512_srli_epi32(_mm512_i32gather_epi32(_mm512_add_epi32(top, two), src, 1), 8);
-        const __m512i bl = _mm512_i32gather_epi32(bottom, src, 1);
-        const __m512i br =
-            _mm512_srli_epi32(_mm512_i32gather_epi32(_mm512_add_epi32(bottom, two), src, 1), 8);
-        // Along x, in 16 bits: (32 - a) left + a right, the byte pair (32 - a, a) in both words
-        // of each pixel's dword.
-        const __m512i pairX =
-            _mm512_or_si512(_mm512_sub_epi32(thirtyTwo, a), _mm512_slli_epi32(a, 8));
-        const __m512i wx = _mm512_or_si512(pairX, _mm512_slli_epi32(pairX, 16));
-        const __m512i wxLo = _mm512_unpacklo_epi32(wx, wx), wxHi = _mm512_unpackhi_epi32(wx, wx);
-        const __m512i t0 = _mm512_maddubs_epi16(_mm512_unpacklo_epi8(tl, tr), wxLo);
-        const __m512i t1 = _mm512_maddubs_epi16(_mm512_unpackhi_epi8(tl, tr), wxHi);
-        const __m512i b0 = _mm512_maddubs_epi16(_mm512_unpacklo_epi8(bl, br), wxLo);
-        const __m512i b1 = _mm512_maddubs_epi16(_mm512_unpackhi_epi8(bl, br), wxHi);
-        // Along y, in 32 bits: (32 - b) top + b bottom; pixel k of each lane in r_k.
-        const __m512i wy =
-            _mm512_or_si512(_mm512_sub_epi32(thirtyTwo, b), _mm512_slli_epi32(b, 16));
-        __m512i r0 = _mm512_madd_epi16(_mm512_unpacklo_epi16(t0, b0),
-                                       _mm512_shuffle_epi32(wy, _MM_PERM_AAAA));
-        __m512i r1 = _mm512_madd_epi16(_mm512_unpackhi_epi16(t0, b0),
-                                       _mm512_shuffle_epi32(wy, _MM_PERM_BBBB));
-        __m512i r2 = _mm512_madd_epi16(_mm512_unpacklo_epi16(t1, b1),
-                                       _mm512_shuffle_epi32(wy, _MM_PERM_CCCC));
-        __m512i r3 = _mm512_madd_epi16(_mm512_unpackhi_epi16(t1, b1),
-                                       _mm512_shuffle_epi32(wy, _MM_PERM_DDDD));
-        r0 = _mm512_srli_epi32(_mm512_add_epi32(r0, half), 10);
-        r1 = _mm512_srli_epi32(_mm512_add_epi32(r1, half), 10);
-        r2 = _mm512_srli_epi32(_mm512_add_epi32(r2, half), 10);
-        r3 = _mm512_srli_epi32(_mm512_add_epi32(r3, half), 10);
+        // 8 bytes from each sample row: (b, g, r) of the left and the right sample and 2 more,
+        // which may pass the image's last byte only at its bottom-right pixel: that one goes the
+        // slow way (the test in front).
+        __m512i words[2];
+        for (int h = 0; h < 2; ++h) {
+            const __m256i topH =
+                h ? _mm512_extracti64x4_epi64(top, 1) : _mm512_castsi512_si256(top);
+            const __m256i bottomH =
+                h ? _mm512_extracti64x4_epi64(bottom, 1) : _mm512_castsi512_si256(bottom);
+            const __m512i aH = _mm512_cvtepi32_epi64(h ? _mm512_extracti64x4_epi64(a, 1)
+                                                       : _mm512_castsi512_si256(a));
+            const __m512i bH = _mm512_cvtepi32_epi64(h ? _mm512_extracti64x4_epi64(b, 1)
+                                                       : _mm512_castsi512_si256(b));
+            // (b0 b1 g0 g1 r0 r1 0 0): each channel's left and right sample side by side.
+            const __m512i t = _mm512_shuffle_epi8(_mm512_i32gather_epi64(topH, src, 1), pairs);
+            const __m512i u = _mm512_shuffle_epi8(_mm512_i32gather_epi64(bottomH, src, 1), pairs);
+            // Along x, in 16 bits: (32 - a) left + a right, bytes (32 - a, a) three times.
+            const __m512i pairX =
+                _mm512_or_si512(_mm512_sub_epi64(thirtyTwo64, aH), _mm512_slli_epi64(aH, 8));
+            const __m512i wx = _mm512_or_si512(_mm512_or_si512(pairX, _mm512_slli_epi64(pairX, 16)),
+                                               _mm512_slli_epi64(pairX, 32));
+            const __m512i ht = _mm512_maddubs_epi16(t, wx), hb = _mm512_maddubs_epi16(u, wx);
+            // Along y, in 32 bits: (32 - b) top + b bottom; the lane's first pixel, then its
+            // second.
+            const __m512i wy =
+                _mm512_or_si512(_mm512_sub_epi64(thirtyTwo64, bH), _mm512_slli_epi64(bH, 16));
+            __m512i r0 = _mm512_madd_epi16(_mm512_unpacklo_epi16(ht, hb),
+                                           _mm512_shuffle_epi32(wy, _MM_PERM_AAAA));
+            __m512i r1 = _mm512_madd_epi16(_mm512_unpackhi_epi16(ht, hb),
+                                           _mm512_shuffle_epi32(wy, _MM_PERM_CCCC));
+            r0 = _mm512_srli_epi32(_mm512_add_epi32(r0, half), 10);
+            r1 = _mm512_srli_epi32(_mm512_add_epi32(r1, half), 10);
+            words[h] = _mm512_packs_epi32(r0, r1);
+        }
+        // Lane i now holds pixels 2i, 2i+1, 8+2i, 9+2i as (b, g, r, 0): in order, 3 bytes each.
         const __m512i bytes =
-            _mm512_packus_epi16(_mm512_packs_epi32(r0, r1), _mm512_packs_epi32(r2, r3));
+            _mm512_permutexvar_epi32(order, _mm512_packus_epi16(words[0], words[1]));
         const __m512i packed = _mm512_permutexvar_epi32(lanes, _mm512_shuffle_epi8(bytes, keep3));
         _mm512_mask_storeu_epi32(d + 3 * x, 0x0FFF, packed);
     }
