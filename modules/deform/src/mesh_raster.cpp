@@ -546,27 +546,44 @@ void rasterizeMaps(InputArray positionsIn, InputArray restIn, Size outputSize, O
     mesh.draw(mapx, mapy);
 }
 
+namespace {
+
+// The triangles of one row of cells (node rows p0/p1 deformed, r0/r1 rest) whose orientation
+// differs between the two meshes. A loop over cells without branches, so that it vectorises: a
+// random pose is checked on every node of a mesh, once per drawn pose.
+MULTICAGE_TARGET_CLONES
+int foldedInRow(const Point2f* p0, const Point2f* p1, const Point2f* r0, const Point2f* r1,
+                int cells) {
+    // The sign of cross(b - a, c - a): differences in float, products and their difference in
+    // double (exact products of floats; no fused multiply-add in this file).
+    auto orientation = [](Point2f a, Point2f b, Point2f c) {
+        const double ux = b.x - a.x, uy = b.y - a.y, vx = c.x - a.x, vy = c.y - a.y;
+        const double d = ux * vy - uy * vx;
+        return (d > 0) - (d < 0);
+    };
+    int folded = 0;
+    for (int gx = 0; gx < cells; ++gx) {
+        const Point2f* p[2] = {p0 + gx, p1 + gx};
+        const Point2f* r[2] = {r0 + gx, r1 + gx};
+#pragma GCC unroll 2
+        for (int t = 0; t < 2; ++t) {
+            const auto& c = kCellTriangles[t];
+            folded += orientation(p[c[0][1]][c[0][0]], p[c[1][1]][c[1][0]], p[c[2][1]][c[2][0]]) !=
+                      orientation(r[c[0][1]][c[0][0]], r[c[1][1]][c[1][0]], r[c[2][1]][c[2][0]]);
+        }
+    }
+    return folded;
+}
+
+}  // namespace
+
 int countFoldedTriangles(InputArray positionsIn, InputArray restIn) {
     const Mat P = positionsIn.getMat(), R = restIn.getMat();
     CV_Assert(P.type() == CV_32FC2 && R.type() == CV_32FC2 && P.size() == R.size());
-    auto orientationOf = [](Point2f a, Point2f b, Point2f c) {
-        const double d = cross(Point2d(b - a), Point2d(c - a));
-        return (d > 0) - (d < 0);
-    };
-    // Row pointers instead of Mat::at (a random pose is checked on every node of the mesh it
-    // will deform, so this runs once per drawn pose); the same triangles, the same arithmetic.
     int folded = 0;
-    for (int gy = 0; gy + 1 < P.rows; ++gy) {
-        const Point2f* p[2] = {P.ptr<Point2f>(gy), P.ptr<Point2f>(gy + 1)};
-        const Point2f* r[2] = {R.ptr<Point2f>(gy), R.ptr<Point2f>(gy + 1)};
-        for (int gx = 0; gx + 1 < P.cols; ++gx)
-            for (const auto& t : kCellTriangles) {
-                const int x0 = gx + t[0][0], x1 = gx + t[1][0], x2 = gx + t[2][0];
-                const int y0 = t[0][1], y1 = t[1][1], y2 = t[2][1];
-                folded += orientationOf(p[y0][x0], p[y1][x1], p[y2][x2]) !=
-                          orientationOf(r[y0][x0], r[y1][x1], r[y2][x2]);
-            }
-    }
+    for (int gy = 0; gy + 1 < P.rows; ++gy)
+        folded += foldedInRow(P.ptr<Point2f>(gy), P.ptr<Point2f>(gy + 1), R.ptr<Point2f>(gy),
+                              R.ptr<Point2f>(gy + 1), P.cols - 1);
     return folded;
 }
 
