@@ -1,6 +1,11 @@
 // Rasterising the deformed node mesh into inverse maps (the CPU backend's "draw call").
 
-// First: its options (no fused multiply-adds) hold for this whole file.
+// First, before any other header (clang-format would sort it among them): the rasteriser's
+// floating-point options.
+// clang-format off
+#include "raster_options.hpp"
+// clang-format on
+
 #include <climits>
 #include <cmath>
 #include <memory>
@@ -125,7 +130,7 @@ void RasterMesh::setOutputSize(Size outputSize) {
     out_ = outputSize;
 }
 
-void RasterMesh::draw(Mat& mapx, Mat& mapy) {
+void RasterMesh::draw(Mat& mapx, Mat& mapy, const std::function<void(int, int)>& bandDone) {
     CV_Assert(mapx.type() == CV_32F && mapy.type() == CV_32F && mapx.size() == out_ &&
               mapy.size() == out_);
     const Mat& P = P_;
@@ -176,6 +181,7 @@ void RasterMesh::draw(Mat& mapx, Mat& mapy) {
                 const Point2f* r1 = restRow(gy + 1, rest1);
                 kernel(p0, p1, r0, r1, P.cols - 1, y0, y1, lo, hi, mapx, mapy, *setup);
             }
+            if (bandDone) bandDone(y0, y1);
         }
     });
 }

@@ -1,4 +1,11 @@
 // The AVX-512 triangle kernel: the spans of 8 rows of a triangle at once, pixels 8 at a time.
+
+// First, before any other header (clang-format would sort it among them): the rasteriser's
+// floating-point options.
+// clang-format off
+#include "raster_options.hpp"
+// clang-format on
+
 #include <memory>
 
 #include "raster_kernels.hpp"

@@ -1,4 +1,11 @@
 // The baseline triangle kernel: one triangle at a time, a span per row (AVX2 and baseline clones).
+
+// First, before any other header (clang-format would sort it among them): the rasteriser's
+// floating-point options.
+// clang-format off
+#include "raster_options.hpp"
+// clang-format on
+
 #include "raster_kernels.hpp"
 
 #include <atomic>

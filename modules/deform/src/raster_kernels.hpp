@@ -3,15 +3,7 @@
 #ifndef MULTICAGE_RASTER_KERNELS_HPP
 #define MULTICAGE_RASTER_KERNELS_HPP
 
-// For every file that includes this (first, before any other header, so that every function
-// there, inlined ones included, has the same options): no fused multiply-adds, so that every
-// kernel and clone gives the same bits; and no floating-point traps assumed (nothing here enables
-// them), so that the selects of the triangle set-up vectorise.
-#if defined(__GNUC__) && !defined(__clang__)
-#pragma GCC optimize("fp-contract=off", "no-trapping-math")
-#elif defined(__clang__)
-#pragma clang fp contract(off)
-#endif
+// A file that includes this includes raster_options.hpp first, before any other header.
 #include <algorithm>
 #include <cmath>
 #include <opencv2/core.hpp>
@@ -30,19 +22,6 @@ namespace raster {
 #define MULTICAGE_TARGET_CLONES
 #endif
 
-// std::min / std::max of three, with their exact comparisons (so NaN behaves as it always did),
-// written as selects so that a loop of them vectorises.
-inline double min3(double a, double b, double c) {
-    double r = a;
-    r = b < r ? b : r;
-    return c < r ? c : r;
-}
-inline double max3(double a, double b, double c) {
-    double r = a;
-    r = r < b ? b : r;
-    return r < c ? c : r;
-}
-
 // The triangles of a run of cells, two per cell ((a,b,c) then (b,d,c)), in drawing order.
 constexpr int kRunCells = 64, kRunTriangles = 2 * kRunCells;
 
@@ -58,6 +37,24 @@ struct TriangleSetup {
     double mxx[kRunTriangles], mxy[kRunTriangles], mx0[kRunTriangles];
     double myx[kRunTriangles], myy[kRunTriangles], my0[kRunTriangles];
 };
+
+// The helpers below have internal linkage on purpose: each kernel's file compiles its own copy
+// for its own instruction set (and inlines it). Shared inline functions would be merged by the
+// linker into one copy, possibly the baseline one, out of line, under the AVX-512 kernel.
+namespace {
+
+// std::min / std::max of three, with their exact comparisons (so NaN behaves as it always did),
+// written as selects so that a loop of them vectorises.
+inline double min3(double a, double b, double c) {
+    double r = a;
+    r = b < r ? b : r;
+    return c < r ? c : r;
+}
+inline double max3(double a, double b, double c) {
+    double r = a;
+    r = r < b ? b : r;
+    return r < c ? c : r;
+}
 
 // Set-up of triangles [0, count) from their corners qx/qy (deformed) and px/py (rest). Every
 // value is computed with the same operations, in the same order, as for one triangle at a time.
@@ -111,6 +108,8 @@ inline void prepareRun(const Point2f* p0, const Point2f* p1, const Point2f* r0, 
     }
     setUpTriangles(s, 2 * n);
 }
+
+}  // namespace
 
 // Draws the cells of one row of the mesh (nodes rows p0/p1 deformed, r0/r1 rest, `cells`
 // cells) into output rows [y0, y1) of the maps, in order: cell by cell, its kCellTriangles in

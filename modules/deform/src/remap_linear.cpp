@@ -150,32 +150,50 @@ bool remapLinearOwnPath(int type) {
 #endif
 }
 
-void remapLinear(const Mat& src, OutputArray dstOut, const Mat& mapx, const Mat& mapy,
-                 const Scalar& border) {
-    const bool own = remapLinearOwnPath(src.type()) && mapx.type() == CV_32F &&
-                     mapy.type() == CV_32F && mapx.size() == mapy.size() && src.cols < SHRT_MAX &&
-                     src.rows < SHRT_MAX && src.cols >= 2 && src.rows >= 2 &&
-                     src.step < size_t(INT_MAX) / 4 && src.step * src.rows < size_t(INT_MAX) / 2;
-    if (!own) {
-        remap(src, dstOut, mapx, mapy, INTER_LINEAR, BORDER_CONSTANT, border);
+namespace {
+
+bool ownPathFor(const Mat& src, const Mat& mapx, const Mat& mapy) {
+    return remapLinearOwnPath(src.type()) && mapx.type() == CV_32F && mapy.type() == CV_32F &&
+           mapx.size() == mapy.size() && src.cols < SHRT_MAX && src.rows < SHRT_MAX &&
+           src.cols >= 2 && src.rows >= 2 && src.step < size_t(INT_MAX) / 4 &&
+           src.step * src.rows < size_t(INT_MAX) / 2;
+}
+
+}  // namespace
+
+void remapLinearRows(const Mat& src, Mat& dst, const Mat& mapx, const Mat& mapy,
+                     const Scalar& border, int y0, int y1) {
+    CV_Assert(dst.size() == mapx.size() && dst.type() == src.type() && dst.data != src.data);
+    CV_Assert(0 <= y0 && y0 <= y1 && y1 <= dst.rows);
+    if (y0 == y1) return;
+    if (!ownPathFor(src, mapx, mapy)) {
+        Mat rows = dst.rowRange(y0, y1);
+        remap(src, rows, mapx.rowRange(y0, y1), mapy.rowRange(y0, y1), INTER_LINEAR,
+              BORDER_CONSTANT, border);
         return;
     }
 #if defined(MULTICAGE_REMAP_V4)
+    uchar cval[4];
+    for (int k = 0; k < 4; ++k) cval[k] = saturate_cast<uchar>(border[k]);
+    for (int y = y0; y < y1; ++y)
+        remapRow3(src.data, src.step, src.cols, src.rows, mapx.ptr<float>(y), mapy.ptr<float>(y),
+                  dst.ptr(y), dst.cols, cval);
+#endif
+}
+
+void remapLinear(const Mat& src, OutputArray dstOut, const Mat& mapx, const Mat& mapy,
+                 const Scalar& border) {
+    if (!ownPathFor(src, mapx, mapy)) {
+        remap(src, dstOut, mapx, mapy, INTER_LINEAR, BORDER_CONSTANT, border);
+        return;
+    }
     CV_Assert(dstOut.getObj() != &src);
     dstOut.create(mapx.size(), src.type());
     Mat dst = dstOut.getMat();
-    CV_Assert(dst.data != src.data);
-    uchar cval[4];
-    for (int k = 0; k < 4; ++k) cval[k] = saturate_cast<uchar>(border[k]);
     parallel_for_(
         Range(0, dst.rows),
-        [&](const Range& r) {
-            for (int y = r.start; y < r.end; ++y)
-                remapRow3(src.data, src.step, src.cols, src.rows, mapx.ptr<float>(y),
-                          mapy.ptr<float>(y), dst.ptr(y), dst.cols, cval);
-        },
+        [&](const Range& r) { remapLinearRows(src, dst, mapx, mapy, border, r.start, r.end); },
         std::max(1.0, dst.rows / 16.0));
-#endif
 }
 
 }  // namespace multicage

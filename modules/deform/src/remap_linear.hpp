@@ -14,6 +14,11 @@ remap to SSE2 only); any other image is cv::remap's. */
 void remapLinear(const Mat& src, OutputArray dst, const Mat& mapx, const Mat& mapy,
                  const Scalar& border);
 
+/** Rows [y0, y1) of what remapLinear writes, into dst already made (mapx's size, src's type),
+on this thread: for a caller that samples a band of rows while its maps are still in cache. */
+void remapLinearRows(const Mat& src, Mat& dst, const Mat& mapx, const Mat& mapy,
+                     const Scalar& border, int y0, int y1);
+
 /** Whether remapLinear takes its own path for images of this type on this CPU (for tests). */
 bool remapLinearOwnPath(int type);
 
