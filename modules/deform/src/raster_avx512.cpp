@@ -42,32 +42,14 @@ struct SpanRows {
     unsigned char rows[kRunTriangles];                  // bit k: row ya + k has a span
 };
 
-// Rows [ya, yb] of triangle t inside rows [y0, y1) and columns [xa, xb] of the output, or false
-// when it draws nothing (outside, degenerate, NaN or infinite), as drawTriangle decides.
-inline bool triangleBounds(const TriangleSetup& s, int t, int y0, int y1, int cols, int& ya,
-                           int& yb, int& xa, int& xb) {
-    const double minY = s.minY[t], maxY = s.maxY[t];
-    if (!(maxY >= y0 && minY <= y1 - 1)) return false;
-    ya = static_cast<int>(std::ceil(std::max(minY, double(y0))));
-    yb = static_cast<int>(std::floor(std::min(maxY, double(y1 - 1))));
-    if (ya > yb) return false;
-    const double minX = s.minX[t], maxX = s.maxX[t];
-    if (!(maxX >= 0 && minX <= cols - 1)) return false;
-    xa = static_cast<int>(std::ceil(std::max(minX, 0.0)));
-    xb = static_cast<int>(std::floor(std::min(maxX, double(cols - 1))));
-    if (xa > xb) return false;
-    const double area = s.area[t];
-    return std::abs(area) > 1e-12 && std::isfinite(area);
-}
-
 // The spans of rows [ya, ya + 8) of triangle t (lanes past yb are left out of `rows`).
 MULTICAGE_V4 inline void spansOf8Rows(const TriangleSetup& s, int t, int ya, int yb, int xa, int xb,
                                       SpanRows& out) {
     const __m512d yv = _mm512_cvtepi32_pd(
         _mm256_add_epi32(_mm256_set1_epi32(ya), _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7)));
-    const __m512d eps = _mm512_set1_pd(-1e-7);
+    const __m512d eps = _mm512_set1_pd(kEdgeTolerance);
     __m512d left = _mm512_set1_pd(xa), right = _mm512_set1_pd(xb);
-    for (int i = 0; i < 3; ++i) {  // l_i(x) = ax x + c >= eps, as in drawTriangle
+    for (int i = 0; i < 3; ++i) {  // rowSpan, 8 rows at once
         const double ax = s.ax[i][t];
         const __m512d c = _mm512_add_pd(_mm512_set1_pd(s.a0[i][t]),
                                         _mm512_mul_pd(_mm512_set1_pd(s.ay[i][t]), yv));
@@ -121,20 +103,11 @@ MULTICAGE_V4 inline void fillSpan(const TriangleSetup& s, int t, int xl, int xr,
 // Rows ya..yb of triangle t one at a time (the rows past the first 8 of a tall triangle).
 MULTICAGE_V4 inline void fillRows(const TriangleSetup& s, int t, int ya, int yb, int xa, int xb,
                                   Point2f lo, Point2f hi, Mat& mapx, Mat& mapy) {
-    constexpr double eps = -1e-7;
     for (int y = ya; y <= yb; ++y) {
-        double left = xa, right = xb;
-        for (int i = 0; i < 3; ++i) {
-            const double ax = s.ax[i][t], c = s.a0[i][t] + s.ay[i][t] * y;
-            const double v = (eps - c) * s.invAx[i][t];
-            left = std::max(left, ax > 0 ? v : -INFINITY);
-            right = std::min(right, ax < 0 ? v : INFINITY);
-            right = !(ax > 0) && !(ax < 0) && c < eps ? -1.0 : right;
-        }
-        if (!(left <= right)) continue;
-        const int xl = static_cast<int>(std::ceil(left)), xr = static_cast<int>(std::floor(right));
-        fillSpan(s, t, xl, xr, s.mxy[t] * y + s.mx0[t], s.myy[t] * y + s.my0[t], lo, hi,
-                 mapx.ptr<float>(y), mapy.ptr<float>(y));
+        int xl, xr;
+        if (rowSpan(s, t, y, xa, xb, xl, xr))
+            fillSpan(s, t, xl, xr, s.mxy[t] * y + s.mx0[t], s.myy[t] * y + s.my0[t], lo, hi,
+                     mapx.ptr<float>(y), mapy.ptr<float>(y));
     }
 }
 

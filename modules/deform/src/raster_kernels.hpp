@@ -109,6 +109,49 @@ inline void prepareRun(const Point2f* p0, const Point2f* p1, const Point2f* r0, 
     setUpTriangles(s, 2 * n);
 }
 
+// Rows [ya, yb] and columns [xa, xb] of triangle t inside rows [y0, y1) and columns [0, cols),
+// or false when it draws nothing: outside, degenerate, NaN, or infinite (a node at infinity: the
+// affine map would be NaN). Bounds are clamped in double before they become ints: a pose may put
+// nodes 1e30 px away or at infinity, and converting such a value to int is undefined
+// (fuzz_deform). The negated tests also drop NaN coordinates.
+inline bool triangleBounds(const TriangleSetup& s, int t, int y0, int y1, int cols, int& ya,
+                           int& yb, int& xa, int& xb) {
+    const double minY = s.minY[t], maxY = s.maxY[t];
+    if (!(maxY >= y0 && minY <= y1 - 1)) return false;
+    ya = static_cast<int>(std::ceil(std::max(minY, double(y0))));
+    yb = static_cast<int>(std::floor(std::min(maxY, double(y1 - 1))));
+    if (ya > yb) return false;
+    const double minX = s.minX[t], maxX = s.maxX[t];
+    if (!(maxX >= 0 && minX <= cols - 1)) return false;
+    xa = static_cast<int>(std::ceil(std::max(minX, 0.0)));
+    xb = static_cast<int>(std::floor(std::min(maxX, double(cols - 1))));
+    if (xa > xb) return false;
+    const double area = s.area[t];
+    return std::abs(area) > 1e-12 && std::isfinite(area);
+}
+
+// The pixels [xl, xr] of row y inside triangle t (within its columns [xa, xb]), or false when
+// there are none. Edges are inclusive with a small tolerance (eps), so that neighbouring
+// triangles leave no crack: l_i(x) = ax x + c >= eps for the three barycentric edge functions.
+// Selects, not branches (a triangle is a few rows, so the branches of each edge's side
+// mispredict): an edge bounds the left (ax > 0), the right (ax < 0), or, neither, empties the
+// row when c < eps (NaN ax included).
+constexpr double kEdgeTolerance = -1e-7;
+inline bool rowSpan(const TriangleSetup& s, int t, int y, int xa, int xb, int& xl, int& xr) {
+    constexpr double eps = kEdgeTolerance;
+    double left = xa, right = xb;
+    for (int i = 0; i < 3; ++i) {
+        const double ax = s.ax[i][t], c = s.a0[i][t] + s.ay[i][t] * y;
+        const double v = (eps - c) * s.invAx[i][t];
+        left = std::max(left, ax > 0 ? v : -INFINITY);
+        right = std::min(right, ax < 0 ? v : INFINITY);
+        right = !(ax > 0) && !(ax < 0) && c < eps ? -1.0 : right;
+    }
+    if (!(left <= right)) return false;  // empty span (or NaN) before converting to int
+    xl = static_cast<int>(std::ceil(left)), xr = static_cast<int>(std::floor(right));
+    return xl <= xr;
+}
+
 }  // namespace
 
 // Draws the cells of one row of the mesh (nodes rows p0/p1 deformed, r0/r1 rest, `cells`
