@@ -3,6 +3,7 @@
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
+#include <ctime>
 #include <functional>
 #include <iostream>
 #include <opencv2/core/utility.hpp>
@@ -577,6 +578,76 @@ void printAugmentRates(const BenchOptions& o) {
         "draws).\n");
 }
 
+// Thread CPU time of f() in ms (wall clock where the platform has no per-thread clock): what a
+// stage costs on one thread, less disturbed than wall time by other processes on a loaded machine.
+double threadCpuMs(const std::function<void()>& f) {
+#if defined(CLOCK_THREAD_CPUTIME_ID)
+    timespec a, b;
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &a);
+    f();
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &b);
+    return (b.tv_sec - a.tv_sec) * 1e3 + (b.tv_nsec - a.tv_nsec) * 1e-6;
+#else
+    const auto t = std::chrono::steady_clock::now();
+    f();
+    return msSince(t);
+#endif
+}
+
+// Where the time of printAugmentRates goes, stage by stage (one thread, thread CPU time, medians
+// of rounds of `batch` images): the pose draw, the inverse maps (coefficient sum and raster, as
+// computeMaps makes them), the whole deform (maps and sampling), and cv::remap with those maps.
+void printAugmentStages(const BenchOptions& o) {
+    using namespace cv::multicage;
+    const cv::Size size(512, 512);
+    const cv::Mat image = benchImage(o.image, size);
+    const Multicage cage = multicage_fixtures::lotusMulticage(size, 40);
+    const double amplitude = 12;
+    const int batch = 16, rounds = std::max(5, o.repeats);
+    cv::setNumThreads(1);
+    std::printf("  per image, one thread's CPU time (ms), medians of %d rounds of %d:\n", rounds,
+                batch);
+    std::printf("%11s %9s %9s %9s %9s %11s\n", "grid step", "pose", "maps", "deform", "sampling",
+                "cv::remap");
+    for (int step : {4, 2}) {
+        DeformParams cpu;
+        cpu.backend = BACKEND_CPU;
+        cpu.gridStep = step;
+        cv::Ptr<Deformer> d = Deformer::create(image, cage, cpu);
+        std::vector<std::vector<cv::Point2f>> poses(batch);
+        cv::Mat mapx, mapy, out;
+        uint64 seed = 1;
+        std::vector<double> pose, maps, deform, remap;
+        for (int r = 0; r <= rounds; ++r) {  // round 0 warms up
+            const double tPose = threadCpuMs([&] {
+                for (auto& p : poses) {
+                    cv::RNG rng(seed++);
+                    p = randomPose(cage, amplitude, rng);
+                }
+            });
+            const double tMaps = threadCpuMs([&] {
+                for (const auto& p : poses) d->computeMaps(p, mapx, mapy);
+            });
+            const double tDeform = threadCpuMs([&] {
+                for (const auto& p : poses) d->deform(p, out);
+            });
+            const double tRemap = threadCpuMs([&] {
+                for (int k = 0; k < batch; ++k)
+                    cv::remap(image, out, mapx, mapy, cv::INTER_LINEAR, cv::BORDER_CONSTANT);
+            });
+            if (r == 0) continue;
+            pose.push_back(tPose / batch), maps.push_back(tMaps / batch);
+            deform.push_back(tDeform / batch), remap.push_back(tRemap / batch);
+        }
+        const double m = median(maps), dm = median(deform);
+        std::printf("%11d %9.3f %9.3f %9.3f %9.3f %11.3f\n", step, median(pose), m, dm, dm - m,
+                    median(remap));
+    }
+    std::printf(
+        "  maps: the coefficient sum and the raster (computeMaps); sampling: deform less maps "
+        "(the backend's own bilinear sampler where the CPU has AVX-512, cv::remap's bits).\n");
+}
+
 void printAugmentFirstDeform(const BenchOptions& o) {
     using namespace cv::multicage;
     const cv::Size size(1024, 768);
@@ -635,6 +706,7 @@ void printAugmentFirstDeform(const BenchOptions& o) {
 void printAugment(const BenchOptions& o) {
     const int threads = cv::getNumThreads();
     printAugmentRates(o);
+    printAugmentStages(o);
     printAugmentFirstDeform(o);
     cv::setNumThreads(threads);
 }

@@ -25,7 +25,7 @@ import statistics
 import sys
 import time
 
-from sample_imports import cv2
+from sample_imports import cv2, np
 from sample_imports import multicage as mc
 
 DATA = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "data")

@@ -4,6 +4,8 @@
 #include <memory>
 #include <mutex>
 #include <opencv2/imgproc.hpp>
+
+#include "remap_linear.hpp"
 #if defined(__linux__)
 #include <sys/mman.h>
 #endif
@@ -36,15 +38,19 @@ class CpuDeformer final : public Deformer {
 
     void deform(InputArray pose, OutputArray dst) override {
         drawMapsFor(pose);
-        mesh_.draw(mapx_, mapy_);
-        if (!firstOutput_.empty() && firstOutput_.size() == mapx_.size() && dst.kind() == _InputArray::MAT &&
-            dst.empty()) {
-            remap(image_, firstOutput_, mapx_, mapy_, INTER_LINEAR, BORDER_CONSTANT, border_);
+        const Size size = mesh_.outputSize();
+        const bool first = !firstOutput_.empty() && firstOutput_.size() == size &&
+                           dst.kind() == _InputArray::MAT && dst.empty();
+        Mat out = firstOutput_;
+        if (!first) {
+            dst.create(size, image_.type());
+            out = dst.getMat();
+        }
+        drawAndSample(image_, out, mesh_, mapx_, mapy_);
+        if (first) {
             dst.assign(firstOutput_);  // the caller's now (reference counted), no longer ours
             firstOutput_.release();
-            return;
         }
-        remap(image_, dst, mapx_, mapy_, INTER_LINEAR, BORDER_CONSTANT, border_);
     }
 
     void computeMaps(InputArray pose, OutputArray mapx, OutputArray mapy) override {
@@ -89,8 +95,7 @@ class CpuDeformer final : public Deformer {
             for (int k = 0; k < count; ++k) {
                 const Mat& source = images.empty() ? image_ : images[k];
                 drawMapsFor(poses[k]);
-                mesh_.draw(mapx_, mapy_);
-                remap(source, out[k], mapx_, mapy_, INTER_LINEAR, BORDER_CONSTANT, border_);
+                drawAndSample(source, out[k], mesh_, mapx_, mapy_);
             }
             setBatchOutput(dstIn, out);
             return;
@@ -115,9 +120,8 @@ class CpuDeformer final : public Deformer {
                     ws->mesh.setOutputSize(sizes[k]);
                     ws->mapx.create(sizes[k], CV_32F);
                     ws->mapy.create(sizes[k], CV_32F);
-                    ws->mesh.draw(ws->mapx, ws->mapy);
-                    remap(images.empty() ? image_ : images[k], out[k], ws->mapx, ws->mapy,
-                          INTER_LINEAR, BORDER_CONSTANT, border_);
+                    drawAndSample(images.empty() ? image_ : images[k], out[k], ws->mesh, ws->mapx,
+                                  ws->mapy);
                 }
                 std::lock_guard<std::mutex> lock(poolMutex);
                 pool_.push_back(std::move(ws));
@@ -137,6 +141,15 @@ class CpuDeformer final : public Deformer {
         RasterMesh mesh;
         Mat mapx, mapy;
     };
+
+    // The maps of the mesh's pose, and `out` (made: the maps' size, source's type) sampled from
+    // source through them (cv::remap's bits), each band of rows as soon as it is drawn, while its
+    // maps are still in cache (a whole 512x512 pair of maps is 2 MB, more than a core's L2).
+    void drawAndSample(const Mat& source, Mat& out, RasterMesh& mesh, Mat& mapx, Mat& mapy) {
+        mesh.draw(mapx, mapy, [&](int y0, int y1) {
+            remapLinearRows(source, out, mapx, mapy, border_, y0, y1);
+        });
+    }
 
     // Node positions into the mesh, the ring onto the pose's frame, and maps of the size that
     // frame asks for (frameOutputSize: the image's own, or a resize pose's new size).

@@ -60,8 +60,10 @@ class RasterMesh {
     on another size's frame (frameOutputSize) draws into that size. */
     void setOutputSize(Size outputSize);
     Size outputSize() const { return out_; }
-    /** Inverse maps (outputSize CV_32F, every pixel written) for the current nodes and frame. */
-    void draw(Mat& mapx, Mat& mapy);
+    /** Inverse maps (outputSize CV_32F, every pixel written) for the current nodes and frame.
+    Drawn in bands of rows, in parallel; bandDone(y0, y1), if given, is called on the band's
+    thread as soon as rows [y0, y1) are final (to sample them while they are in cache). */
+    void draw(Mat& mapx, Mat& mapy, const std::function<void(int, int)>& bandDone = {});
 
   private:
     template <typename F>

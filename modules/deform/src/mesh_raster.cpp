@@ -1,14 +1,11 @@
 // Rasterising the deformed node mesh into inverse maps (the CPU backend's "draw call").
 
-// For the whole file (before any header, so that every function here, inlined ones included,
-// has the same options): no fused multiply-adds, so the AVX2 clone of the triangle kernel gives
-// the same bits as the baseline one; and no floating-point traps assumed (nothing here enables
-// them), so that the selects of the triangle set-up vectorise.
-#if defined(__GNUC__) && !defined(__clang__)
-#pragma GCC optimize("fp-contract=off", "no-trapping-math")
-#elif defined(__clang__)
-#pragma clang fp contract(off)
-#endif
+// First, before any other header (clang-format would sort it among them): the rasteriser's
+// floating-point options.
+// clang-format off
+#include "raster_options.hpp"
+// clang-format on
+
 #include <climits>
 #include <cmath>
 #include <memory>
@@ -16,172 +13,13 @@
 #include <opencv2/multicage/deformer.hpp>
 
 #include "cpu_deformer.hpp"
+#include "raster_kernels.hpp"
 #if defined(__linux__)
 #include <sys/mman.h>
 #endif
 
 namespace cv {
 namespace multicage {
-
-namespace {
-
-inline double cross(Point2d a, Point2d b) {
-    return a.x * b.y - a.y * b.x;
-}
-
-// The triangle kernel is compiled twice, for AVX2 and for the baseline (GCC function
-// multiversioning), without fused multiply-adds: both give the same bits.
-#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && \
-    !defined(__SANITIZE_ADDRESS__)
-#define MULTICAGE_TARGET_CLONES __attribute__((target_clones("arch=x86-64-v3", "default")))
-#else
-#define MULTICAGE_TARGET_CLONES
-#endif
-
-// std::min / std::max of three, with their exact comparisons (so NaN behaves as it always did),
-// written as selects so that a loop of them vectorises.
-inline double min3(double a, double b, double c) {
-    double r = a;
-    r = b < r ? b : r;
-    return c < r ? c : r;
-}
-inline double max3(double a, double b, double c) {
-    double r = a;
-    r = r < b ? b : r;
-    return r < c ? c : r;
-}
-
-// The triangles of a run of cells, two per cell ((a,b,c) then (b,d,c)), in drawing order.
-constexpr int kRunCells = 64, kRunTriangles = 2 * kRunCells;
-
-// Per triangle of a run, everything drawTriangle needs that does not depend on the output
-// rows: bounds, the barycentric edge functions, and the affine inverse map. One structure of
-// arrays, so the set-up of a run vectorises across triangles.
-struct TriangleSetup {
-    float qx[3][kRunTriangles], qy[3][kRunTriangles], px[3][kRunTriangles], py[3][kRunTriangles];
-    double minY[kRunTriangles], maxY[kRunTriangles], minX[kRunTriangles], maxX[kRunTriangles];
-    double area[kRunTriangles];
-    double ax[3][kRunTriangles], ay[3][kRunTriangles], a0[3][kRunTriangles],
-        invAx[3][kRunTriangles];
-    double mxx[kRunTriangles], mxy[kRunTriangles], mx0[kRunTriangles];
-    double myx[kRunTriangles], myy[kRunTriangles], my0[kRunTriangles];
-};
-
-// Set-up of triangles [0, count) from their corners qx/qy (deformed) and px/py (rest). Every
-// value is computed with the same operations, in the same order, as for one triangle at a time.
-inline void setUpTriangles(TriangleSetup& s, int count) {
-    for (int t = 0; t < count; ++t) {
-        const double q0x = s.qx[0][t], q0y = s.qy[0][t], q1x = s.qx[1][t], q1y = s.qy[1][t];
-        const double q2x = s.qx[2][t], q2y = s.qy[2][t];
-        s.minY[t] = min3(q0y, q1y, q2y), s.maxY[t] = max3(q0y, q1y, q2y);
-        s.minX[t] = min3(q0x, q1x, q2x), s.maxX[t] = max3(q0x, q1x, q2x);
-        // area = cross(q1 - q0, q2 - q0)
-        const double area = (q1x - q0x) * (q2y - q0y) - (q1y - q0y) * (q2x - q0x);
-        s.area[t] = area;
-        const double inv = 1.0 / area;
-        // Barycentric l_i(x, y) = (cross(a, b) + x (a.y - b.y) + y (b.x - a.x)) / area for the
-        // edge (a, b) opposite vertex i: (q1, q2), (q2, q0), (q0, q1).
-        const double ex[3][2] = {{q1x, q2x}, {q2x, q0x}, {q0x, q1x}};
-        const double ey[3][2] = {{q1y, q2y}, {q2y, q0y}, {q0y, q1y}};
-        double ax[3], ay[3], a0[3];
-        for (int i = 0; i < 3; ++i) {
-            ax[i] = (ey[i][0] - ey[i][1]) * inv, ay[i] = (ex[i][1] - ex[i][0]) * inv;
-            a0[i] = (ex[i][0] * ey[i][1] - ey[i][0] * ex[i][1]) * inv;
-            const double r = 1.0 / ax[i];
-            s.ax[i][t] = ax[i], s.ay[i][t] = ay[i], s.a0[i][t] = a0[i];
-            s.invAx[i][t] = ax[i] != 0 ? r : 0.0;
-        }
-        // The rest position as an affine function of the output pixel: r = p2 + l0 (p0-p2) + l1
-        // (p1-p2).
-        const double p2x = s.px[2][t], p2y = s.py[2][t];
-        const double d0x = double(s.px[0][t]) - p2x, d0y = double(s.py[0][t]) - p2y;
-        const double d1x = double(s.px[1][t]) - p2x, d1y = double(s.py[1][t]) - p2y;
-        s.mxx[t] = ax[0] * d0x + ax[1] * d1x, s.mxy[t] = ay[0] * d0x + ay[1] * d1x;
-        s.mx0[t] = p2x + a0[0] * d0x + a0[1] * d1x;
-        s.myx[t] = ax[0] * d0y + ax[1] * d1y, s.myy[t] = ay[0] * d0y + ay[1] * d1y;
-        s.my0[t] = p2y + a0[0] * d0y + a0[1] * d1y;
-    }
-}
-
-// Writes, for every pixel centre of rows [y0, y1) inside triangle t (deformed), the matching
-// point of its rest triangle. Inside a triangle the inverse map is affine, so each row is a
-// span [xl, xr] found from the three barycentric edge functions, filled by a straight loop.
-// Edges are inclusive with a small tolerance so that neighbouring triangles leave no crack;
-// on a shared edge both write almost the same value.
-inline void drawTriangle(const TriangleSetup& s, int t, int y0, int y1, Point2f lo, Point2f hi,
-                         Mat& mapx, Mat& mapy) {
-    // Bounds are clamped in double before they become ints: a pose may put nodes 1e30 px
-    // away or at infinity, and converting such a value to int is undefined (fuzz_deform).
-    // The negated tests also drop NaN coordinates.
-    const double minY = s.minY[t], maxY = s.maxY[t];
-    if (!(maxY >= y0 && minY <= y1 - 1)) return;
-    const int ya = static_cast<int>(std::ceil(std::max(minY, double(y0))));
-    const int yb = static_cast<int>(std::floor(std::min(maxY, double(y1 - 1))));
-    if (ya > yb) return;
-    const double minX = s.minX[t], maxX = s.maxX[t];
-    if (!(maxX >= 0 && minX <= mapx.cols - 1)) return;
-    const int xa = static_cast<int>(std::ceil(std::max(minX, 0.0)));
-    const int xb = static_cast<int>(std::floor(std::min(maxX, double(mapx.cols - 1))));
-    if (xa > xb) return;
-    const double area = s.area[t];
-    // Degenerate, NaN, or infinite (a node at infinity: the affine map would be NaN).
-    if (!(std::abs(area) > 1e-12) || !std::isfinite(area)) return;
-    const double ax[3] = {s.ax[0][t], s.ax[1][t], s.ax[2][t]};
-    const double ay[3] = {s.ay[0][t], s.ay[1][t], s.ay[2][t]};
-    const double a0[3] = {s.a0[0][t], s.a0[1][t], s.a0[2][t]};
-    const double invAx[3] = {s.invAx[0][t], s.invAx[1][t], s.invAx[2][t]};
-    const double mxx = s.mxx[t], mxy = s.mxy[t], mx0 = s.mx0[t];
-    const double myx = s.myx[t], myy = s.myy[t], my0 = s.my0[t];
-    constexpr double eps = -1e-7;
-    for (int y = ya; y <= yb; ++y) {
-        double left = xa, right = xb;
-        for (int i = 0; i < 3; ++i) {  // l_i(x) = ax x + c >= eps
-            // Selects, not branches (a triangle is a few rows, so the branches of each edge's
-            // side mispredict); the same values: an edge bounds the left (ax > 0), the right
-            // (ax < 0), or, neither, empties the row when c < eps (NaN ax included).
-            const double c = a0[i] + ay[i] * y;
-            const double v = (eps - c) * invAx[i];
-            left = std::max(left, ax[i] > 0 ? v : -INFINITY);
-            right = std::min(right, ax[i] < 0 ? v : INFINITY);
-            right = !(ax[i] > 0) && !(ax[i] < 0) && c < eps ? -1.0 : right;
-        }
-        if (!(left <= right)) continue;  // empty span (or NaN) before converting to int
-        const int xl = static_cast<int>(std::ceil(left)), xr = static_cast<int>(std::floor(right));
-        if (xl > xr) continue;
-        float* mx = mapx.ptr<float>(y);
-        float* my = mapy.ptr<float>(y);
-        const double bx = mxy * y + mx0, by = myy * y + my0;
-        for (int x = xl; x <= xr; ++x) {
-            mx[x] = std::min(std::max(static_cast<float>(mxx * x + bx), lo.x), hi.x);
-            my[x] = std::min(std::max(static_cast<float>(myx * x + by), lo.y), hi.y);
-        }
-    }
-}
-
-// Draws the cells of one row of the mesh (nodes rows p0/p1 deformed, r0/r1 rest, `cells`
-// cells) into output rows [y0, y1), in order: cell by cell, its kCellTriangles in turn.
-MULTICAGE_TARGET_CLONES
-void drawCellRow(const Point2f* p0, const Point2f* p1, const Point2f* r0, const Point2f* r1,
-                 int cells, int y0, int y1, Point2f lo, Point2f hi, Mat& mapx, Mat& mapy,
-                 TriangleSetup& s) {
-    for (int first = 0; first < cells; first += kRunCells) {
-        const int n = std::min(kRunCells, cells - first);
-        for (int k = 0; k < n; ++k) {
-#pragma GCC unroll 6
-            for (int i = 0; i < 6; ++i) {  // triangle t = i / 3 of cell first + k, its vertex v
-                const int t = i / 3, v = i % 3, tri = 2 * k + t;
-                const int x = first + k + kCellTriangles[t][v][0];
-                const bool below = kCellTriangles[t][v][1] != 0;
-                const Point2f q = (below ? p1 : p0)[x], r = (below ? r1 : r0)[x];
-                s.qx[v][tri] = q.x, s.qy[v][tri] = q.y, s.px[v][tri] = r.x, s.py[v][tri] = r.y;
-            }
-        }
-        setUpTriangles(s, 2 * n);
-        for (int t = 0; t < 2 * n; ++t) drawTriangle(s, t, y0, y1, lo, hi, mapx, mapy);
-    }
-}
-
-}  // namespace
 
 Mat hugePageMat(Size size, int type, std::vector<Mat>& owners) {
     const size_t bytes = size_t(size.area()) * CV_ELEM_SIZE(type);
@@ -292,7 +130,7 @@ void RasterMesh::setOutputSize(Size outputSize) {
     out_ = outputSize;
 }
 
-void RasterMesh::draw(Mat& mapx, Mat& mapy) {
+void RasterMesh::draw(Mat& mapx, Mat& mapy, const std::function<void(int, int)>& bandDone) {
     CV_Assert(mapx.type() == CV_32F && mapy.type() == CV_32F && mapx.size() == out_ &&
               mapy.size() == out_);
     const Mat& P = P_;
@@ -324,8 +162,9 @@ void RasterMesh::draw(Mat& mapx, Mat& mapy) {
     // rows across a band's edge are set up by both bands, so narrower ones repeat more work.
     const int bands = std::max(
         1, std::min(outputSize.height, std::max(getNumThreads() * 4, outputSize.height / 64)));
+    const raster::DrawCellRowFn kernel = raster::cellRowKernel();
     parallel_for_(Range(0, bands), [&](const Range& range) {
-        std::unique_ptr<TriangleSetup> setup(new TriangleSetup);
+        std::unique_ptr<raster::TriangleSetup> setup(new raster::TriangleSetup);
         std::vector<Point2f> rest0, rest1;  // rest rows of a regular grid
         for (int band = range.start; band < range.end; ++band) {
             const int y0 = outputSize.height * band / bands,
@@ -340,8 +179,9 @@ void RasterMesh::draw(Mat& mapx, Mat& mapy) {
                 const Point2f* p1 = P.ptr<Point2f>(gy + 1);
                 const Point2f* r0 = restRow(gy, rest0);
                 const Point2f* r1 = restRow(gy + 1, rest1);
-                drawCellRow(p0, p1, r0, r1, P.cols - 1, y0, y1, lo, hi, mapx, mapy, *setup);
+                kernel(p0, p1, r0, r1, P.cols - 1, y0, y1, lo, hi, mapx, mapy, *setup);
             }
+            if (bandDone) bandDone(y0, y1);
         }
     });
 }
@@ -368,27 +208,44 @@ void rasterizeMaps(InputArray positionsIn, InputArray restIn, Size outputSize, O
     mesh.draw(mapx, mapy);
 }
 
+namespace {
+
+// The triangles of one row of cells (node rows p0/p1 deformed, r0/r1 rest) whose orientation
+// differs between the two meshes. A loop over cells without branches, so that it vectorises: a
+// random pose is checked on every node of a mesh, once per drawn pose.
+MULTICAGE_TARGET_CLONES
+int foldedInRow(const Point2f* p0, const Point2f* p1, const Point2f* r0, const Point2f* r1,
+                int cells) {
+    // The sign of cross(b - a, c - a): differences in float, products and their difference in
+    // double (exact products of floats; no fused multiply-add in this file).
+    auto orientation = [](Point2f a, Point2f b, Point2f c) {
+        const double ux = b.x - a.x, uy = b.y - a.y, vx = c.x - a.x, vy = c.y - a.y;
+        const double d = ux * vy - uy * vx;
+        return (d > 0) - (d < 0);
+    };
+    int folded = 0;
+    for (int gx = 0; gx < cells; ++gx) {
+        const Point2f* p[2] = {p0 + gx, p1 + gx};
+        const Point2f* r[2] = {r0 + gx, r1 + gx};
+#pragma GCC unroll 2
+        for (int t = 0; t < 2; ++t) {
+            const auto& c = kCellTriangles[t];
+            folded += orientation(p[c[0][1]][c[0][0]], p[c[1][1]][c[1][0]], p[c[2][1]][c[2][0]]) !=
+                      orientation(r[c[0][1]][c[0][0]], r[c[1][1]][c[1][0]], r[c[2][1]][c[2][0]]);
+        }
+    }
+    return folded;
+}
+
+}  // namespace
+
 int countFoldedTriangles(InputArray positionsIn, InputArray restIn) {
     const Mat P = positionsIn.getMat(), R = restIn.getMat();
     CV_Assert(P.type() == CV_32FC2 && R.type() == CV_32FC2 && P.size() == R.size());
-    auto orientationOf = [](Point2f a, Point2f b, Point2f c) {
-        const double d = cross(Point2d(b - a), Point2d(c - a));
-        return (d > 0) - (d < 0);
-    };
-    // Row pointers instead of Mat::at (a random pose is checked on every node of the mesh it
-    // will deform, so this runs once per drawn pose); the same triangles, the same arithmetic.
     int folded = 0;
-    for (int gy = 0; gy + 1 < P.rows; ++gy) {
-        const Point2f* p[2] = {P.ptr<Point2f>(gy), P.ptr<Point2f>(gy + 1)};
-        const Point2f* r[2] = {R.ptr<Point2f>(gy), R.ptr<Point2f>(gy + 1)};
-        for (int gx = 0; gx + 1 < P.cols; ++gx)
-            for (const auto& t : kCellTriangles) {
-                const int x0 = gx + t[0][0], x1 = gx + t[1][0], x2 = gx + t[2][0];
-                const int y0 = t[0][1], y1 = t[1][1], y2 = t[2][1];
-                folded += orientationOf(p[y0][x0], p[y1][x1], p[y2][x2]) !=
-                          orientationOf(r[y0][x0], r[y1][x1], r[y2][x2]);
-            }
-    }
+    for (int gy = 0; gy + 1 < P.rows; ++gy)
+        folded += foldedInRow(P.ptr<Point2f>(gy), P.ptr<Point2f>(gy + 1), R.ptr<Point2f>(gy),
+                              R.ptr<Point2f>(gy + 1), P.cols - 1);
     return folded;
 }
 

@@ -1,0 +1,200 @@
+// Bilinear sampling with float maps and a constant border, as cv::remap computes it.
+//
+// cv::remap turns each map value v into fixed point: s = round(32 v) (to nearest even), the
+// sample column X = s >> 5 (saturated to 16 bits), the fraction a = s & 31, and the same for y.
+// Its weights are the products of (32 - a, a) and (32 - b, b) times 32, so a channel is
+// (sum of p_k w_k + 2^14) >> 15 = (sum of p_k u_k + 512) >> 10 with u_k = w_k / 32, exactly (the
+// one weight of 32768, at a = b = 0, is stored as 32767 and still gives p). A sample outside the
+// image reads the border value. The vector path below computes exactly this, so deform() gives
+// the bits of cv::remap on computeMaps() (tests/deform/remap_linear_test.cpp).
+#include "remap_linear.hpp"
+
+#include <climits>
+#include <opencv2/imgproc.hpp>
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__)
+// GCC 12's AVX-512 headers start vectors from _mm512_undefined_*(), which -W(maybe-)uninitialized
+// reports at every use.
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+#pragma GCC diagnostic ignored "-Wuninitialized"
+#include <immintrin.h>
+#define MULTICAGE_REMAP_V4 1
+#endif
+
+namespace cv {
+namespace multicage {
+
+namespace {
+
+// One pixel of a 3-channel image, each of its four samples read from the image or the border.
+inline void samplePixel3(const uchar* src, size_t step, int W, int H, float mx, float my,
+                         const uchar* border, uchar* d) {
+    const int sx = cvRound(mx * 32.f), sy = cvRound(my * 32.f);
+    const int X = saturate_cast<short>(sx >> 5), Y = saturate_cast<short>(sy >> 5);
+    const int a = sx & 31, b = sy & 31;
+    const int u[4] = {(32 - a) * (32 - b), a * (32 - b), (32 - a) * b, a * b};
+    const bool x0 = X >= 0 && X < W, x1 = X + 1 >= 0 && X + 1 < W;
+    const bool y0 = Y >= 0 && Y < H, y1 = Y + 1 >= 0 && Y + 1 < H;
+    const uchar* row0 = src + size_t(std::max(Y, 0)) * step;
+    const uchar* row1 = src + size_t(std::max(Y + 1, 0)) * step;
+    const uchar* p[4] = {x0 && y0 ? row0 + X * 3 : border, x1 && y0 ? row0 + (X + 1) * 3 : border,
+                         x0 && y1 ? row1 + X * 3 : border, x1 && y1 ? row1 + (X + 1) * 3 : border};
+    for (int k = 0; k < 3; ++k)
+        d[k] = static_cast<uchar>(
+            (p[0][k] * u[0] + p[1][k] * u[1] + p[2][k] * u[2] + p[3][k] * u[3] + 512) >> 10);
+}
+
+#if defined(MULTICAGE_REMAP_V4)
+#define MULTICAGE_V4 __attribute__((target("arch=x86-64-v4")))
+
+// One output row of a 3-channel image, 16 pixels at a time where all of their samples lie
+// inside the image (X in [0, W-2], Y in [0, H-2]); other pixels one by one.
+MULTICAGE_V4 void remapRow3(const uchar* src, size_t step, int W, int H, const float* mx,
+                            const float* my, uchar* d, int cols, const uchar* border) {
+    const __m512 scale = _mm512_set1_ps(32.f);
+    const __m512i lastX = _mm512_set1_epi32(W - 1), lastY = _mm512_set1_epi32(H - 1);
+    const __m512i fraction = _mm512_set1_epi32(31);
+    const __m512i stepV = _mm512_set1_epi32(static_cast<int>(step));
+    const __m512i half = _mm512_set1_epi32(512);
+    // Each 128-bit lane ends with 4 pixels of 4 bytes (b, g, r, junk): keep 12 bytes per lane,
+    // then the 4 lanes' 12 bytes together.
+    const __m512i keep3 =
+        _mm512_broadcast_i32x4(_mm_setr_epi8(0, 1, 2, 4, 5, 6, 8, 9, 10, 12, 13, 14, 3, 7, 11, 15));
+    const __m512i lanes = _mm512_setr_epi32(0, 1, 2, 4, 5, 6, 8, 9, 10, 12, 13, 14, 3, 7, 11, 15);
+    const __m512i order = _mm512_setr_epi32(0, 1, 4, 5, 8, 9, 12, 13, 2, 3, 6, 7, 10, 11, 14, 15);
+    const __m512i pairs = _mm512_broadcast_i32x4(
+        _mm_setr_epi8(0, 3, 1, 4, 2, 5, -1, -1, 8, 11, 9, 12, 10, 13, -1, -1));
+    const __m512i thirtyTwo64 = _mm512_set1_epi64(32);
+    // The last offset an 8-byte read may start at.
+    const __m512i lastRead = _mm512_set1_epi32(static_cast<int>(step * (H - 1) + 3 * W - 8));
+    int x = 0;
+    for (; x + 16 <= cols; x += 16) {
+        const __m512i sx = _mm512_cvtps_epi32(_mm512_mul_ps(_mm512_loadu_ps(mx + x), scale));
+        const __m512i sy = _mm512_cvtps_epi32(_mm512_mul_ps(_mm512_loadu_ps(my + x), scale));
+        const __m512i X = _mm512_srai_epi32(sx, 5), Y = _mm512_srai_epi32(sy, 5);
+        // W and H are below 2^15 (remapLinear), so 16-bit saturation changes no inside test.
+        const __mmask16 inside =
+            _mm512_cmplt_epu32_mask(X, lastX) & _mm512_cmplt_epu32_mask(Y, lastY);
+        if (inside != 0xFFFF ||
+            _mm512_mask_cmpgt_epi32_mask(
+                inside,
+                _mm512_add_epi32(_mm512_add_epi32(_mm512_mullo_epi32(Y, stepV), stepV),
+                                 _mm512_add_epi32(_mm512_add_epi32(X, X), X)),
+                lastRead)) {
+            for (int k = x; k < x + 16; ++k)
+                samplePixel3(src, step, W, H, mx[k], my[k], border, d + 3 * k);
+            continue;
+        }
+        const __m512i a = _mm512_and_si512(sx, fraction), b = _mm512_and_si512(sy, fraction);
+        const __m512i top = _mm512_add_epi32(_mm512_mullo_epi32(Y, stepV),
+                                             _mm512_add_epi32(_mm512_add_epi32(X, X), X));
+        const __m512i bottom = _mm512_add_epi32(top, stepV);
+        // 8 bytes from each sample row: (b, g, r) of the left and the right sample and 2 more,
+        // which may pass the image's last byte only at its bottom-right pixel: that one goes the
+        // slow way (the test in front).
+        __m512i words[2];
+        for (int h = 0; h < 2; ++h) {
+            const __m256i topH =
+                h ? _mm512_extracti64x4_epi64(top, 1) : _mm512_castsi512_si256(top);
+            const __m256i bottomH =
+                h ? _mm512_extracti64x4_epi64(bottom, 1) : _mm512_castsi512_si256(bottom);
+            const __m512i aH = _mm512_cvtepi32_epi64(h ? _mm512_extracti64x4_epi64(a, 1)
+                                                       : _mm512_castsi512_si256(a));
+            const __m512i bH = _mm512_cvtepi32_epi64(h ? _mm512_extracti64x4_epi64(b, 1)
+                                                       : _mm512_castsi512_si256(b));
+            // (b0 b1 g0 g1 r0 r1 0 0): each channel's left and right sample side by side.
+            const __m512i t = _mm512_shuffle_epi8(_mm512_i32gather_epi64(topH, src, 1), pairs);
+            const __m512i u = _mm512_shuffle_epi8(_mm512_i32gather_epi64(bottomH, src, 1), pairs);
+            // Along x, in 16 bits: (32 - a) left + a right, bytes (32 - a, a) three times.
+            const __m512i pairX =
+                _mm512_or_si512(_mm512_sub_epi64(thirtyTwo64, aH), _mm512_slli_epi64(aH, 8));
+            const __m512i wx = _mm512_or_si512(_mm512_or_si512(pairX, _mm512_slli_epi64(pairX, 16)),
+                                               _mm512_slli_epi64(pairX, 32));
+            const __m512i ht = _mm512_maddubs_epi16(t, wx), hb = _mm512_maddubs_epi16(u, wx);
+            // Along y, in 32 bits: (32 - b) top + b bottom; the lane's first pixel, then its
+            // second.
+            const __m512i wy =
+                _mm512_or_si512(_mm512_sub_epi64(thirtyTwo64, bH), _mm512_slli_epi64(bH, 16));
+            __m512i r0 = _mm512_madd_epi16(_mm512_unpacklo_epi16(ht, hb),
+                                           _mm512_shuffle_epi32(wy, _MM_PERM_AAAA));
+            __m512i r1 = _mm512_madd_epi16(_mm512_unpackhi_epi16(ht, hb),
+                                           _mm512_shuffle_epi32(wy, _MM_PERM_CCCC));
+            r0 = _mm512_srli_epi32(_mm512_add_epi32(r0, half), 10);
+            r1 = _mm512_srli_epi32(_mm512_add_epi32(r1, half), 10);
+            words[h] = _mm512_packs_epi32(r0, r1);
+        }
+        // Lane i now holds pixels 2i, 2i+1, 8+2i, 9+2i as (b, g, r, 0): in order, 3 bytes each.
+        const __m512i bytes =
+            _mm512_permutexvar_epi32(order, _mm512_packus_epi16(words[0], words[1]));
+        const __m512i packed = _mm512_permutexvar_epi32(lanes, _mm512_shuffle_epi8(bytes, keep3));
+        _mm512_mask_storeu_epi32(d + 3 * x, 0x0FFF, packed);
+    }
+    for (; x < cols; ++x) samplePixel3(src, step, W, H, mx[x], my[x], border, d + 3 * x);
+}
+
+bool haveV4() {
+    static const bool v4 = __builtin_cpu_supports("avx512f") &&
+                           __builtin_cpu_supports("avx512bw") &&
+                           __builtin_cpu_supports("avx512vl") && __builtin_cpu_supports("avx512dq");
+    return v4;
+}
+#endif
+
+}  // namespace
+
+bool remapLinearOwnPath(int type) {
+#if defined(MULTICAGE_REMAP_V4)
+    return type == CV_8UC3 && haveV4();
+#else
+    (void)type;
+    return false;
+#endif
+}
+
+namespace {
+
+bool ownPathFor(const Mat& src, const Mat& mapx, const Mat& mapy) {
+    return remapLinearOwnPath(src.type()) && mapx.type() == CV_32F && mapy.type() == CV_32F &&
+           mapx.size() == mapy.size() && src.cols < SHRT_MAX && src.rows < SHRT_MAX &&
+           src.cols >= 2 && src.rows >= 2 && src.step < size_t(INT_MAX) / 4 &&
+           src.step * src.rows < size_t(INT_MAX) / 2;
+}
+
+}  // namespace
+
+void remapLinearRows(const Mat& src, Mat& dst, const Mat& mapx, const Mat& mapy,
+                     const Scalar& border, int y0, int y1) {
+    CV_Assert(dst.size() == mapx.size() && dst.type() == src.type() && dst.data != src.data);
+    CV_Assert(0 <= y0 && y0 <= y1 && y1 <= dst.rows);
+    if (y0 == y1) return;
+    if (!ownPathFor(src, mapx, mapy)) {
+        Mat rows = dst.rowRange(y0, y1);
+        remap(src, rows, mapx.rowRange(y0, y1), mapy.rowRange(y0, y1), INTER_LINEAR,
+              BORDER_CONSTANT, border);
+        return;
+    }
+#if defined(MULTICAGE_REMAP_V4)
+    uchar cval[4];
+    for (int k = 0; k < 4; ++k) cval[k] = saturate_cast<uchar>(border[k]);
+    for (int y = y0; y < y1; ++y)
+        remapRow3(src.data, src.step, src.cols, src.rows, mapx.ptr<float>(y), mapy.ptr<float>(y),
+                  dst.ptr(y), dst.cols, cval);
+#endif
+}
+
+void remapLinear(const Mat& src, OutputArray dstOut, const Mat& mapx, const Mat& mapy,
+                 const Scalar& border) {
+    if (!ownPathFor(src, mapx, mapy)) {
+        remap(src, dstOut, mapx, mapy, INTER_LINEAR, BORDER_CONSTANT, border);
+        return;
+    }
+    CV_Assert(dstOut.getObj() != &src);
+    dstOut.create(mapx.size(), src.type());
+    Mat dst = dstOut.getMat();
+    parallel_for_(
+        Range(0, dst.rows),
+        [&](const Range& r) { remapLinearRows(src, dst, mapx, mapy, border, r.start, r.end); },
+        std::max(1.0, dst.rows / 16.0));
+}
+
+}  // namespace multicage
+}  // namespace cv
