@@ -1,11 +1,10 @@
 // randomPose (issue 15, item 2): smooth random poses that keep the multicage valid and fold no
 // triangle over, reproducible from a seed.
+#include <cstdio>
 #include <opencv2/multicage/augment.hpp>
 #include <opencv2/multicage/propose.hpp>
 
 #include "testing.hpp"
-
-#include <cstdio>
 
 using namespace cv;
 using namespace cv::multicage;
@@ -16,10 +15,12 @@ namespace {
 (outlines with the inner polygons that protect features: nested, the harder case). */
 std::vector<std::pair<std::string, Multicage>> sampleCages() {
     std::vector<std::pair<std::string, Multicage>> out;
-    out.emplace_back("butterfly.yml", Multicage::load(std::string(MULTICAGE_SAMPLE_CAGES) + "/butterfly.yml"));
+    out.emplace_back("butterfly.yml",
+                     Multicage::load(std::string(MULTICAGE_SAMPLE_CAGES) + "/butterfly.yml"));
     for (const char* photo : {"HappyFish.jpg", "fruits.jpg", "messi5.jpg"}) {
         const Mat image = multicage_testing::readSample(photo);
-        out.emplace_back(photo, proposeProtectedMulticage(image));  // what `multicage propose` writes
+        out.emplace_back(photo,
+                         proposeProtectedMulticage(image));  // what `multicage propose` writes
     }
     return out;
 }
@@ -36,49 +37,57 @@ double largestMove(const std::vector<Point2f>& pose, const std::vector<Point2f>&
 // checked on a mesh at grid step 2 (what augment.py deforms with) and, for the first 100, at the
 // paper's grid step 1: none invalid, none folded, each vertex within the amplitude, and the
 // draws at a good fraction of it on average (not the rest pose).
+// Local mean value coordinates (a cage that asks for them): 300 draws, checked on local meshes.
 TEST(RandomPose, ThousandDrawsAreValidAndFoldFree) {
-    for (const auto& [name, cage] : sampleCages()) {
-        const double amplitude = 0.025 * std::max(cage.imageSize().width, cage.imageSize().height);
-        ASSERT_TRUE(cage.validateGeometry()) << name;
-        std::vector<Point2f> rest = cage.vertices();
-        rest.resize(cage.vertexCount());
-        const Binding fine = bind(cage, MEAN_VALUE, 2), finest = bind(cage, MEAN_VALUE, 1);
-        const Mat fineNodes = fine.nodes(), finestNodes = finest.nodes();
-        RNG rng(2024);
-        int invalid = 0, folded = 0, restPoses = 0, outOfBound = 0;
-        double sumMove = 0, drawMs = 0;
-        Mat positions;
-        for (int k = 0; k < 1000; ++k) {
-            const int64 start = getTickCount();
-            const std::vector<Point2f> pose = randomPose(cage, amplitude, rng);
-            drawMs += (getTickCount() - start) * 1000.0 / getTickFrequency();
-            ASSERT_EQ(pose.size(), rest.size());
-            std::string why;
-            if (!validatePose(cage, pose, &why)) {
-                ++invalid;
-                ADD_FAILURE() << name << " draw " << k << ": " << why;
+    for (auto [name, cage] : sampleCages())
+        for (int coordinates : {MEAN_VALUE, LOCAL_MEAN_VALUE}) {
+            cage.setCoordinates(coordinates);
+            const int draws = coordinates == MEAN_VALUE ? 1000 : 300;
+            const double amplitude =
+                0.025 * std::max(cage.imageSize().width, cage.imageSize().height);
+            ASSERT_TRUE(cage.validateGeometry()) << name;
+            std::vector<Point2f> rest = cage.vertices();
+            rest.resize(cage.vertexCount());
+            const Binding fine = bind(cage, coordinates, 2), finest = bind(cage, coordinates, 1);
+            const Mat fineNodes = fine.nodes(), finestNodes = finest.nodes();
+            RNG rng(2024);
+            int invalid = 0, folded = 0, restPoses = 0, outOfBound = 0;
+            double sumMove = 0, drawMs = 0;
+            Mat positions;
+            for (int k = 0; k < draws; ++k) {
+                const int64 start = getTickCount();
+                const std::vector<Point2f> pose = randomPose(cage, amplitude, rng);
+                drawMs += (getTickCount() - start) * 1000.0 / getTickFrequency();
+                ASSERT_EQ(pose.size(), rest.size());
+                std::string why;
+                if (!validatePose(cage, pose, &why)) {
+                    ++invalid;
+                    ADD_FAILURE() << name << " draw " << k << ": " << why;
+                }
+                fine.apply(pose, positions);
+                folded += countFoldedTriangles(positions, fineNodes) > 0;
+                if (k < 100) {
+                    finest.apply(pose, positions);
+                    folded += countFoldedTriangles(positions, finestNodes) > 0;
+                }
+                const double move = largestMove(pose, rest);
+                outOfBound += move > amplitude + 1e-3;
+                restPoses += move == 0;
+                sumMove += move;
             }
-            fine.apply(pose, positions);
-            folded += countFoldedTriangles(positions, fineNodes) > 0;
-            if (k < 100) {
-                finest.apply(pose, positions);
-                folded += countFoldedTriangles(positions, finestNodes) > 0;
-            }
-            const double move = largestMove(pose, rest);
-            outOfBound += move > amplitude + 1e-3;
-            restPoses += move == 0;
-            sumMove += move;
+            std::printf(
+                "%s (%d polygons, %d vertices, %s coordinates): %d draws, %d invalid, %d folded, "
+                "%d rest poses, largest vertex move %.2f px on average (amplitude %.1f), %.2f ms "
+                "per draw\n",
+                name.c_str(), cage.polygonCount(), cage.vertexCount(),
+                coordinateTypeDescription(coordinates), draws, invalid, folded, restPoses,
+                sumMove / draws, amplitude, drawMs / draws);
+            EXPECT_EQ(invalid, 0) << name;
+            EXPECT_EQ(folded, 0) << name << " " << coordinateTypeName(coordinates);
+            EXPECT_EQ(outOfBound, 0) << name;
+            EXPECT_LE(restPoses, draws / 100) << name;
+            EXPECT_GT(sumMove / draws, 0.4 * amplitude) << name << ": the draws hardly move";
         }
-        std::printf("%s (%d polygons, %d vertices): 1000 draws, %d invalid, %d folded, %d rest poses, "
-                    "largest vertex move %.2f px on average (amplitude %.1f), %.2f ms per draw\n",
-                    name.c_str(), cage.polygonCount(), cage.vertexCount(), invalid, folded, restPoses,
-                    sumMove / 1000, amplitude, drawMs / 1000);
-        EXPECT_EQ(invalid, 0) << name;
-        EXPECT_EQ(folded, 0) << name;
-        EXPECT_EQ(outOfBound, 0) << name;
-        EXPECT_LE(restPoses, 10) << name;
-        EXPECT_GT(sumMove / 1000, 0.4 * amplitude) << name << ": the draws hardly move";
-    }
 }
 
 TEST(RandomPose, TheSameSeedGivesTheSamePose) {
@@ -104,7 +113,8 @@ TEST(RandomPose, KeepsVerticesAwayFromTheBorder) {
                                             std::min(rest[j].y, size.height - 1 - rest[j].y));
             const double gap = std::min(std::min(pose[j].x, size.width - 1 - pose[j].x),
                                         std::min(pose[j].y, size.height - 1 - pose[j].y));
-            ASSERT_GE(gap, std::min(restGap, amplitude) - 1e-3) << "draw " << k << ", vertex " << j << " " << rest[j] << " -> " << pose[j];
+            ASSERT_GE(gap, std::min(restGap, amplitude) - 1e-3)
+                << "draw " << k << ", vertex " << j << " " << rest[j] << " -> " << pose[j];
         }
     }
 }
@@ -121,14 +131,16 @@ TEST(RandomPose, ChecksFoldOverOnAGivenBinding) {
         ASSERT_EQ(countFoldedTriangles(positions, binding.nodes()), 0);
         ASSERT_TRUE(validatePose(cage, pose));
     }
-    EXPECT_THROW(randomPose(cage, bind(cage.scaled(Size(200, 150)), MEAN_VALUE, 4), 5, rng), cv::Exception);
+    EXPECT_THROW(randomPose(cage, bind(cage.scaled(Size(200, 150)), MEAN_VALUE, 4), 5, rng),
+                 cv::Exception);
 }
 
 // Large amplitudes on a cage with a narrow gap are scaled down until valid, never invalid.
 TEST(RandomPose, ScalesDownWhereTheAmplitudeCannotFit) {
     Multicage cage(Size(200, 200));
     cage.addPolygon(std::vector<Point2f>{{40, 40}, {160, 40}, {160, 160}, {40, 160}});
-    cage.addPolygon(std::vector<Point2f>{{44, 44}, {156, 44}, {156, 156}, {44, 156}});  // a 4 px band
+    cage.addPolygon(
+        std::vector<Point2f>{{44, 44}, {156, 44}, {156, 156}, {44, 156}});  // a 4 px band
     cage.orient();
     RNG rng(9);
     std::vector<Point2f> rest = cage.vertices();
@@ -150,7 +162,8 @@ TEST(RandomPose, ValidatePoseSaysWhatIsWrong) {
     EXPECT_TRUE(validatePose(cage, pose));
     std::vector<Point2f> crossing = pose;
     const int body = cage.polygonOffset(1);
-    for (int j = body; j < cage.vertexCount(); ++j) crossing[j] += Point2f(-200, 0);  // into the wings' edge
+    for (int j = body; j < cage.vertexCount(); ++j)
+        crossing[j] += Point2f(-200, 0);  // into the wings' edge
     std::string why;
     EXPECT_FALSE(validatePose(cage, crossing, &why));
     EXPECT_NE(why.find("posed:"), std::string::npos) << why;

@@ -93,12 +93,13 @@ std::vector<double> jitterLimits(const Multicage& cage, const std::vector<Polygo
 around a vertex, the same at every scale, so a grid can miss a fold there): a small polar mesh
 around every user vertex (rings of radius 0.3, 1.5, 3 and 6 px, 16 directions: sectors of 22.5
 degrees, and of 112.5 degrees within half the distance to the nearest other edge), its points'
-coordinates computed once (Algorithm 1 at arbitrary points), then moved by each pose and checked for
-reversed triangles. Empty for harmonic coordinates (they exist only on the grid). */
+coordinates computed once (Algorithm 1 at arbitrary points, or its local variant: each point sums
+the polygons bounding its region only), then moved by each pose and checked for reversed
+triangles. Empty for harmonic coordinates (they exist only on the grid). */
 class VertexFans {
   public:
     VertexFans() = default;
-    VertexFans(const Multicage& cage) {
+    VertexFans(const Multicage& cage, bool local) {
         static const double radii[] = {0.3, 1.5, 3.0, 6.0};
         constexpr int kDirections = 16, kRings = 4;
         const Size size = cage.imageSize();
@@ -154,6 +155,25 @@ class VertexFans {
         for (int p = 0; p < cage.polygonCount(); ++p)
             polygons.emplace_back(cage.polygon(p), cage.polygonOffset(p));
         polygons.emplace_back(cage.frame(), users);
+        // Local coordinates: the region of each sample (the deepest polygon holding it, the
+        // frame's = polygonCount()) and each polygon's parent; polygon p is summed at a sample
+        // only where it bounds the sample's region (p is the region, or one of its children).
+        const int frameIndex = cage.polygonCount();
+        std::vector<int> region(count, frameIndex), parent(frameIndex, frameIndex);
+        if (local) {
+            std::vector<int> depthOf(frameIndex);
+            for (int p = 0; p < frameIndex; ++p) depthOf[p] = cage.depth(p);
+            for (int p = 0; p < frameIndex; ++p)
+                for (int q = 0; q < frameIndex; ++q)
+                    if (depthOf[q] == depthOf[p] - 1 &&
+                        geometry::contains(cage.polygon(q), cage.polygon(p)[0]))
+                        parent[p] = q;
+            for (int i = 0; i < count; ++i)
+                for (int p = 0; p < frameIndex; ++p)
+                    if ((region[i] == frameIndex || depthOf[p] > depthOf[region[i]]) &&
+                        geometry::contains(cage.polygon(p), points_[i]))
+                        region[i] = p;
+        }
         for (size_t p = 0; p < polygons.size(); ++p) {
             double sign = 1;
             if (static_cast<int>(p) < cage.polygonCount())
@@ -163,9 +183,14 @@ class VertexFans {
                            : -1;
             Mat w;
             meanValueCoordinates(polygons[p].first, points_, w, false);
-            for (int i = 0; i < count; ++i)
+            const int pi = static_cast<int>(p);
+            for (int i = 0; i < count; ++i) {
+                const bool bounds =
+                    !local || pi == region[i] || (pi != frameIndex && parent[pi] == region[i]);
+                if (!bounds) continue;
                 for (int k = 0; k < w.cols; ++k)
                     total.at<double>(i, polygons[p].second + k) = sign * w.at<float>(i, k);
+            }
         }
         coefficients_.create(count, c, CV_64F);
         for (int i = 0; i < count; ++i) {
@@ -377,7 +402,8 @@ const CageChecks& cageChecks(const Multicage& cage, int step) {
         std::unique_ptr<CageChecks> fresh(new CageChecks);
         fresh->size = cage.imageSize(), fresh->vertices = cage.vertices(), fresh->sizes = sizes;
         fresh->coordinates = coordinates;
-        if (coordinates == MEAN_VALUE) fresh->fans = VertexFans(cage);
+        if (coordinates == MEAN_VALUE || coordinates == LOCAL_MEAN_VALUE)
+            fresh->fans = VertexFans(cage, coordinates == LOCAL_MEAN_VALUE);
         fresh->drawer.reset(new PoseDrawer(cage));
         cache = std::move(fresh);
     }
