@@ -250,6 +250,28 @@ TEST(ResizeFaces, FacesStayFacesWidenedAndNarrowed) {
     }
 }
 
+// Item 2: a thin slanted subject with a thin slanted polygon inside it, and a second subject:
+// no uniform copy of the inner polygon fits inside the frame's scaling of the outline, so stage 1
+// cannot start and everything blends (the inner polygon is then no similarity: a known limit,
+// docs/resize). The pose still validates and folds nothing, at every size.
+TEST(ResizePose, ASlantedSubjectStillGivesAValidFoldFreePose) {
+    Multicage cage(cv::Size(400, 400));
+    cage.addPolygon(std::vector<cv::Point2f>{{50, 50}, {90, 50}, {350, 350}, {310, 350}});
+    cage.addPolygon(std::vector<cv::Point2f>{{62, 56}, {78, 56}, {338, 344}, {322, 344}});
+    cage.addPolygon(std::vector<cv::Point2f>{{250, 40}, {360, 40}, {360, 140}, {250, 140}});
+    cage.orient();
+    const Binding binding = bind(cage, ResizeParams().coordinates, 2);
+    const std::vector<cv::Point2f> face = cage.polygon(1);
+    for (const cv::Size& target :
+         {cv::Size(200, 400), cv::Size(300, 400), cv::Size(400, 250), cv::Size(800, 400)}) {
+        const std::vector<cv::Point2f> pose = resizePose(cage, binding, target);
+        cv::Mat positions;
+        binding.apply(pose, positions);
+        EXPECT_EQ(countFoldedTriangles(positions, binding.nodes()), 0) << target;
+        EXPECT_TRUE(movedCage(cage, pose, target).validate()) << target;
+    }
+}
+
 // Item 8: sizes that are not sizes, or too large, and invalid cages: one clear exception.
 TEST(ResizeErrors, BadSizesAndCagesThrowClearly) {
     const Multicage cage = portraitCage();
@@ -264,6 +286,8 @@ TEST(ResizeErrors, BadSizesAndCagesThrowClearly) {
     EXPECT_NE(message(cv::Size(0, 240)).find("not a size"), std::string::npos);
     EXPECT_NE(message(cv::Size(-5, 240)).find("not a size"), std::string::npos);
     EXPECT_NE(message(cv::Size(320 * 9, 240)).find("at most 2560x1920"), std::string::npos);
+    // Shrunk 80x, the mesh's cells would fall under float rounding (the frame's scaling folds).
+    EXPECT_NE(message(cv::Size(4, 240)).find("more than 64x smaller"), std::string::npos);
     Multicage crossing(cv::Size(100, 100));
     crossing.addPolygon(std::vector<cv::Point2f>{{10, 10}, {60, 10}, {60, 60}, {10, 60}});
     crossing.addPolygon(std::vector<cv::Point2f>{{40, 40}, {90, 40}, {90, 90}, {40, 90}});

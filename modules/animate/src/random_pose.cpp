@@ -161,8 +161,7 @@ class VertexFans {
         const int frameIndex = cage.polygonCount();
         std::vector<int> region(count, frameIndex), parent(frameIndex, frameIndex);
         if (local) {
-            std::vector<int> depthOf(frameIndex);
-            for (int p = 0; p < frameIndex; ++p) depthOf[p] = cage.depth(p);
+            const std::vector<int> depthOf = geometry::depths(polygonsOf(cage));
             for (int p = 0; p < frameIndex; ++p)
                 for (int q = 0; q < frameIndex; ++q)
                     if (depthOf[q] == depthOf[p] - 1 &&

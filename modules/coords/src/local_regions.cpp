@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <numeric>
+#include <opencv2/multicage/internal/geometry.hpp>
 
 namespace cv {
 namespace multicage {
@@ -34,8 +35,9 @@ LocalRegions::LocalRegions(const Multicage& multicage) {
     parent_.assign(P, P);
     byDepth_.resize(P);
     std::iota(byDepth_.begin(), byDepth_.end(), 0);
-    std::vector<int> depth(P);
-    for (int p = 0; p < P; ++p) depth[p] = multicage.depth(p);
+    std::vector<geometry::Polygon> all;
+    for (int p = 0; p < P; ++p) all.push_back(multicage.polygon(p));
+    const std::vector<int> depth = geometry::depths(all);  // once: depth(p) finds them all
     std::stable_sort(byDepth_.begin(), byDepth_.end(),
                      [&](int a, int b) { return depth[a] < depth[b]; });
     std::vector<double> scratch;

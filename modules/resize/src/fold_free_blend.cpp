@@ -31,7 +31,7 @@ double firstPositiveRoot(double a, double b, double c) {
 
 }  // namespace
 
-double firstFold(const Mat& p0, const Mat& p1) {
+double firstFold(const Mat& p0, const Mat& p1, double area) {
     CV_Assert(p0.type() == CV_32FC2 && p1.type() == CV_32FC2 && p0.size() == p1.size());
     std::mutex lock;
     double first = INFINITY;
@@ -53,7 +53,7 @@ double firstFold(const Mat& p0, const Mat& p1) {
                                   D2 = D[2] - D[0];
                     const double c0 = A1.cross(A2), c1 = A1.cross(D2) + D1.cross(A2),
                                  c2 = D1.cross(D2);
-                    local = std::min(local, firstPositiveRoot(c0, c1, c2));
+                    local = std::min(local, firstPositiveRoot(c0 - area, c1, c2));
                 }
         }
         std::lock_guard<std::mutex> guard(lock);

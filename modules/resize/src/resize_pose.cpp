@@ -5,6 +5,7 @@
 #include <cmath>
 #include <opencv2/core/utils/logger.hpp>
 #include <opencv2/imgproc.hpp>
+#include <opencv2/multicage/internal/geometry.hpp>
 #include <opencv2/multicage/resize.hpp>
 
 #include "fold_free_blend.hpp"
@@ -94,19 +95,26 @@ Similarity outlineSimilarity(const std::vector<Point2f>& outline, Size image, Si
     return sim;
 }
 
-// The polygon of the given depth holding polygon i (itself at that depth or above).
-int ancestorOf(const Multicage& cage, int i, int depth) {
-    if (cage.depth(i) <= depth) return i;
-    const Point2f probe = cage.polygon(i)[0];
-    for (int j = 0; j < cage.polygonCount(); ++j)
-        if (cage.depth(j) == depth && pointPolygonTest(cage.polygon(j), probe, false) > 0) return j;
-    return i;  // not reached for a valid multicage
-}
-
-// The depth-1 polygon holding polygon i (itself for an outline).
-int outlineOf(const Multicage& cage, int i) {
-    return ancestorOf(cage, i, 1);
-}
+// Each polygon's depth, and the polygons of depth 1 and 2 holding it (itself at that depth or
+// above), computed once: Multicage::depth() tests every polygon against every other.
+struct Nesting {
+    std::vector<int> depth, outline, group;
+    explicit Nesting(const Multicage& cage) {
+        const int P = cage.polygonCount();
+        std::vector<geometry::Polygon> polygons;
+        for (int i = 0; i < P; ++i) polygons.push_back(cage.polygon(i));
+        depth = geometry::depths(polygons);
+        auto ancestor = [&](int i, int d) {
+            if (depth[i] <= d) return i;
+            const Point2f probe = cage.polygon(i)[0];
+            for (int j = 0; j < P; ++j)
+                if (depth[j] == d && pointPolygonTest(cage.polygon(j), probe, false) > 0) return j;
+            return i;  // not reached for a valid multicage
+        };
+        for (int i = 0; i < P; ++i)
+            outline.push_back(ancestor(i, 1)), group.push_back(ancestor(i, 2));
+    }
+};
 
 // The frame's own scaling: the cv::resize pose (valid and fold-free for any multicage).
 Point2f frameScaling(Point2f p, Size image, Size target) {
@@ -130,6 +138,17 @@ void checkResizeSize(Size imageSize, Size newSize, double maxScale) {
                   ("multicage: resize: the size %dx%d is not a size (both sides must be at "
                    "least 1 pixel)",
                    newSize.width, newSize.height));
+    // Far smaller, the mesh's cells shrink below float rounding of pixel coordinates and even
+    // the frame's own scaling folds them: 1/64 of a side keeps them 200 times above it.
+    constexpr int kMaxShrink = 64;
+    if (newSize.width * kMaxShrink < imageSize.width ||
+        newSize.height * kMaxShrink < imageSize.height)
+        CV_Error_(Error::StsOutOfRange,
+                  ("multicage: resize: %dx%d is more than %dx smaller than the image's %dx%d (at "
+                   "least %dx%d)",
+                   newSize.width, newSize.height, kMaxShrink, imageSize.width, imageSize.height,
+                   (imageSize.width + kMaxShrink - 1) / kMaxShrink,
+                   (imageSize.height + kMaxShrink - 1) / kMaxShrink));
     const double limitW = maxScale * imageSize.width, limitH = maxScale * imageSize.height;
     if (newSize.width > limitW || newSize.height > limitH)
         CV_Error_(Error::StsOutOfRange,
@@ -150,9 +169,10 @@ std::vector<Point2f> resizePose(const Multicage& cage, const Binding& binding, S
     if (binding.imageSize != image || binding.coefficientCount() != cage.vertexCount() + 4)
         CV_Error(Error::StsBadArg, "multicage: resize: the binding is not of this multicage");
 
+    const Nesting nesting(cage);
     std::vector<Similarity> outlines(cage.polygonCount());
     for (int i = 0; i < cage.polygonCount(); ++i)
-        if (cage.depth(i) == 1) outlines[i] = outlineSimilarity(cage.polygon(i), image, newSize);
+        if (nesting.depth[i] == 1) outlines[i] = outlineSimilarity(cage.polygon(i), image, newSize);
 
     // The similarity pose and the frame-scaling pose, vertex for vertex.
     const std::vector<Point2f> rest = cage.vertices();
@@ -160,11 +180,11 @@ std::vector<Point2f> resizePose(const Multicage& cage, const Binding& binding, S
     for (size_t k = 0; k < rest.size(); ++k) scaled[k] = frameScaling(rest[k], image, newSize);
     const double tol = touchTolerance(image);
     for (int i = 0; i < cage.polygonCount(); ++i) {
-        const Similarity& sim = outlines[outlineOf(cage, i)];
+        const Similarity& sim = outlines[nesting.outline[i]];
         const int begin = cage.polygonOffset(i), n = static_cast<int>(cage.polygon(i).size());
         for (int k = begin; k < begin + n; ++k) {
             similar[k] = sim(rest[k]);
-            if (cage.depth(i) != 1) continue;
+            if (nesting.depth[i] != 1) continue;
             // An outline vertex on a side of the frame (a subject cut by the border) slides along
             // that side as the frame does: mean value coordinates are global, and a frame edge
             // stretching a pixel or two from an outline edge that does not would fold the mesh
@@ -186,26 +206,27 @@ std::vector<Point2f> resizePose(const Multicage& cage, const Binding& binding, S
     std::vector<int> owner(rest.size(), -1);  // per vertex: the depth-2 polygon it moves with
     std::vector<Point2f> centre(cage.polygonCount());
     for (int i = 0; i < cage.polygonCount(); ++i) {
-        if (cage.depth(i) != 2) continue;
+        if (nesting.depth[i] != 2) continue;
         const std::vector<Point2f> poly = cage.polygon(i);
         Point2f c;
         for (const Point2f& p : poly) c += p;
         centre[i] = c * (1.f / poly.size());
     }
     for (int i = 0; i < cage.polygonCount(); ++i) {
-        if (cage.depth(i) < 2) continue;
-        const int group = ancestorOf(cage, i, 2);
+        if (nesting.depth[i] < 2) continue;
         for (int k = 0; k < static_cast<int>(cage.polygon(i).size()); ++k)
-            owner[cage.polygonOffset(i) + k] = group;
+            owner[cage.polygonOffset(i) + k] = nesting.group[i];
     }
     // Stage 1 (t in [0, 1]): outlines go t of the way from the frame's scaling to their
     // similarity; inner polygons stay similarities all the way, their centre carried from the
-    // frame's scaling of it to the outline's similarity of it, their scale from the frame's
-    // smaller scale (a uniform copy at that scale fits inside the frame's scaling of the
-    // polygon, so inside the outline at t = 0) to the outline's. With local coordinates what
-    // they hold then keeps its shape exactly, whatever t the fold check allows. Stage 2 (whole
-    // = true): every vertex blends, inner ones included.
-    const double smallerScale =
+    // frame's scaling of it to the outline's similarity of it, their scale from a start scale to
+    // the outline's. The start scale is the frame's smaller scale (a uniform copy at that scale
+    // fits inside the frame's scaling of a roughly convex, upright polygon, so inside the
+    // outline at t = 0), halved up to twice while the start still crosses something (a
+    // slanted polygon; smaller still, its inside would be too thin for the fold margin below). With local coordinates what they hold
+    // then keeps its shape exactly, whatever t the fold check allows. Stage 2 (whole = true):
+    // every vertex blends, inner ones included.
+    double startScale =
         std::min(double(newSize.width) / image.width, double(newSize.height) / image.height);
     auto blend = [&](double t, bool whole) {
         std::vector<Point2f> pose(rest.size());
@@ -213,9 +234,9 @@ std::vector<Point2f> resizePose(const Multicage& cage, const Binding& binding, S
             pose[k] = scaled[k] + float(t) * (similar[k] - scaled[k]);
             const int i = owner[k];
             if (i < 0 || whole) continue;
-            const Similarity& sim = outlines[outlineOf(cage, i)];
+            const Similarity& sim = outlines[nesting.outline[i]];
             const Point2f c = frameScaling(centre[i], image, newSize), cs = sim(centre[i]);
-            const double s0 = std::min(sim.s, smallerScale), s = s0 + t * (sim.s - s0);
+            const double s0 = std::min(sim.s, startScale), s = s0 + t * (sim.s - s0);
             pose[k] = c + float(t) * (cs - c) + float(s) * (rest[k] - centre[i]);
         }
         return pose;
@@ -225,10 +246,10 @@ std::vector<Point2f> resizePose(const Multicage& cage, const Binding& binding, S
     // P0 + t (P1 - P0): firstFold() finds where its first triangle folds in one pass. The
     // meshes are kept per thread: fresh ones cost page faults on every size of a slider (up to
     // 64 MB each: a bigger binding gives them back at the end).
-    thread_local Mat p1, p0, at;
+    thread_local Mat p1, p0;
     struct ReleaseBig {
         ~ReleaseBig() {
-            for (Mat* m : {&p0, &p1, &at})
+            for (Mat* m : {&p0, &p1})
                 if (m->total() * m->elemSize() > (size_t(64) << 20)) m->release();
         }
     } releaseBig;
@@ -239,12 +260,19 @@ std::vector<Point2f> resizePose(const Multicage& cage, const Binding& binding, S
     // valid, outlines first (what they protect keeps its shape), then everything (t = 0 of
     // stage 2 is the frame's scaling itself: always valid).
     for (bool whole : {false, true}) {
-        const std::vector<Point2f> start = blend(0, whole);
+        std::vector<Point2f> start = blend(0, whole);
+        for (int halve = 0; !whole && halve < 2 && !validGeometry(cage, start, newSize); ++halve)
+            startScale *= 0.5, start = blend(0, whole);
         if (!whole && !validGeometry(cage, start, newSize)) continue;
         binding.apply(start, p0);
-        // A little short of the first fold (0 when the start folds): at the root itself a
-        // triangle is flat, and near it the image is squeezed to a line.
-        double good = std::min(1.0, 0.98 * firstFold(p0, p1));
+        // Up to where the first triangle of the interpolated mesh shrinks to a twentieth of its
+        // rest area at this grid step (0 when the start is already that thin): deform() applies
+        // the pose itself, and its positions differ from the interpolated ones by float
+        // rounding (a few thousandths of a pixel: sums of up to a hundred products of pixel
+        // coordinates), far less than that margin can take, so the pose folds nothing without
+        // a confirming apply.
+        const double thin = 0.05 * binding.gridStep * binding.gridStep;
+        double good = std::min(1.0, firstFold(p0, p1, thin));
         if (!whole && good == 0) continue;
         // Polygons crossing: bisection to 1/256 below that (no mesh needed).
         if (!validGeometry(cage, blend(good, whole), newSize)) {
@@ -254,12 +282,6 @@ std::vector<Point2f> resizePose(const Multicage& cage, const Binding& binding, S
                 const double t = 0.5 * (good + bad);
                 (validGeometry(cage, blend(t, whole), newSize) ? good : bad) = t;
             }
-        }
-        // The bound came from interpolated positions; apply() may round a near-flat triangle
-        // the other way: confirm, stepping back until none folds (t = 0 of stage 2 never does).
-        for (; good > 0; good = std::max(0.0, good - 1.0 / 256)) {
-            binding.apply(blend(good, whole), at);
-            if (foldedTriangles(at) == 0) break;
         }
         CV_LOG_INFO(nullptr, "multicage: resize: subjects would cross or the mesh fold; "
                                  << (whole ? "the pose" : "the outlines") << " go " << good

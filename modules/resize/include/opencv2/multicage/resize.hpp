@@ -45,15 +45,18 @@ Rule (with sx = W'/W, sy = H'/H the frame's scales):
     by the similarity of the outline around it, so what an outline holds keeps its shape;
   - the background between the frame and the outlines absorbs the rest.
 Where outlines of two subjects would cross, or the pose would fold a triangle of the mesh,
-the pose is blended towards the frame's own scaling (the cv::resize pose, always valid and
-fold-free by linear precision) by the least amount that makes it valid: the returned pose
-always validates and folds no triangle of `binding`'s mesh.
+the outlines are blended towards the frame's own scaling (the cv::resize pose, always valid and
+fold-free by linear precision) by the least amount that makes it valid, while every inner
+polygon stays a similarity (so with local mean value coordinates what it holds keeps its shape
+exactly); only where that cannot start does everything blend. The returned pose always
+validates and folds no triangle of `binding`'s mesh.
 
-cage: a valid multicage; newSize: each side at least 1 and at most params.maxScale x the
-image's (else cv::Exception StsOutOfRange naming the limit). Returns vertexCount()+4 points,
-frame corners last: Deformer::deform renders it into a newSize image.
-The first form checks folds on a binding of cage with params.coordinates at params.gridStep (it binds: use
-the second form with the Deformer's binding to resize many times). */
+cage: a valid multicage; newSize: each side at least 1 and 1/64 of the image's, and at most
+params.maxScale x the image's (else cv::Exception StsOutOfRange naming the limit). Returns
+vertexCount()+4 points, frame corners last: Deformer::deform renders it into a newSize image.
+The first form checks folds on a binding of cage with params.coordinates (local mean value by
+default) at params.gridStep: the pose is fold-free for a Deformer bound the same way (it binds
+each call: use the second form with the Deformer's own binding to resize many times). */
 CV_EXPORTS std::vector<Point2f> resizePose(const Multicage& cage, Size newSize,
                                            const ResizeParams& params = ResizeParams());
 /** resizePose() checking folds on this binding (Deformer::binding()): no binding made. */
@@ -74,7 +77,7 @@ with params.protect and params.margin. */
 CV_EXPORTS Multicage resizeCage(InputArray image, const ResizeParams& params = ResizeParams());
 
 /** Throws cv::Exception (StsOutOfRange) unless newSize is a size resizePose() accepts for an
-image of imageSize (each side >= 1 and <= maxScale x the image's). */
+image of imageSize (each side >= 1, >= 1/64 and <= maxScale x the image's). */
 CV_EXPORTS void checkResizeSize(Size imageSize, Size newSize, double maxScale = 8.0);
 
 }  // namespace multicage
