@@ -30,6 +30,10 @@ Mat borderStrip(Size size);
 spectral residual static saliency. */
 Mat saliencyMap(const Mat& img, bool spectralResidual);
 
+/** cv::grabCut from `labels` (GC_INIT_WITH_MASK), its k-means seeded with a fixed number so
+that the result is a function of the image alone; `labels` is updated in place. */
+void seededGrabCut(const Mat& img, Mat& labels, int iterations);
+
 /** Raw segmentation (before cleaning) of an 8-bit work image: CV_8UC1, 255 on objects.
 `method` is one of the image-based methods (threshold, adaptive, grabcut, saliency,
 spectral); `region` (optional) restricts thresholds to the pixels inside it. */
