@@ -16,6 +16,13 @@
 // Such runs of the strip become probable background instead of sure background, and GrabCut
 // runs again: the subject may now take them. A sharp background the subject does not reach
 // (leaves behind a squirrel) stays sure background.
+//
+// The second pass is kept only when what it adds goes on inward: at least half of it deeper
+// than three strips from the frame, and at least 5% of the picture. A subject cut by the
+// frame continues into the picture (the baboon's fur around its face: 31% of the picture);
+// a table an apple stands on, in focus along the bottom, adds a strip along the frame (2.7%
+// of the picture, half of it near the frame), and keeping it cost the apple 0.05 and the
+// orange 0.07 of outline IoU.
 #include "subject.hpp"
 
 #include <algorithm>
