@@ -52,10 +52,10 @@ struct Segmentation {
 
 /** The proposal's segmentation of an input (proposeMulticage's first stage): a mask or label
 input as given (cleaned), a photo by params.method (PROPOSE_AUTO: threshold on a plain
-background, else GrabCut seeded by saliency), cleaned. Throws StsBadArg for an empty or
-constant image and a mask with more than one channel. `person`, when not empty, is a
-work-size GrabCut seed from the person prior (person.hpp): GC_FGD / GC_PR_FGD where a face
-and the body below it are, GC_PR_BGD elsewhere; with it PROPOSE_AUTO always runs GrabCut. */
+background, else GrabCut from the frame inward, subject.hpp), cleaned. Throws StsBadArg for an empty
+or constant image and a mask with more than one channel. `person`, when not empty, is a work-size
+GrabCut seed from the person prior (person.hpp): GC_FGD / GC_PR_FGD where a face and the body below
+it are, GC_PR_BGD elsewhere; with it PROPOSE_AUTO always runs GrabCut. */
 Segmentation segmentForProposal(const Mat& image, const Work& w, const ProposeParams& params,
                                 const Mat& person = Mat());
 
