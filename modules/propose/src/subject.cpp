@@ -121,8 +121,12 @@ Mat frameInwardSubject(const Mat& img, int iterations) {
     const int b = std::max(2, cvRound(kStrip * std::max(img.cols, img.rows)));
     Mat labels(img.size(), CV_8U, Scalar(GC_BGD));
     if (img.cols <= 4 * b || img.rows <= 4 * b) {  // too small for a strip and a band
-        labels.setTo(GC_PR_FGD);
-        labels(Rect(0, 0, img.cols, 1)).setTo(GC_BGD);
+        // GrabCut needs background and subject to start from: a one-pixel frame and its inside.
+        if (img.cols < 3 || img.rows < 3)
+            CV_Error_(Error::StsBadArg,
+                      ("multicage: proposeMulticage: a %dx%d image is too small for GrabCut",
+                       img.cols, img.rows));
+        labels(Rect(1, 1, img.cols - 2, img.rows - 2)).setTo(GC_PR_FGD);
         seededGrabCut(img, labels, iterations);
         return labels;
     }
