@@ -203,6 +203,18 @@ Mat segmentSaliency(const Mat& img, const Mat& region, bool spectral) {
     return thresholdAbove(map, otsuThreshold(map, region), region);
 }
 
+// A rectangle around the spectral residual salient part, grown to take in its edges.
+Rect automaticGrabCutRect(const Mat& img) {
+    Mat mask = segmentSaliency(img, Mat(), true);
+    Rect r = countNonZero(mask) > 0 ? boundingRect(mask) : Rect();
+    const int mx = std::max(2, img.cols * 3 / 100), my = std::max(2, img.rows * 3 / 100);
+    if (r.area() == 0) r = Rect(img.cols / 10, img.rows / 10, img.cols * 8 / 10, img.rows * 8 / 10);
+    // Grow by 5% of the image so the object's edges are inside, but leave a strip of
+    // background all round: GrabCut learns the background model from outside the rect.
+    r.x -= img.cols / 20, r.y -= img.rows / 20, r.width += img.cols / 10, r.height += img.rows / 10;
+    return r & Rect(mx, my, img.cols - 2 * mx, img.rows - 2 * my);
+}
+
 Mat segmentGrabCut(const Mat& img, const ProposeParams& params, double scale, const Mat& region,
                    const Mat& seed = Mat()) {
     Mat color;
@@ -240,7 +252,17 @@ Mat segmentGrabCut(const Mat& img, const ProposeParams& params, double scale, co
                    params.rect.x, params.rect.y, params.rect.width, params.rect.height));
     Mat labels(small.size(), CV_8U, Scalar(GC_BGD));
     if (fromFrame) {
-        labels = frameInwardSubject(small, params.grabCutIterations);
+        // The salient part first, then the subject from the frame inward, which must hold it
+        // (subject.hpp).
+        Mat salient(small.size(), CV_8U, Scalar(GC_BGD));
+        const Rect r = automaticGrabCutRect(small) & Rect(1, 1, small.cols - 2, small.rows - 2);
+        if (r.width >= 2 && r.height >= 2) {
+            salient(r).setTo(GC_PR_FGD);
+            seededGrabCut(small, salient, params.grabCutIterations);
+        } else {
+            salient.release();
+        }
+        labels = frameInwardSubject(small, params.grabCutIterations, salient);
     } else {
         labels(rect).setTo(GC_PR_FGD);
         // The person prior (person.hpp) replaces the rectangle: its labels are GrabCut's start.

@@ -43,6 +43,7 @@ constexpr double kSharpAsMiddle = 0.5;     // a piece's sharpness against the mi
 constexpr double kInward = 0.5;            // share of what the second pass adds that lies inside
 constexpr double kInwardOfPicture = 0.05;  // and its share of the picture
 constexpr double kTrialScale = 2.0 / 3.0;  // the second pass's trial copy
+constexpr double kHoldsSalient = 0.8;      // share of the salient part the subject must hold
 
 // A piece of the strip along the frame and the band of the same size just inside it.
 struct Piece {
@@ -114,9 +115,8 @@ bool goesInward(const Mat& first, const Mat& second, int b) {
     return within >= kInward * all && within >= kInwardOfPicture * first.total();
 }
 
-}  // namespace
-
-Mat frameInwardSubject(const Mat& img, int iterations) {
+// The frame-inward subject: the two passes above.
+Mat frameInward(const Mat& img, int iterations) {
     CV_Assert(img.type() == CV_8UC3);
     const int b = std::max(2, cvRound(kStrip * std::max(img.cols, img.rows)));
     Mat labels(img.size(), CV_8U, Scalar(GC_BGD));
@@ -158,6 +158,20 @@ Mat frameInwardSubject(const Mat& img, int iterations) {
     seededGrabCut(img, second, iterations);
     if (goesInward(labels, second, b)) labels = second;
     return labels;
+}
+
+}  // namespace
+
+Mat frameInwardSubject(const Mat& img, int iterations, const Mat& salient) {
+    Mat labels = frameInward(img, iterations);
+    if (salient.empty()) return labels;
+    // The frame-inward subject may extend the salient part (a close-up's whole animal around
+    // the nose saliency found), never replace it: where it holds less than 80% of it, GrabCut
+    // took something else for the subject (the sky around a rocket, half a motorcycle and the
+    // shelves behind it, two facets of a grey sculpture on grey).
+    const Mat part = (salient == GC_FGD) | (salient == GC_PR_FGD);
+    const Mat subject = (labels == GC_FGD) | (labels == GC_PR_FGD);
+    return countNonZero(part & subject) >= kHoldsSalient * countNonZero(part) ? labels : salient;
 }
 
 }  // namespace propose_detail
