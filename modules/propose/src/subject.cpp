@@ -4,9 +4,10 @@
 //
 // First pass: a strip along the frame (3% of the longer side) is sure background and
 // everything inside it probable subject; GrabCut learns the background's colours from the
-// frame and keeps what does not look like them. This replaced a rectangle around the spectral
-// residual saliency, which lit up an eye or a nose and left the rest of the animal outside
-// (outline IoU 0.28-0.38 on the benchmark's cat and baboon, 0.36 on the squirrel).
+// frame and keeps what does not look like them. GrabCut from a rectangle around the spectral
+// residual saliency alone lit up an eye or a nose and left the rest of the animal outside
+// (outline IoU 0.28 and 0.38 on the benchmark's cat and baboon); it is still run first, and
+// the frame-inward subject must hold what it found (frameInwardSubject, below).
 //
 // Second pass, only where the first found the subject cut by the frame: the subject reaches
 // the strip (more than 30% of the band just inside it, per twelfth of a side) and the strip
