@@ -23,7 +23,8 @@ enum ProposeMethod {
     PROPOSE_ADAPTIVE = 2,
     /** GrabCut from ProposeParams::rect, or from the image frame inward when rect is empty
     (a strip along the frame is background, reopened where the subject goes on past the
-    frame). Runs on a copy downscaled to ProposeParams::grabCutMaxSide. */
+    frame), kept where it holds what GrabCut from a rectangle around the salient part finds.
+    Runs on a copy downscaled to ProposeParams::grabCutMaxSide. */
     PROPOSE_GRABCUT = 3,
     /** opencv_contrib StaticSaliencyFineGrained, thresholded by Otsu. */
     PROPOSE_SALIENCY = 4,
