@@ -334,6 +334,27 @@ TEST(Propose, EveryMethodGivesAValidCage) {
     EXPECT_TRUE(proposeMulticage(image, params).validate());
 }
 
+// GrabCut from the frame inward needs a frame and an inside: a tiny image still gets a valid
+// cage (or none), and one without an inside is refused with a clear error, not an assertion
+// deep in cv::grabCut.
+TEST(Propose, GrabCutFromTheFrameOnTinyImages) {
+    ProposeParams params;
+    params.method = PROPOSE_GRABCUT;
+    cv::Mat tiny(9, 9, CV_8UC3, cv::Scalar(20, 20, 20));
+    cv::rectangle(tiny, cv::Rect(3, 3, 3, 3), cv::Scalar(200, 220, 240), cv::FILLED);
+    EXPECT_TRUE(proposeMulticage(tiny, params).validate());
+    cv::Mat line(2, 40, CV_8UC3, cv::Scalar(20, 20, 20));
+    line(cv::Rect(10, 0, 10, 2)).setTo(cv::Scalar(200, 220, 240));
+    try {
+        proposeMulticage(line, params);
+        ADD_FAILURE() << "a 40x2 image went through GrabCut";
+    } catch (const cv::Exception& e) {
+        EXPECT_EQ(e.code, cv::Error::StsBadArg) << e.what();
+        EXPECT_NE(std::string(e.what()).find("too small for GrabCut"), std::string::npos)
+            << e.what();
+    }
+}
+
 // Item 4: the sample photographs, default parameters.
 TEST(Propose, SamplePhotosGiveValidCagesWithinTheDefaultBudget) {
     for (const char* name : {"butterfly.jpg", "fruits.jpg", "messi5.jpg", "HappyFish.jpg",

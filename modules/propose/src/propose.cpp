@@ -4,8 +4,10 @@
 //   work.cpp      ProposeParams checked and resolved into pixels of a downscaled copy
 //   faces.cpp     face detection (Haar cascades) and the polygon hugging a face
 //   person.cpp    the person prior: where a face is, the head and the body below it
-//   segment.cpp   image -> mask of objects (threshold, GrabCut seeded by saliency or by the
-//                 person prior, saliency)
+//   segment.cpp   image -> mask of objects (threshold, GrabCut seeded by the person prior or
+//                 from the frame inward, saliency)
+//   subject.cpp   the frame-inward GrabCut of a photo without faces: the frame is background
+//                 except where the subject goes on past it
 //   polygons.cpp  mask -> nested regions -> polygons within the budgets, simplified and
 //                 repaired until simple and disjoint
 //   features.cpp  the inner polygons: faces, then textured salient regions

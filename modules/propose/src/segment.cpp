@@ -4,6 +4,8 @@
 #include <opencv2/imgproc.hpp>
 #include <opencv2/saliency.hpp>
 
+#include "subject.hpp"
+
 namespace cv {
 namespace multicage {
 namespace propose_detail {
@@ -132,6 +134,19 @@ Mat saliencyMap(const Mat& img, bool spectralResidual) {
     return out;
 }
 
+void seededGrabCut(const Mat& img, Mat& labels, int iterations) {
+    // GrabCut seeds its colour models with k-means++ from cv::theRNG(): a fixed seed makes
+    // the proposal a function of the image (not of what ran before on this thread), and the
+    // caller's generator is put back as it was.
+    struct SeededRng {
+        RNG saved = theRNG();
+        SeededRng() { theRNG() = RNG(0x6d756c7469636167ULL); }
+        ~SeededRng() { theRNG() = saved; }
+    } seeded;
+    Mat bgd, fgd;
+    grabCut(img, labels, Rect(), bgd, fgd, iterations, GC_INIT_WITH_MASK);
+}
+
 namespace {
 Mat thresholdAbove(const Mat& feature, int t, const Mat& region) {
     Mat mask;
@@ -188,6 +203,7 @@ Mat segmentSaliency(const Mat& img, const Mat& region, bool spectral) {
     return thresholdAbove(map, otsuThreshold(map, region), region);
 }
 
+// A rectangle around the spectral residual salient part, grown to take in its edges.
 Rect automaticGrabCutRect(const Mat& img) {
     Mat mask = segmentSaliency(img, Mat(), true);
     Rect r = countNonZero(mask) > 0 ? boundingRect(mask) : Rect();
@@ -223,31 +239,35 @@ Mat segmentGrabCut(const Mat& img, const ProposeParams& params, double scale, co
         const double k = s / scale;  // input pixels -> small pixels
         rect = Rect(cvFloor(params.rect.x * k), cvFloor(params.rect.y * k),
                     cvCeil(params.rect.width * k), cvCeil(params.rect.height * k));
-    } else if (!seed.empty()) {
-        rect = Rect(0, 0, small.cols, small.rows);  // unused: the seed is the start
     } else {
-        rect = automaticGrabCutRect(small);
+        rect = Rect(0, 0, small.cols, small.rows);  // unused: the seed or the frame is the start
     }
     rect &= Rect(1, 1, small.cols - 2, small.rows - 2);
-    if (rect.width < 2 || rect.height < 2)
+    // Without a region, a rectangle or a seed, the frame is GrabCut's start (subject.hpp).
+    const bool fromFrame = region.empty() && params.rect.area() == 0 && seed.empty();
+    if (!fromFrame && seed.empty() && (rect.width < 2 || rect.height < 2))
         CV_Error_(Error::StsBadArg,
                   ("multicage: proposeMulticage: the GrabCut rectangle (%d, %d, %d, %d) "
                    "is empty inside the image",
                    params.rect.x, params.rect.y, params.rect.width, params.rect.height));
-    Mat labels(small.size(), CV_8U, Scalar(GC_BGD)), bgd, fgd;
-    labels(rect).setTo(GC_PR_FGD);
-    // The person prior (person.hpp) replaces the rectangle: its labels are GrabCut's start.
-    if (!seed.empty()) resize(seed, labels, small.size(), 0, 0, INTER_NEAREST);
-    {
-        // GrabCut seeds its colour models with k-means++ from cv::theRNG(): a fixed seed makes
-        // the proposal a function of the image (not of what ran before on this thread), and the
-        // caller's generator is put back as it was.
-        struct SeededRng {
-            RNG saved = theRNG();
-            SeededRng() { theRNG() = RNG(0x6d756c7469636167ULL); }
-            ~SeededRng() { theRNG() = saved; }
-        } seeded;
-        grabCut(small, labels, rect, bgd, fgd, params.grabCutIterations, GC_INIT_WITH_MASK);
+    Mat labels(small.size(), CV_8U, Scalar(GC_BGD));
+    if (fromFrame) {
+        // The salient part first, then the subject from the frame inward, which must hold it
+        // (subject.hpp).
+        Mat salient(small.size(), CV_8U, Scalar(GC_BGD));
+        const Rect r = automaticGrabCutRect(small) & Rect(1, 1, small.cols - 2, small.rows - 2);
+        if (r.width >= 2 && r.height >= 2) {
+            salient(r).setTo(GC_PR_FGD);
+            seededGrabCut(small, salient, params.grabCutIterations);
+        } else {
+            salient.release();
+        }
+        labels = frameInwardSubject(small, params.grabCutIterations, salient);
+    } else {
+        labels(rect).setTo(GC_PR_FGD);
+        // The person prior (person.hpp) replaces the rectangle: its labels are GrabCut's start.
+        if (!seed.empty()) resize(seed, labels, small.size(), 0, 0, INTER_NEAREST);
+        seededGrabCut(small, labels, params.grabCutIterations);
     }
     Mat mask = (labels == GC_FGD) | (labels == GC_PR_FGD);
     if (!seed.empty()) {

@@ -30,6 +30,10 @@ Mat borderStrip(Size size);
 spectral residual static saliency. */
 Mat saliencyMap(const Mat& img, bool spectralResidual);
 
+/** cv::grabCut from `labels` (GC_INIT_WITH_MASK), its k-means seeded with a fixed number so
+that the result is a function of the image alone; `labels` is updated in place. */
+void seededGrabCut(const Mat& img, Mat& labels, int iterations);
+
 /** Raw segmentation (before cleaning) of an 8-bit work image: CV_8UC1, 255 on objects.
 `method` is one of the image-based methods (threshold, adaptive, grabcut, saliency,
 spectral); `region` (optional) restricts thresholds to the pixels inside it. */
@@ -48,10 +52,10 @@ struct Segmentation {
 
 /** The proposal's segmentation of an input (proposeMulticage's first stage): a mask or label
 input as given (cleaned), a photo by params.method (PROPOSE_AUTO: threshold on a plain
-background, else GrabCut seeded by saliency), cleaned. Throws StsBadArg for an empty or
-constant image and a mask with more than one channel. `person`, when not empty, is a
-work-size GrabCut seed from the person prior (person.hpp): GC_FGD / GC_PR_FGD where a face
-and the body below it are, GC_PR_BGD elsewhere; with it PROPOSE_AUTO always runs GrabCut. */
+background, else GrabCut from the frame inward, subject.hpp), cleaned. Throws StsBadArg for an empty
+or constant image and a mask with more than one channel. `person`, when not empty, is a work-size
+GrabCut seed from the person prior (person.hpp): GC_FGD / GC_PR_FGD where a face and the body below
+it are, GC_PR_BGD elsewhere; with it PROPOSE_AUTO always runs GrabCut. */
 Segmentation segmentForProposal(const Mat& image, const Work& w, const ProposeParams& params,
                                 const Mat& person = Mat());
 

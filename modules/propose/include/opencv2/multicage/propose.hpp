@@ -13,7 +13,7 @@ namespace multicage {
 /** How proposeMulticage() decides which pixels belong to an object. */
 enum ProposeMethod {
     /** PROPOSE_THRESHOLD when the image border is mostly one colour (an object on a plain
-    background), else PROPOSE_GRABCUT from a rectangle found by saliency: whole objects in
+    background), else PROPOSE_GRABCUT from the image frame inward: whole objects in
     photographs, at GrabCut's cost (see docs/propose/README.md). */
     PROPOSE_AUTO = 0,
     /** Otsu threshold on the distance from the background colour (the median colour of the
@@ -21,8 +21,10 @@ enum ProposeMethod {
     PROPOSE_THRESHOLD = 1,
     /** Adaptive (local mean) threshold of the same distance: uneven lighting. */
     PROPOSE_ADAPTIVE = 2,
-    /** GrabCut from ProposeParams::rect, or from a rectangle around the salient part when
-    rect is empty. Runs on a copy downscaled to ProposeParams::grabCutMaxSide. */
+    /** GrabCut from ProposeParams::rect, or from the image frame inward when rect is empty
+    (a strip along the frame is background, reopened where the subject goes on past the
+    frame), kept where it holds what GrabCut from a rectangle around the salient part finds.
+    Runs on a copy downscaled to ProposeParams::grabCutMaxSide. */
     PROPOSE_GRABCUT = 3,
     /** opencv_contrib StaticSaliencyFineGrained, thresholded by Otsu. */
     PROPOSE_SALIENCY = 4,

@@ -1,0 +1,23 @@
+// The subject of a photo with no face and no rectangle from the caller (private): GrabCut from
+// the image frame inward, the frame reopened where the subject is cut by it.
+#ifndef MULTICAGE_PROPOSE_SUBJECT_HPP
+#define MULTICAGE_PROPOSE_SUBJECT_HPP
+
+#include <opencv2/core.hpp>
+
+namespace cv {
+namespace multicage {
+namespace propose_detail {
+
+/** GrabCut labels (GC_BGD ... GC_PR_FGD) of the subject of `img` (CV_8UC3, GrabCut's working
+size) after `iterations` iterations from the frame inward, then as many again with the frame
+reopened where the subject is cut by it (subject.cpp says when). `salient`, when not empty,
+holds GrabCut's labels from a rectangle around the salient part: the frame-inward subject is
+returned only if it holds at least 80% of that part's subject, else `salient` is. */
+Mat frameInwardSubject(const Mat& img, int iterations, const Mat& salient = Mat());
+
+}  // namespace propose_detail
+}  // namespace multicage
+}  // namespace cv
+
+#endif
