@@ -13,8 +13,8 @@
 //   faces    reference faces hugged: exactly one inner polygon holds >= 95% of the face box's
 //            inner 80% and has at most 3x the box's area
 //   residual worst face's distance from a similarity (px, mean over grid nodes of the box's
-//            inner 80%, mean value coordinates, grid step 1) when the outline around it is
-//            stretched 20% horizontally and every inner polygon stays at rest
+//            inner 80%, the cage's coordinates: local mean value, grid step 1) when the outline
+//            around it is stretched 20% horizontally and every inner polygon stays at rest
 //   stray    inner polygons that protect nothing of the reference: less than half of their
 //            area on a reference face or feature box
 //   ms       median time of proposeProtectedMulticage() with the default ProposeParams on
@@ -150,7 +150,7 @@ Score score(const Reference& r, const Multicage& cage, bool harmonic) {
             s.residual = HUGE_VAL;
             continue;
         }
-        if (binding.empty()) binding = bind(cage, MEAN_VALUE, 1);
+        if (binding.empty()) binding = bind(cage, COORDINATES_FROM_CAGE, 1);  // the cage's own
         const std::vector<cv::Point2f> pose =
             multicage_fixtures::stretchPolygon(cage, outline, 1.2f, 1.0f);
         s.residual = std::max(s.residual, multicage_fixtures::boxResidual(binding, pose, f));

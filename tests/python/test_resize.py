@@ -31,7 +31,11 @@ def test_resize_pose_has_the_new_frame_last():
 def test_deformer_answers_a_resize_pose_in_the_new_size():
     cage, image = _cage(), _image()
     d = mc.Deformer(image, cage, backend="cpu")
-    pose = mc.resize_pose(cage, (240, 100))
+    pose = mc.resize_pose(cage, (240, 100), binding=d)
+    assert d.folded_triangles(pose) == 0
+    np.testing.assert_array_equal(pose, mc.resize_pose(cage, (240, 100), binding=d.binding))
+    with pytest.raises(TypeError):
+        mc.resize_pose(cage, (240, 100), binding="mine")
     assert d.deform(pose).shape == (100, 240, 3)
     mapx, mapy = d.compute_maps(pose)
     assert mapx.shape == (100, 240) and (mapx > -1).all()

@@ -132,7 +132,7 @@ void defineBinding(py::module_& m) {
         },
         py::arg("multicage"), py::arg("coordinates") = py::none(), py::arg("grid_step") = 1,
         py::arg("on_gpu") = false,
-        "Binds every grid node to every vertex (Algorithm 1); a Binding can feed several Deformers "
+        "Binds every grid node to every vertex (Algorithm 1, or its local variant for 'local_mvc'); a Binding can feed several Deformers "
         "of images of the multicage's size. coordinates None follows multicage.coordinates. The "
         "GIL "
         "is released while it runs.");

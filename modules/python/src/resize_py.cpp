@@ -49,24 +49,40 @@ ResizeParams resizeParams(const py::kwargs& kwargs) {
 void defineResize(py::module_& m) {
     m.def(
         "resize_pose",
-        [](const Multicage& cage, const py::handle& size, const py::kwargs& kwargs) {
+        [](const Multicage& cage, const py::handle& size, const py::object& bindingObj,
+           const py::kwargs& kwargs) {
             const cv::Size newSize = sizeFromObject(size, "size");
             const ResizeParams params = resizeParams(kwargs);
+            // A Deformer's own binding (or a Binding): the pose is checked on the very mesh
+            // that will deform, whatever coordinates and grid step it was bound with.
+            const Binding* binding = nullptr;
+            py::object keep;
+            if (!bindingObj.is_none()) {
+                keep = py::hasattr(bindingObj, "deform") ? bindingObj.attr("binding") : bindingObj;
+                if (!py::isinstance<Binding>(keep))
+                    throw py::type_error("binding: expected a Binding or a Deformer, got " +
+                                         shortValue(bindingObj));
+                binding = &keep.cast<const Binding&>();
+            }
             std::vector<cv::Point2f> pose;
             {
                 py::gil_scoped_release release;
-                pose = resizePose(cage, newSize, params);
+                pose = binding ? resizePose(cage, *binding, newSize, params)
+                               : resizePose(cage, newSize, params);
             }
             return arrayFromPoints(pose);
         },
-        py::arg("cage"), py::arg("size"),
+        py::arg("cage"), py::arg("size"), py::arg("binding") = py::none(),
         R"doc(The pose that resizes an image bound to cage into an image of size (w, h).
 
 Returns a (vertex_count + 4) x 2 float32 array, frame corners last: the frame goes to the new
 frame, each outline and the polygons inside it move by one similarity (the subject keeps its
 size in pixels where the new frame allows), the background absorbs the aspect change. Always
-valid and fold-free. Deformer.deform, compute_maps and transform_points answer in the new size.
-Keywords: grid_step (the fold check's), max_scale (8: the largest growth of a side).)doc");
+valid, and fold-free on the binding it is checked on: binding (a Deformer or a Binding) checks
+it on that one, the mesh that will deform it; without it, on a binding made here with the
+keywords coordinates ('local_mvc' by default) and grid_step (1), so deform it with a Deformer
+bound the same way. Deformer.deform, compute_maps and transform_points answer in the new size.
+Keywords: coordinates, grid_step, max_scale (8: the largest growth of a side).)doc");
     m.def(
         "content_aware_resize",
         [](const py::handle& imageObj, const py::handle& size, const py::object& cageObj,

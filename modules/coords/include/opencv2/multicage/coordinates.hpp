@@ -83,6 +83,11 @@ every polygon edge and the frame as Dirichlet boundaries (Eigen sparse LDL^T); c
 in [0, 1] and a region's nodes see only the polygons bounding it. minConditioning is 1 and
 worstNode (0, 0): there is no cancellation.
 
+LOCAL_MEAN_VALUE: Algorithm 1 summed, node by node, over the polygons bounding the node's
+region only (the region's own polygon and its children; the frame and the outlines outside
+every outline), then projected like MEAN_VALUE onto those polygons' vertices; every other
+coefficient is exactly 0 (docs/coordinates.md).
+
 COORDINATES_FROM_CAGE (the default) binds with multicage.coordinates().
 
 Runs on all cores (cv::parallel_for_). Throws a cv::Exception when the multicage does not pass

@@ -39,7 +39,8 @@ CV_EXPORTS bool parseBackend(const String& name, int& backend);
 struct CV_EXPORTS DeformParams {
     /** CoordinateType. The default, COORDINATES_FROM_CAGE, binds with the multicage's own choice
     (Multicage::coordinates(): a cage file's `coordinates:`, mean value when it names none);
-    MEAN_VALUE or HARMONIC overrides it. Ignored by the create() that takes a Binding. */
+    MEAN_VALUE, HARMONIC or LOCAL_MEAN_VALUE overrides it. Ignored by the create() that takes a
+    Binding. */
     int coordinates = COORDINATES_FROM_CAGE;
     int gridStep = 1;               //!< a mesh node every gridStep pixels; 1 is the paper's
     int backend = BACKEND_AUTO;     //!< Backend
