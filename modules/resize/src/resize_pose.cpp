@@ -223,9 +223,9 @@ std::vector<Point2f> resizePose(const Multicage& cage, const Binding& binding, S
     // the outline's. The start scale is the frame's smaller scale (a uniform copy at that scale
     // fits inside the frame's scaling of a roughly convex, upright polygon, so inside the
     // outline at t = 0), halved up to twice while the start still crosses something (a
-    // slanted polygon; smaller still, its inside would be too thin for the fold margin below). With local coordinates what they hold
-    // then keeps its shape exactly, whatever t the fold check allows. Stage 2 (whole = true):
-    // every vertex blends, inner ones included.
+    // slanted polygon; smaller still, its inside would be too thin for the fold margin below). With
+    // local coordinates what they hold then keeps its shape exactly, whatever t the fold check
+    // allows. Stage 2 (whole = true): every vertex blends, inner ones included.
     double startScale =
         std::min(double(newSize.width) / image.width, double(newSize.height) / image.height);
     auto blend = [&](double t, bool whole) {
@@ -266,12 +266,13 @@ std::vector<Point2f> resizePose(const Multicage& cage, const Binding& binding, S
         if (!whole && !validGeometry(cage, start, newSize)) continue;
         binding.apply(start, p0);
         // Up to where the first triangle of the interpolated mesh shrinks to a twentieth of its
-        // rest area at this grid step (0 when the start is already that thin): deform() applies
-        // the pose itself, and its positions differ from the interpolated ones by float
-        // rounding (a few thousandths of a pixel: sums of up to a hundred products of pixel
+        // area under the frame's scaling (0 when the start is already that thin): deform()
+        // applies the pose itself, and its positions differ from the interpolated ones by
+        // float rounding (thousandths of a pixel: sums of up to a hundred products of pixel
         // coordinates), far less than that margin can take, so the pose folds nothing without
         // a confirming apply.
-        const double thin = 0.05 * binding.gridStep * binding.gridStep;
+        const double thin = 0.05 * binding.gridStep * binding.gridStep *
+                            std::min(1.0, double(newSize.area()) / image.area());
         double good = std::min(1.0, firstFold(p0, p1, thin));
         if (!whole && good == 0) continue;
         // Polygons crossing: bisection to 1/256 below that (no mesh needed).
