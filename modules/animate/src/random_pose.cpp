@@ -161,12 +161,11 @@ class VertexFans {
         const int frameIndex = cage.polygonCount();
         std::vector<int> region(count, frameIndex), parent(frameIndex, frameIndex);
         if (local) {
-            const std::vector<int> depthOf = geometry::depths(polygonsOf(cage));
+            const std::vector<geometry::Polygon> all = polygonsOf(cage);
+            const std::vector<int> depthOf = geometry::depths(all),
+                                   up = geometry::parents(all, depthOf);
             for (int p = 0; p < frameIndex; ++p)
-                for (int q = 0; q < frameIndex; ++q)
-                    if (depthOf[q] == depthOf[p] - 1 &&
-                        geometry::contains(cage.polygon(q), cage.polygon(p)[0]))
-                        parent[p] = q;
+                if (up[p] >= 0) parent[p] = up[p];
             for (int i = 0; i < count; ++i)
                 for (int p = 0; p < frameIndex; ++p)
                     if ((region[i] == frameIndex || depthOf[p] > depthOf[region[i]]) &&

@@ -40,19 +40,9 @@ LocalRegions::LocalRegions(const Multicage& multicage) {
     const std::vector<int> depth = geometry::depths(all);  // once: depth(p) finds them all
     std::stable_sort(byDepth_.begin(), byDepth_.end(),
                      [&](int a, int b) { return depth[a] < depth[b]; });
-    std::vector<double> scratch;
-    // The parent is the polygon one level up holding the child's first vertex (polygons of a
-    // valid multicage are nested or disjoint, so any vertex of the child decides).
+    const std::vector<int> parent = geometry::parents(all, depth);
     for (int p = 0; p < P; ++p)
-        for (int q = 0; q < P; ++q)
-            if (depth[q] == depth[p] - 1 && insidePolygon(q, polygons_[p][0], scratch))
-                parent_[p] = q;
-}
-
-bool LocalRegions::insidePolygon(int p, Point2d x, std::vector<double>& scratch) const {
-    rowCrossings(polygons_[p], x.y, scratch);
-    const size_t before = std::lower_bound(scratch.begin(), scratch.end(), x.x) - scratch.begin();
-    return before % 2 == 1;
+        if (parent[p] >= 0) parent_[p] = parent[p];  // outlines keep frame()
 }
 
 void LocalRegions::regionsOfRow(const float* xs, int m, double y, int* region) const {
@@ -68,14 +58,6 @@ void LocalRegions::regionsOfRow(const float* xs, int m, double y, int* region) c
             if (c % 2 == 1) region[k] = p;
         }
     }
-}
-
-int LocalRegions::regionOf(Point2d x) const {
-    int r = frame();
-    std::vector<double> scratch;
-    for (int p : byDepth_)
-        if (insidePolygon(p, x, scratch)) r = p;
-    return r;
 }
 
 }  // namespace multicage

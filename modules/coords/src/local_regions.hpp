@@ -26,13 +26,8 @@ class LocalRegions {
     (crossing numbers along the row, in double), frame() for none. A node on an edge may go to
     either side: mean value coordinates there are the edge's, whichever side names it. */
     void regionsOfRow(const float* xs, int m, double y, int* region) const;
-    /** The region of one point (the same test). */
-    int regionOf(Point2d p) const;
 
   private:
-    // Crossing number of polygon p alone; scratch holds the crossings (callers' threads differ).
-    bool insidePolygon(int p, Point2d x, std::vector<double>& scratch) const;
-
     std::vector<std::vector<Point2d>> polygons_;
     std::vector<int> parent_;   // per polygon: its parent polygon, frame() for outlines
     std::vector<int> byDepth_;  // polygon indices, shallowest first

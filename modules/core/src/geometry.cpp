@@ -117,6 +117,18 @@ std::vector<int> depths(const std::vector<Polygon>& polygons) {
     return depth;
 }
 
+std::vector<int> parents(const std::vector<Polygon>& polygons, const std::vector<int>& depth) {
+    std::vector<int> parent(polygons.size(), -1);
+    for (size_t i = 0; i < polygons.size(); ++i) {
+        if (polygons[i].empty()) continue;
+        for (size_t j = 0; j < polygons.size(); ++j)
+            if (depth[j] == depth[i] - 1 && polygons[j].size() >= 3 &&
+                contains(polygons[j], polygons[i][0]))
+                parent[i] = static_cast<int>(j);
+    }
+    return parent;
+}
+
 }  // namespace geometry
 }  // namespace multicage
 }  // namespace cv

@@ -104,12 +104,10 @@ struct Nesting {
         std::vector<geometry::Polygon> polygons;
         for (int i = 0; i < P; ++i) polygons.push_back(cage.polygon(i));
         depth = geometry::depths(polygons);
-        auto ancestor = [&](int i, int d) {
-            if (depth[i] <= d) return i;
-            const Point2f probe = cage.polygon(i)[0];
-            for (int j = 0; j < P; ++j)
-                if (depth[j] == d && pointPolygonTest(cage.polygon(j), probe, false) > 0) return j;
-            return i;  // not reached for a valid multicage
+        const std::vector<int> parent = geometry::parents(polygons, depth);
+        auto ancestor = [&](int i, int d) {  // up the parents to depth d
+            while (depth[i] > d && parent[i] >= 0) i = parent[i];
+            return i;
         };
         for (int i = 0; i < P; ++i)
             outline.push_back(ancestor(i, 1)), group.push_back(ancestor(i, 2));
@@ -261,9 +259,12 @@ std::vector<Point2f> resizePose(const Multicage& cage, const Binding& binding, S
     // stage 2 is the frame's scaling itself: always valid).
     for (bool whole : {false, true}) {
         std::vector<Point2f> start = blend(0, whole);
-        for (int halve = 0; !whole && halve < 2 && !validGeometry(cage, start, newSize); ++halve)
+        bool startValid = whole || validGeometry(cage, start, newSize);
+        for (int halve = 0; !startValid && halve < 2; ++halve) {
             startScale *= 0.5, start = blend(0, whole);
-        if (!whole && !validGeometry(cage, start, newSize)) continue;
+            startValid = validGeometry(cage, start, newSize);
+        }
+        if (!startValid) continue;
         binding.apply(start, p0);
         // Up to where the first triangle of the interpolated mesh shrinks to a twentieth of its
         // area under the frame's scaling (0 when the start is already that thin): deform()

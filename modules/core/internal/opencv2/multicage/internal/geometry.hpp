@@ -36,6 +36,11 @@ bool findCrossing(const std::vector<Polygon>& polygons, Crossing* crossing);
 /** For each polygon, 1 + the number of other polygons containing its first vertex. */
 std::vector<int> depths(const std::vector<Polygon>& polygons);
 
+/** For each polygon, the polygon one level up (depths() of them given) holding its first vertex,
+or -1 for an outline: in a valid multicage polygons are nested or disjoint, so that one vertex
+decides. */
+std::vector<int> parents(const std::vector<Polygon>& polygons, const std::vector<int>& depth);
+
 }  // namespace geometry
 }  // namespace multicage
 }  // namespace cv
