@@ -1,5 +1,7 @@
 #include "testing.hpp"
 
+#include <algorithm>
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -56,6 +58,24 @@ CliRun runCli(const std::string& tool, const std::string& dir, const std::string
     const int status =
         std::system((tool + " " + args + " > " + dir + "/out.txt 2> " + dir + "/err.txt").c_str());
     return {status, slurp(dir + "/out.txt"), slurp(dir + "/err.txt")};
+}
+
+PartitionErrors partitionErrors(const cv::multicage::Binding& b) {
+    const int c = b.coefficientCount(), N = b.nodeCount(), m = b.gridSize.width;
+    std::vector<double> sum(N, 0.0), x(N, 0.0), y(N, 0.0);
+    for (int j = 0; j < c; ++j) {
+        const float* cc = b.coefficients.ptr<float>(j);
+        const cv::Point2f v = b.restVertices[j];
+        for (int k = 0; k < N; ++k)
+            sum[k] += cc[k], x[k] += cc[k] * double(v.x), y[k] += cc[k] * double(v.y);
+    }
+    PartitionErrors e;
+    for (int k = 0; k < N; ++k) {
+        const cv::Point2f node = b.node(k % m, k / m);
+        e.sum = std::max(e.sum, std::abs(sum[k] - 1.0));
+        e.position = std::max(e.position, std::hypot(x[k] - node.x, y[k] - node.y));
+    }
+    return e;
 }
 
 }  // namespace multicage_testing

@@ -30,6 +30,13 @@ using multicage_fixtures::boxNodes;
 using multicage_fixtures::boxResidual;
 using multicage_fixtures::similarityResidual;
 
+/** The worst errors of a binding's two defining properties over all its nodes: |sum_j CC_j - 1|
+(partition of unity) and |sum_j CC_j v_j - x| in px (linear precision), in double. */
+struct PartitionErrors {
+    double sum = 0, position = 0;
+};
+PartitionErrors partitionErrors(const cv::multicage::Binding& b);
+
 /** What a command-line tool printed: its std::system status, stdout and stderr. */
 struct CliRun {
     int status;
