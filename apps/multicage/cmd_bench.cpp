@@ -513,14 +513,28 @@ void elasticWarp(const cv::Mat& image, cv::Mat& out, cv::RNG& rng, const cv::Mat
     cv::remap(image, out, b.mapx, b.mapy, cv::INTER_LINEAR, cv::BORDER_REFLECT_101);
 }
 
+// The case both augmentation tables time: 512x512, the lotus multicage of 40 vertices, random
+// poses of amplitude 12 px, batches of 16 images, medians of at least 5 rounds, one thread.
+struct AugmentCase {
+    cv::Size size;
+    cv::Mat image;
+    cv::multicage::Multicage cage;
+    double amplitude;
+    int batch, rounds;
+    explicit AugmentCase(const BenchOptions& o)
+        : size(512, 512),
+          image(benchImage(o.image, size)),
+          cage(multicage_fixtures::lotusMulticage(size, 40)),
+          amplitude(12),
+          batch(16),
+          rounds(std::max(5, o.repeats)) {
+        cv::setNumThreads(1);
+    }
+};
+
 void printAugmentRates(const BenchOptions& o) {
     using namespace cv::multicage;
-    const cv::Size size(512, 512);
-    const cv::Mat image = benchImage(o.image, size);
-    const Multicage cage = multicage_fixtures::lotusMulticage(size, 40);
-    const double amplitude = 12;
-    const int batch = 16, rounds = std::max(5, o.repeats);
-    cv::setNumThreads(1);
+    const auto& [size, image, cage, amplitude, batch, rounds] = AugmentCase(o);
     cv::Mat gridX(size, CV_32F), gridY(size, CV_32F);
     for (int y = 0; y < size.height; ++y)
         for (int x = 0; x < size.width; ++x)
@@ -599,12 +613,7 @@ double threadCpuMs(const std::function<void()>& f) {
 // computeMaps makes them), the whole deform (maps and sampling), and cv::remap with those maps.
 void printAugmentStages(const BenchOptions& o) {
     using namespace cv::multicage;
-    const cv::Size size(512, 512);
-    const cv::Mat image = benchImage(o.image, size);
-    const Multicage cage = multicage_fixtures::lotusMulticage(size, 40);
-    const double amplitude = 12;
-    const int batch = 16, rounds = std::max(5, o.repeats);
-    cv::setNumThreads(1);
+    const auto& [size, image, cage, amplitude, batch, rounds] = AugmentCase(o);
     std::printf("  per image, one thread's CPU time (ms), medians of %d rounds of %d:\n", rounds,
                 batch);
     std::printf("%11s %9s %9s %9s %9s %11s\n", "grid step", "pose", "maps", "deform", "sampling",
