@@ -4,7 +4,6 @@
 #include <array>
 #include <cmath>
 #include <opencv2/core/utils/logger.hpp>
-#include <opencv2/imgproc.hpp>
 #include <opencv2/multicage/internal/geometry.hpp>
 #include <opencv2/multicage/resize.hpp>
 
