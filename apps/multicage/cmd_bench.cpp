@@ -534,52 +534,53 @@ struct AugmentCase {
 
 void printAugmentRates(const BenchOptions& o) {
     using namespace cv::multicage;
-    const auto& [size, image, cage, amplitude, batch, rounds] = AugmentCase(o);
-    cv::Mat gridX(size, CV_32F), gridY(size, CV_32F);
-    for (int y = 0; y < size.height; ++y)
-        for (int x = 0; x < size.width; ++x)
+    const AugmentCase ac(o);
+    cv::Mat gridX(ac.size, CV_32F), gridY(ac.size, CV_32F);
+    for (int y = 0; y < ac.size.height; ++y)
+        for (int x = 0; x < ac.size.width; ++x)
             gridX.at<float>(y, x) = float(x), gridY.at<float>(y, x) = float(y);
     std::printf(
         "augmentation, 1 thread, %dx%d, %d vertices, amplitude %.0f px, %d images per timing, "
         "medians of %d interleaved rounds, load average %.2f:\n",
-        size.width, size.height, cage.vertexCount(), amplitude, batch, rounds, loadAverage());
+        ac.size.width, ac.size.height, ac.cage.vertexCount(), ac.amplitude, ac.batch, ac.rounds,
+        loadAverage());
     std::printf("%9s %15s %15s %15s %9s %15s %9s\n", "grid step", "pose+deform/s", "cv::remap/s",
                 "pose/s", "ratio", "elastic/s", "ratio");
     for (int step : {4, 2}) {
         DeformParams cpu;
         cpu.backend = BACKEND_CPU;
         cpu.gridStep = step;
-        cv::Ptr<Deformer> d = Deformer::create(image, cage, cpu);
+        cv::Ptr<Deformer> d = Deformer::create(ac.image, ac.cage, cpu);
         cv::RNG rng(7);
         cv::Mat mapx, mapy, out;
-        d->computeMaps(randomPose(cage, d->binding(), amplitude, rng), mapx, mapy);
+        d->computeMaps(randomPose(ac.cage, d->binding(), ac.amplitude, rng), mapx, mapy);
         uint64 seed = 1;
-        std::vector<std::vector<cv::Point2f>> poses(batch);
+        std::vector<std::vector<cv::Point2f>> poses(ac.batch);
         ElasticBuffers elasticBuffers;
         const std::vector<double> ms = interleavedMs(
-            rounds, {[&] {
-                         for (int k = 0; k < batch; ++k) {
-                             cv::RNG r(seed++);
-                             d->deform(randomPose(cage, amplitude, r), out);
-                         }
-                     },
-                     [&] {
-                         for (int k = 0; k < batch; ++k)
-                             cv::remap(image, out, mapx, mapy, cv::INTER_LINEAR,
-                                       cv::BORDER_CONSTANT);
-                     },
-                     [&] {
-                         for (int k = 0; k < batch; ++k) {
-                             cv::RNG r(seed++);
-                             poses[k] = randomPose(cage, amplitude, r);
-                         }
-                     },
-                     [&] {
-                         for (int k = 0; k < batch; ++k)
-                             elasticWarp(image, out, rng, gridX, gridY, elasticBuffers);
-                     }});
-        const double ours = ms[0] / batch, floor = ms[1] / batch, pose = ms[2] / batch,
-                     elastic = ms[3] / batch;
+            ac.rounds, {[&] {
+                            for (int k = 0; k < ac.batch; ++k) {
+                                cv::RNG r(seed++);
+                                d->deform(randomPose(ac.cage, ac.amplitude, r), out);
+                            }
+                        },
+                        [&] {
+                            for (int k = 0; k < ac.batch; ++k)
+                                cv::remap(ac.image, out, mapx, mapy, cv::INTER_LINEAR,
+                                          cv::BORDER_CONSTANT);
+                        },
+                        [&] {
+                            for (int k = 0; k < ac.batch; ++k) {
+                                cv::RNG r(seed++);
+                                poses[k] = randomPose(ac.cage, ac.amplitude, r);
+                            }
+                        },
+                        [&] {
+                            for (int k = 0; k < ac.batch; ++k)
+                                elasticWarp(ac.image, out, rng, gridX, gridY, elasticBuffers);
+                        }});
+        const double ours = ms[0] / ac.batch, floor = ms[1] / ac.batch, pose = ms[2] / ac.batch,
+                     elastic = ms[3] / ac.batch;
         std::printf("%9d %15.1f %15.1f %15.1f %8.2fx %15.1f %8.2fx\n", step, 1e3 / ours,
                     1e3 / floor, 1e3 / pose, ours / floor, 1e3 / elastic, ours / elastic);
         std::fflush(stdout);
@@ -613,25 +614,25 @@ double threadCpuMs(const std::function<void()>& f) {
 // computeMaps makes them), the whole deform (maps and sampling), and cv::remap with those maps.
 void printAugmentStages(const BenchOptions& o) {
     using namespace cv::multicage;
-    const auto& [size, image, cage, amplitude, batch, rounds] = AugmentCase(o);
-    std::printf("  per image, one thread's CPU time (ms), medians of %d rounds of %d:\n", rounds,
-                batch);
+    const AugmentCase ac(o);
+    std::printf("  per image, one thread's CPU time (ms), medians of %d rounds of %d:\n", ac.rounds,
+                ac.batch);
     std::printf("%11s %9s %9s %9s %9s %11s\n", "grid step", "pose", "maps", "deform", "sampling",
                 "cv::remap");
     for (int step : {4, 2}) {
         DeformParams cpu;
         cpu.backend = BACKEND_CPU;
         cpu.gridStep = step;
-        cv::Ptr<Deformer> d = Deformer::create(image, cage, cpu);
-        std::vector<std::vector<cv::Point2f>> poses(batch);
+        cv::Ptr<Deformer> d = Deformer::create(ac.image, ac.cage, cpu);
+        std::vector<std::vector<cv::Point2f>> poses(ac.batch);
         cv::Mat mapx, mapy, out;
         uint64 seed = 1;
         std::vector<double> pose, maps, deform, remap;
-        for (int r = 0; r <= rounds; ++r) {  // round 0 warms up
+        for (int r = 0; r <= ac.rounds; ++r) {  // round 0 warms up
             const double tPose = threadCpuMs([&] {
                 for (auto& p : poses) {
                     cv::RNG rng(seed++);
-                    p = randomPose(cage, amplitude, rng);
+                    p = randomPose(ac.cage, ac.amplitude, rng);
                 }
             });
             const double tMaps = threadCpuMs([&] {
@@ -641,12 +642,12 @@ void printAugmentStages(const BenchOptions& o) {
                 for (const auto& p : poses) d->deform(p, out);
             });
             const double tRemap = threadCpuMs([&] {
-                for (int k = 0; k < batch; ++k)
-                    cv::remap(image, out, mapx, mapy, cv::INTER_LINEAR, cv::BORDER_CONSTANT);
+                for (int k = 0; k < ac.batch; ++k)
+                    cv::remap(ac.image, out, mapx, mapy, cv::INTER_LINEAR, cv::BORDER_CONSTANT);
             });
             if (r == 0) continue;
-            pose.push_back(tPose / batch), maps.push_back(tMaps / batch);
-            deform.push_back(tDeform / batch), remap.push_back(tRemap / batch);
+            pose.push_back(tPose / ac.batch), maps.push_back(tMaps / ac.batch);
+            deform.push_back(tDeform / ac.batch), remap.push_back(tRemap / ac.batch);
         }
         const double m = median(maps), dm = median(deform);
         std::printf("%11d %9.3f %9.3f %9.3f %9.3f %11.3f\n", step, median(pose), m, dm, dm - m,
