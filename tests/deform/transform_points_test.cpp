@@ -187,6 +187,17 @@ TEST(TransformPoints, PointsOutsideTheImageFollowTheFrame) {
     for (const Point2f& corner : cage.frame()) pose.push_back(corner + shift);
     transformPoints(binding, pose, outside, landed);
     for (size_t i = 0; i < outside.size(); ++i) EXPECT_LT(norm(landed[i] - (outside[i] + shift)), 1e-3);
+    // Far away too, to float precision: the corners' bilinear weights are huge there and of both
+    // signs, and summed as such they cancelled the shift away (1e20 px: 0 instead of -4).
+    const std::vector<Point2f> far = {{1e20f, 3}, {-1e15f, 1e15f}, {7, -1e12f}};
+    transformPoints(binding, pose, far, landed);
+    for (size_t i = 0; i < far.size(); ++i) {
+        const Point2d expected = Point2d(far[i]) + Point2d(shift);
+        for (int axis = 0; axis < 2; ++axis) {
+            const double want = axis ? expected.y : expected.x, got = axis ? landed[i].y : landed[i].x;
+            EXPECT_NEAR(got, want, std::max(1e-3, 1e-6 * std::abs(want))) << i << " axis " << axis;
+        }
+    }
     const std::vector<Point2f> across = {{-0.5f - 1e-3f, 100}, {-0.5f + 1e-3f, 100}, {200, size.height - 0.5f + 1e-3f},
                                          {200, size.height - 0.5f - 1e-3f}};
     transformPoints(binding, pose, across, landed);

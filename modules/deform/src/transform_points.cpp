@@ -41,11 +41,15 @@ public:
     const std::vector<double>& Y() const { return Y_; }
 
     /** The bilinear map of the frame corners (TL, TR, BR, BL) at p: where the ring puts its
-    nodes (RasterMesh::setFrame), continued outside the frame. */
+    nodes (RasterMesh::setFrame), continued outside the frame. Written as the first corner plus
+    the two sides plus the twist (zero for a frame that stays a parallelogram), not as the four
+    corners' weights: far outside the frame those weights are huge and of both signs, and their
+    sum cancelled to nothing (a point 1e20 px away lost its 3 px translation). */
     Point2d frameMap(Point2d p) const {
         const double u = (p.x + 0.5) / W_, v = (p.y + 0.5) / H_;
-        return (1 - u) * (1 - v) * frame_[0] + u * (1 - v) * frame_[1] + u * v * frame_[2] +
-               (1 - u) * v * frame_[3];
+        const Point2d side1 = frame_[1] - frame_[0], side3 = frame_[3] - frame_[0];
+        const Point2d twist = frame_[0] - frame_[1] + frame_[2] - frame_[3];
+        return frame_[0] + u * side1 + v * side3 + (u * v) * twist;
     }
 
     /** Cell (ex, ey) of the ringed mesh holding p (inside the frame), and p's place in it. */
