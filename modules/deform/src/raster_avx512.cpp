@@ -169,15 +169,20 @@ MULTICAGE_V4 inline void fillSpan(double mxx, double myx, double bx, double by, 
 
 // The spans of a group's rows, in drawing order (row by row, cell by cell, kind 0 then 1).
 // Stored by one pass and read by the next (a scalar load of a lane just stored from a vector
-// register waits for the store to complete): the fills of one group run after the spans of the
-// next have been found.
+// register waits for the store to complete): a group's spans are drawn after the next group's
+// have been found.
 struct SpanList {
-    std::vector<int> xl, xr, key;  // key: 16 y + 2 cell + kind
-    int count = 0;
+    struct Row {
+        int y, begin, end, x0, x1;  // spans [begin, end) of row y, covering columns [x0, x1]
+    };
+    std::vector<int> xl, xr, tri;  // tri: 8 kind + cell
+    std::vector<Row> rows;
+    int count = 0, rowCount = 0;
     GroupMaps maps;
-    void reserve(int entries) {
-        if (static_cast<int>(xl.size()) < entries + 16)
-            xl.resize(entries + 16), xr.resize(entries + 16), key.resize(entries + 16);
+    void reserve(int rowsAtMost) {
+        const size_t entries = 16 * size_t(rowsAtMost) + 16;
+        if (xl.size() < entries) xl.resize(entries), xr.resize(entries), tri.resize(entries);
+        if (rows.size() < size_t(rowsAtMost)) rows.resize(rowsAtMost);
     }
 };
 
@@ -186,9 +191,10 @@ MULTICAGE_V4 inline void findSpans(const Lanes (&lanes)[2], int ya, int yb, Span
     // 16 lanes in drawing order: lane 2 cell + kind.
     const __m512i interleave =
         _mm512_setr_epi32(0, 16, 1, 17, 2, 18, 3, 19, 4, 20, 5, 21, 6, 22, 7, 23);
-    const __m512i order = _mm512_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
-    list.count = 0;
-    list.reserve(16 * (yb - ya + 1));
+    const __m512i triangle =
+        _mm512_setr_epi32(0, 8, 1, 9, 2, 10, 3, 11, 4, 12, 5, 13, 6, 14, 7, 15);
+    list.count = list.rowCount = 0;
+    list.reserve(yb - ya + 1);
     for (int y = ya; y <= yb; ++y) {
         const __m512d yv = _mm512_set1_pd(y);
         __m256i l0, r0, l1, r1;
@@ -201,23 +207,74 @@ MULTICAGE_V4 inline void findSpans(const Lanes (&lanes)[2], int ya, int yb, Span
                                                      _mm512_castsi256_si512(l1));
         const __m512i xr = _mm512_permutex2var_epi32(_mm512_castsi256_si512(r0), interleave,
                                                      _mm512_castsi256_si512(r1));
-        const __m512i key = _mm512_add_epi32(_mm512_set1_epi32(16 * y), order);
         const int at = list.count;
         _mm512_storeu_si512(&list.xl[at], _mm512_maskz_compress_epi32(rows, xl));
         _mm512_storeu_si512(&list.xr[at], _mm512_maskz_compress_epi32(rows, xr));
-        _mm512_storeu_si512(&list.key[at], _mm512_maskz_compress_epi32(rows, key));
+        _mm512_storeu_si512(&list.tri[at], _mm512_maskz_compress_epi32(rows, triangle));
         list.count = at + _mm_popcnt_u32(rows);
+        list.rows[list.rowCount++] = {y, at, list.count, _mm512_mask_reduce_min_epi32(rows, xl),
+                                      _mm512_mask_reduce_max_epi32(rows, xr)};
     }
 }
 
-// Fills the spans of a list in its order.
+// Draws a list's spans. A row whose spans lie within 64 columns is drawn pixel by pixel: the
+// triangle each pixel gets (the last in drawing order whose span holds it) is found in one
+// register of 64 bytes, then the pixels are computed 8 at a time with their triangle's map.
+// That costs per pixel, not per span: at grid step 1 most spans are one pixel.
 MULTICAGE_V4 inline void fillSpans(const SpanList& list, Point2f lo, Point2f hi, Mat& mapx,
                                    Mat& mapy) {
     const GroupMaps& m = list.maps;
-    for (int i = 0; i < list.count; ++i) {
-        const int key = list.key[i], y = key >> 4, t = (key & 1) * 8 + ((key >> 1) & 7);
-        fillSpan(m.mxx[t], m.myx[t], m.mxy[t] * y + m.mx0[t], m.myy[t] * y + m.my0[t], list.xl[i],
-                 list.xr[i], lo, hi, mapx.ptr<float>(y), mapy.ptr<float>(y));
+    const __m512d mxx0 = _mm512_load_pd(m.mxx), mxx1 = _mm512_load_pd(m.mxx + 8);
+    const __m512d myx0 = _mm512_load_pd(m.myx), myx1 = _mm512_load_pd(m.myx + 8);
+    const __m256i iota = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
+    const __m256 lox = _mm256_set1_ps(lo.x), loy = _mm256_set1_ps(lo.y);
+    const __m256 hix = _mm256_set1_ps(hi.x), hiy = _mm256_set1_ps(hi.y);
+    for (int r = 0; r < list.rowCount; ++r) {
+        const SpanList::Row& row = list.rows[r];
+        const int y = row.y;
+        float* mx = mapx.ptr<float>(y);
+        float* my = mapy.ptr<float>(y);
+        if (row.x1 - row.x0 >= 64) {
+            for (int i = row.begin; i < row.end; ++i) {
+                const int t = list.tri[i];
+                fillSpan(m.mxx[t], m.myx[t], m.mxy[t] * y + m.mx0[t], m.myy[t] * y + m.my0[t],
+                         list.xl[i], list.xr[i], lo, hi, mx, my);
+            }
+            continue;
+        }
+        __m512i owner = _mm512_set1_epi8(-1);
+        for (int i = row.begin; i < row.end; ++i) {
+            const unsigned len = unsigned(list.xr[i] - list.xl[i] + 1);
+            const __mmask64 px = _bzhi_u64(~0ull, len) << (list.xl[i] - row.x0);
+            owner =
+                _mm512_mask_mov_epi8(owner, px, _mm512_set1_epi8(static_cast<char>(list.tri[i])));
+        }
+        const __m512d yv = _mm512_set1_pd(y);
+        const __m512d bx0 =
+            _mm512_add_pd(_mm512_mul_pd(_mm512_load_pd(m.mxy), yv), _mm512_load_pd(m.mx0));
+        const __m512d bx1 =
+            _mm512_add_pd(_mm512_mul_pd(_mm512_load_pd(m.mxy + 8), yv), _mm512_load_pd(m.mx0 + 8));
+        const __m512d by0 =
+            _mm512_add_pd(_mm512_mul_pd(_mm512_load_pd(m.myy), yv), _mm512_load_pd(m.my0));
+        const __m512d by1 =
+            _mm512_add_pd(_mm512_mul_pd(_mm512_load_pd(m.myy + 8), yv), _mm512_load_pd(m.my0 + 8));
+        for (int x = row.x0, c = 0; x <= row.x1; x += 8, c += 8) {
+            // bytes c..c+7 of the owners, one per qword lane
+            const __m512i t = _mm512_cvtepu8_epi64(
+                _mm512_castsi512_si128(_mm512_permutexvar_epi64(_mm512_set1_epi64(c >> 3), owner)));
+            const __mmask8 covered = _mm512_cmplt_epu64_mask(t, _mm512_set1_epi64(16));
+            const __m512d xv = _mm512_cvtepi32_pd(_mm256_add_epi32(_mm256_set1_epi32(x), iota));
+            const __m512d vxd =
+                _mm512_add_pd(_mm512_mul_pd(_mm512_permutex2var_pd(mxx0, t, mxx1), xv),
+                              _mm512_permutex2var_pd(bx0, t, bx1));
+            const __m512d vyd =
+                _mm512_add_pd(_mm512_mul_pd(_mm512_permutex2var_pd(myx0, t, myx1), xv),
+                              _mm512_permutex2var_pd(by0, t, by1));
+            _mm256_mask_storeu_ps(mx + x, covered,
+                                  _mm256_min_ps(hix, _mm256_max_ps(lox, _mm512_cvtpd_ps(vxd))));
+            _mm256_mask_storeu_ps(my + x, covered,
+                                  _mm256_min_ps(hiy, _mm256_max_ps(loy, _mm512_cvtpd_ps(vyd))));
+        }
     }
 }
 
@@ -227,10 +284,11 @@ MULTICAGE_V4
 void drawCellRowAvx512(const Point2f* p0, const Point2f* p1, const Point2f* r0, const Point2f* r1,
                        int cells, int y0, int y1, Point2f lo, Point2f hi, Mat& mapx, Mat& mapy,
                        TriangleSetup&) {
-    thread_local SpanList lists[2];
+    thread_local SpanList listsOfThread[2];
+    SpanList* lists = listsOfThread;  // (each access to a thread_local may call into the loader)
     Lanes lanes[2];
     int current = 0;
-    lists[0].count = lists[1].count = 0;
+    lists[0].count = lists[1].count = lists[0].rowCount = lists[1].rowCount = 0;
     for (int first = 0; first < cells; first += 8) {
         const int n = std::min(8, cells - first);
         const __mmask8 cellMask = static_cast<__mmask8>((1u << n) - 1);
@@ -265,7 +323,7 @@ void drawCellRowAvx512(const Point2f* p0, const Point2f* p1, const Point2f* r0, 
         findSpans(lanes, static_cast<int>(ya), static_cast<int>(yb), list);
         current ^= 1;
         fillSpans(lists[current], lo, hi, mapx, mapy);  // the previous group's
-        lists[current].count = 0;
+        lists[current].count = lists[current].rowCount = 0;
     }
     fillSpans(lists[current ^ 1], lo, hi, mapx, mapy);
 }
