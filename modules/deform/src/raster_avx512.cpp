@@ -173,11 +173,12 @@ MULTICAGE_V4 inline void fillSpan(double mxx, double myx, double bx, double by, 
 // have been found.
 struct SpanList {
     struct Row {
-        int y, begin, end, x0, x1;  // spans [begin, end) of row y, covering columns [x0, x1]
+        int y, begin, end;  // spans [begin, end) of row y
     };
     std::vector<int> xl, xr, tri;  // tri: 8 kind + cell
     std::vector<Row> rows;
     int count = 0, rowCount = 0;
+    int x0 = 0, x1 = -1;  // the columns the group's triangles may cover
     GroupMaps maps;
     void reserve(int rowsAtMost) {
         const size_t entries = 16 * size_t(rowsAtMost) + 16;
@@ -212,14 +213,13 @@ MULTICAGE_V4 inline void findSpans(const Lanes (&lanes)[2], int ya, int yb, Span
         _mm512_storeu_si512(&list.xr[at], _mm512_maskz_compress_epi32(rows, xr));
         _mm512_storeu_si512(&list.tri[at], _mm512_maskz_compress_epi32(rows, triangle));
         list.count = at + _mm_popcnt_u32(rows);
-        list.rows[list.rowCount++] = {y, at, list.count, _mm512_mask_reduce_min_epi32(rows, xl),
-                                      _mm512_mask_reduce_max_epi32(rows, xr)};
+        list.rows[list.rowCount++] = {y, at, list.count};
     }
 }
 
-// Draws a list's spans. A row whose spans lie within 64 columns is drawn pixel by pixel: the
-// triangle each pixel gets (the last in drawing order whose span holds it) is found in one
-// register of 64 bytes, then the pixels are computed 8 at a time with their triangle's map.
+// Draws a list's spans. When the group's triangles lie within 64 columns, each row is drawn pixel
+// by pixel: the triangle each pixel gets (the last in drawing order whose span holds it) is found
+// in one register of 64 bytes, then the pixels are computed 8 at a time with their triangle's map.
 // That costs per pixel, not per span: at grid step 1 most spans are one pixel.
 MULTICAGE_V4 inline void fillSpans(const SpanList& list, Point2f lo, Point2f hi, Mat& mapx,
                                    Mat& mapy) {
@@ -234,7 +234,7 @@ MULTICAGE_V4 inline void fillSpans(const SpanList& list, Point2f lo, Point2f hi,
         const int y = row.y;
         float* mx = mapx.ptr<float>(y);
         float* my = mapy.ptr<float>(y);
-        if (row.x1 - row.x0 >= 64) {
+        if (list.x1 - list.x0 >= 64) {
             for (int i = row.begin; i < row.end; ++i) {
                 const int t = list.tri[i];
                 fillSpan(m.mxx[t], m.myx[t], m.mxy[t] * y + m.mx0[t], m.myy[t] * y + m.my0[t],
@@ -245,7 +245,7 @@ MULTICAGE_V4 inline void fillSpans(const SpanList& list, Point2f lo, Point2f hi,
         __m512i owner = _mm512_set1_epi8(-1);
         for (int i = row.begin; i < row.end; ++i) {
             const unsigned len = unsigned(list.xr[i] - list.xl[i] + 1);
-            const __mmask64 px = _bzhi_u64(~0ull, len) << (list.xl[i] - row.x0);
+            const __mmask64 px = _bzhi_u64(~0ull, len) << (list.xl[i] - list.x0);
             owner =
                 _mm512_mask_mov_epi8(owner, px, _mm512_set1_epi8(static_cast<char>(list.tri[i])));
         }
@@ -258,7 +258,7 @@ MULTICAGE_V4 inline void fillSpans(const SpanList& list, Point2f lo, Point2f hi,
             _mm512_add_pd(_mm512_mul_pd(_mm512_load_pd(m.myy), yv), _mm512_load_pd(m.my0));
         const __m512d by1 =
             _mm512_add_pd(_mm512_mul_pd(_mm512_load_pd(m.myy + 8), yv), _mm512_load_pd(m.my0 + 8));
-        for (int x = row.x0, c = 0; x <= row.x1; x += 8, c += 8) {
+        for (int x = list.x0, c = 0; x <= list.x1; x += 8, c += 8) {
             // bytes c..c+7 of the owners, one per qword lane
             const __m512i t = _mm512_cvtepu8_epi64(
                 _mm512_castsi512_si128(_mm512_permutexvar_epi64(_mm512_set1_epi64(c >> 3), owner)));
@@ -312,14 +312,20 @@ void drawCellRowAvx512(const Point2f* p0, const Point2f* p1, const Point2f* r0, 
             setUp(qx1, qy1, px1, py1, cellMask, y0, y1, mapx.cols, lanes[1], list.maps, 1);
         }
         if (!(lanes[0].valid | lanes[1].valid)) continue;
-        // The rows any of the group's triangles touches.
+        // The rows and columns any of the group's triangles touches.
         const __m512d big = _mm512_set1_pd(INFINITY);
-        const double ya = _mm512_reduce_min_pd(
-            _mm512_min_pd(_mm512_mask_mov_pd(big, lanes[0].valid, lanes[0].ya),
-                          _mm512_mask_mov_pd(big, lanes[1].valid, lanes[1].ya)));
-        const double yb = _mm512_reduce_max_pd(
-            _mm512_max_pd(_mm512_mask_mov_pd(-big, lanes[0].valid, lanes[0].yb),
-                          _mm512_mask_mov_pd(-big, lanes[1].valid, lanes[1].yb)));
+        auto least = [&](__m512d Lanes::*v) {
+            return _mm512_reduce_min_pd(
+                _mm512_min_pd(_mm512_mask_mov_pd(big, lanes[0].valid, lanes[0].*v),
+                              _mm512_mask_mov_pd(big, lanes[1].valid, lanes[1].*v)));
+        };
+        auto most = [&](__m512d Lanes::*v) {
+            return _mm512_reduce_max_pd(
+                _mm512_max_pd(_mm512_mask_mov_pd(-big, lanes[0].valid, lanes[0].*v),
+                              _mm512_mask_mov_pd(-big, lanes[1].valid, lanes[1].*v)));
+        };
+        const double ya = least(&Lanes::ya), yb = most(&Lanes::yb);
+        list.x0 = static_cast<int>(least(&Lanes::xa)), list.x1 = static_cast<int>(most(&Lanes::xb));
         findSpans(lanes, static_cast<int>(ya), static_cast<int>(yb), list);
         current ^= 1;
         fillSpans(lists[current], lo, hi, mapx, mapy);  // the previous group's
