@@ -110,11 +110,13 @@ MULTICAGE_V4 void remapRow3(const uchar* src, size_t step, int W, int H, const f
         // load serves both (4 loads per 8 pixels and row, where a gather is 8 and costs more).
         const __m512i prevX = _mm512_permutexvar_epi32(evenOfPair, X);
         const __m512i prevY = _mm512_permutexvar_epi32(evenOfPair, Y);
-        const bool windows = _mm512_cmpeq_epi32_mask(Y, prevY) == 0xFFFF &&
-                             _mm512_cmple_epu32_mask(_mm512_sub_epi32(X, prevX), three) == 0xFFFF &&
-                             !_mm512_cmpgt_epi32_mask(_mm512_add_epi32(top, stepV), lastWindow);
+        const __mmask16 pairsOk =
+            _mm512_cmpeq_epi32_mask(Y, prevY) &
+            _mm512_cmple_epu32_mask(_mm512_sub_epi32(X, prevX), three) &
+            ~_mm512_cmpgt_epi32_mask(_mm512_add_epi32(top, stepV), lastWindow);
+        const bool windowsOf[2] = {(pairsOk & 0xFF) == 0xFF, (pairsOk >> 8) == 0xFF};
         alignas(64) int offsets[16];
-        if (windows) _mm512_store_si512(offsets, top);
+        if (windowsOf[0] || windowsOf[1]) _mm512_store_si512(offsets, top);
         __m512i words[2];
         for (int h = 0; h < 2; ++h) {
             const __m256i topH =
@@ -127,7 +129,7 @@ MULTICAGE_V4 void remapRow3(const uchar* src, size_t step, int W, int H, const f
                                                        : _mm512_castsi512_si256(b));
             // (b0 b1 g0 g1 r0 r1 0 0): each channel's left and right sample side by side.
             __m512i t, u;
-            if (windows) {
+            if (windowsOf[h]) {
                 // Lane i: 16 bytes from pixel 2i's samples; pixel 2i+1's start `d` bytes later.
                 const __m256i d = _mm256_sub_epi32(
                     topH, _mm256_permutevar8x32_epi32(topH, _mm512_castsi512_si256(evenOfPair)));
