@@ -42,6 +42,8 @@ namespace {
 struct Lanes {
     __m512d a0[3], ay[3], invAx[3];  // the barycentric edge functions (rowSpan's)
     __mmask8 pos[3], neg[3];         // ax > 0 (bounds the left), ax < 0 (the right)
+    __mmask8 flat[3];                // neither (ax is 0 or NaN), in valid lanes
+    bool anyFlat;                    // some flat[i] is not 0
     __m512d xa, xb, ya, yb;          // triangleBounds, integral values
     __mmask8 valid;                  // triangleBounds returned true
 };
@@ -105,7 +107,9 @@ MULTICAGE_V4 inline void setUp(const __m512d qx[3], const __m512d qy[3], const _
         l.invAx[i] = _mm512_maskz_div_pd(_mm512_cmp_pd_mask(ax[i], zero, _CMP_NEQ_UQ), one, ax[i]);
         l.pos[i] = _mm512_cmp_pd_mask(ax[i], zero, _CMP_GT_OQ);
         l.neg[i] = _mm512_cmp_pd_mask(ax[i], zero, _CMP_LT_OQ);
+        l.flat[i] = valid & static_cast<__mmask8>(~(l.pos[i] | l.neg[i]));
     }
+    l.anyFlat = (l.flat[0] | l.flat[1] | l.flat[2]) != 0;
     const __m512d d0x = _mm512_sub_pd(px[0], px[2]), d0y = _mm512_sub_pd(py[0], py[2]);
     const __m512d d1x = _mm512_sub_pd(px[1], px[2]), d1y = _mm512_sub_pd(py[1], py[2]);
     auto combine = [&](const __m512d a[3], __m512d d0, __m512d d1) {
@@ -123,7 +127,10 @@ MULTICAGE_V4 inline void setUp(const __m512d qx[3], const __m512d qy[3], const _
         _mm512_add_pd(_mm512_add_pd(py[2], _mm512_mul_pd(a0[0], d0y)), _mm512_mul_pd(a0[1], d1y)));
 }
 
-// rowSpan of row y for the 8 triangles: the lanes with pixels, and their [xl, xr].
+// rowSpan of row y for the 8 triangles: the lanes with pixels, and their [xl, xr]. Flat: whether
+// some edge is horizontal (ax = 0: it empties the row or bounds nothing), rare but for the ring
+// and the rest pose; without one, rowSpan's third select never changes a value.
+template <bool Flat>
 MULTICAGE_V4 inline __mmask8 spans(const Lanes& l, __m512d y, __m256i& xl, __m256i& xr) {
     __mmask8 rows =
         l.valid & _mm512_cmp_pd_mask(l.ya, y, _CMP_LE_OQ) & _mm512_cmp_pd_mask(y, l.yb, _CMP_LE_OQ);
@@ -135,8 +142,9 @@ MULTICAGE_V4 inline __mmask8 spans(const Lanes& l, __m512d y, __m256i& xl, __m25
         const __m512d v = _mm512_mul_pd(_mm512_sub_pd(eps, c), l.invAx[i]);
         left = _mm512_mask_max_pd(left, l.pos[i], v, left);  // a NaN v keeps left
         right = _mm512_mask_min_pd(right, l.neg[i], v, right);
-        const __mmask8 flat = static_cast<__mmask8>(~(l.pos[i] | l.neg[i]));
-        right = _mm512_mask_mov_pd(right, flat & _mm512_cmp_pd_mask(c, eps, _CMP_LT_OQ),
+        if (Flat)
+            right =
+                _mm512_mask_mov_pd(right, _mm512_mask_cmp_pd_mask(l.flat[i], c, eps, _CMP_LT_OQ),
                                    _mm512_set1_pd(-1.0));
     }
     rows &= _mm512_cmp_pd_mask(left, right, _CMP_LE_OQ);
@@ -188,6 +196,7 @@ struct SpanList {
 };
 
 // Finds the spans of the group's triangles in rows [ya, yb].
+template <bool Flat>
 MULTICAGE_V4 inline void findSpans(const Lanes (&lanes)[2], int ya, int yb, SpanList& list) {
     // 16 lanes in drawing order: lane 2 cell + kind.
     const __m512i interleave =
@@ -199,8 +208,8 @@ MULTICAGE_V4 inline void findSpans(const Lanes (&lanes)[2], int ya, int yb, Span
     for (int y = ya; y <= yb; ++y) {
         const __m512d yv = _mm512_set1_pd(y);
         __m256i l0, r0, l1, r1;
-        const unsigned rows0 = spans(lanes[0], yv, l0, r0);
-        const unsigned rows1 = spans(lanes[1], yv, l1, r1);
+        const unsigned rows0 = spans<Flat>(lanes[0], yv, l0, r0);
+        const unsigned rows1 = spans<Flat>(lanes[1], yv, l1, r1);
         const __mmask16 rows =
             static_cast<__mmask16>(_pdep_u32(rows0, 0x5555u) | _pdep_u32(rows1, 0xaaaau));
         if (!rows) continue;
@@ -326,7 +335,10 @@ void drawCellRowAvx512(const Point2f* p0, const Point2f* p1, const Point2f* r0, 
         };
         const double ya = least(&Lanes::ya), yb = most(&Lanes::yb);
         list.x0 = static_cast<int>(least(&Lanes::xa)), list.x1 = static_cast<int>(most(&Lanes::xb));
-        findSpans(lanes, static_cast<int>(ya), static_cast<int>(yb), list);
+        if (lanes[0].anyFlat || lanes[1].anyFlat)
+            findSpans<true>(lanes, static_cast<int>(ya), static_cast<int>(yb), list);
+        else
+            findSpans<false>(lanes, static_cast<int>(ya), static_cast<int>(yb), list);
         current ^= 1;
         fillSpans(lists[current], lo, hi, mapx, mapy);  // the previous group's
         lists[current].count = lists[current].rowCount = 0;
