@@ -83,13 +83,13 @@ MULTICAGE_V4 void remapRow3(const uchar* src, size_t step, int W, int H, const f
         _mm_setr_epi8(-1, -1, -1, -1, -1, -1, -1, -1, 8, 8, 8, 8, 8, 8, -1, -1));
     int x = 0;
     for (; x + 16 <= cols; x += 16) {
-        const __m512i sx = _mm512_cvtps_epi32(_mm512_mul_ps(_mm512_loadu_ps(mx + x), scale));
-        const __m512i sy = _mm512_cvtps_epi32(_mm512_mul_ps(_mm512_loadu_ps(my + x), scale));
-        const __m512i X = _mm512_srai_epi32(sx, 5), Y = _mm512_srai_epi32(sy, 5);
+        __m512i sx = _mm512_cvtps_epi32(_mm512_mul_ps(_mm512_loadu_ps(mx + x), scale));
+        __m512i sy = _mm512_cvtps_epi32(_mm512_mul_ps(_mm512_loadu_ps(my + x), scale));
+        __m512i X = _mm512_srai_epi32(sx, 5), Y = _mm512_srai_epi32(sy, 5);
         // W and H are below 2^15 (remapLinear), so 16-bit saturation changes no inside test.
         const __mmask16 inside =
             _mm512_cmplt_epu32_mask(X, lastX) & _mm512_cmplt_epu32_mask(Y, lastY);
-        if (inside != 0xFFFF ||
+        if (_mm_popcnt_u32(inside) < 8 ||
             _mm512_mask_cmpgt_epi32_mask(
                 inside,
                 _mm512_add_epi32(_mm512_add_epi32(_mm512_mullo_epi32(Y, stepV), stepV),
@@ -98,6 +98,13 @@ MULTICAGE_V4 void remapRow3(const uchar* src, size_t step, int W, int H, const f
             for (int k = x; k < x + 16; ++k)
                 samplePixel3(src, step, W, H, mx[k], my[k], border, d + 3 * k);
             continue;
+        }
+        // A few pixels with a sample outside (the last column of a warp that keeps the border,
+        // say: one per row) are computed from the image's first pixel here, then one by one.
+        const __mmask16 outside = static_cast<__mmask16>(~inside);
+        if (outside) {
+            sx = _mm512_maskz_mov_epi32(inside, sx), sy = _mm512_maskz_mov_epi32(inside, sy);
+            X = _mm512_srai_epi32(sx, 5), Y = _mm512_srai_epi32(sy, 5);
         }
         const __m512i a = _mm512_and_si512(sx, fraction), b = _mm512_and_si512(sy, fraction);
         const __m512i top = _mm512_add_epi32(_mm512_mullo_epi32(Y, stepV),
@@ -174,6 +181,10 @@ MULTICAGE_V4 void remapRow3(const uchar* src, size_t step, int W, int H, const f
             _mm512_permutexvar_epi32(order, _mm512_packus_epi16(words[0], words[1]));
         const __m512i packed = _mm512_permutexvar_epi32(lanes, _mm512_shuffle_epi8(bytes, keep3));
         _mm512_mask_storeu_epi32(d + 3 * x, 0x0FFF, packed);
+        for (unsigned m = outside; m; m &= m - 1) {
+            const int k = x + __builtin_ctz(m);
+            samplePixel3(src, step, W, H, mx[k], my[k], border, d + 3 * k);
+        }
     }
     for (; x < cols; ++x) samplePixel3(src, step, W, H, mx[x], my[x], border, d + 3 * x);
 }
