@@ -50,8 +50,8 @@ MULTICAGE_V4 inline __m128i load16(const uchar* p) {
     return _mm_loadu_si128(reinterpret_cast<const __m128i*>(p));
 }
 
-// One output row of a 3-channel image, 16 pixels at a time where all of their samples lie
-// inside the image (X in [0, W-2], Y in [0, H-2]); other pixels one by one.
+// One output row of a 3-channel image, 16 pixels at a time where at least 8 of them have all
+// their samples inside the image (X in [0, W-2], Y in [0, H-2]); other pixels one by one.
 MULTICAGE_V4 void remapRow3(const uchar* src, size_t step, int W, int H, const float* mx,
                             const float* my, uchar* d, int cols, const uchar* border) {
     const __m512 scale = _mm512_set1_ps(32.f);
