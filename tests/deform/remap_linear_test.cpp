@@ -80,3 +80,32 @@ TEST(RemapLinear, SameBitsAsCvRemap) {
                           "views");
     }
 }
+
+// Smooth warps, as deformations make them: neighbouring pixels sample neighbouring source
+// pixels, so the vector path reads two output pixels' samples with one 16-byte load. Scales from
+// 0.5 to 4 source pixels per output pixel (beyond 3 the loads no longer serve a pair), rows that
+// cross a source row between two neighbours, and samples up to the last row and column.
+TEST(RemapLinear, SmoothWarpsSameBitsAsCvRemap) {
+    RNG rng(99);
+    for (Size size : {Size(64, 48), Size(301, 199)}) {
+        Mat src(size, CV_8UC3);
+        rng.fill(src, RNG::UNIFORM, 0, 256);
+        for (float scale : {0.5f, 1.f, 2.9f, 3.1f, 4.f})
+            for (float shear : {0.f, 0.13f}) {
+                Mat mapx(size, CV_32F), mapy(size, CV_32F);
+                for (int y = 0; y < size.height; ++y)
+                    for (int x = 0; x < size.width; ++x) {
+                        mapx.at<float>(y, x) = x * scale + 2.f * std::sin(y * 0.1f) - 1.f;
+                        mapy.at<float>(y, x) = y * 0.97f + shear * x + std::cos(x * 0.07f);
+                    }
+                expectSameAsRemap(src, mapx, mapy, Scalar(4, 5, 6),
+                                  format("scale %.1f shear %.2f", scale, shear).c_str());
+                // the same warp pushed against the bottom-right corner
+                mapx += Scalar(size.width * (1 - scale) + 0.5f);
+                mapy += Scalar(2.f);
+                expectSameAsRemap(
+                    src, mapx, mapy, Scalar(4, 5, 6),
+                    format("scale %.1f shear %.2f, bottom right", scale, shear).c_str());
+            }
+    }
+}

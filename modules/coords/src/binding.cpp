@@ -131,9 +131,11 @@ void Binding::apply(InputArray poseIn, OutputArray positionsOut) const {
     positionsOut.create(gridSize, CV_32FC2);
     Mat positions = positionsOut.getMat();  // may be a view into a larger mesh (not continuous)
     const int m = gridSize.width, n = gridSize.height;
-    // Blocks of whole rows, about 2048 nodes each: the running sums stay in L1 while the
-    // coefficient planes stream through, several planes per pass.
-    const int rowsPerBlock = std::max(1, 2048 / m);
+    // Blocks of whole rows, about 16384 nodes each (128 KB of running sums, in L2), at least two
+    // per thread: each pass streams 4 coefficient planes 64 KB long, long enough for the hardware
+    // prefetcher. (Blocks of 2048 nodes, sums in L1, streamed 8 KB per plane: at 1024x768 the sum
+    // took 1.2-1.5x the time of one plain read of the coefficients, 16384 about 1.0x.)
+    const int rowsPerBlock = std::max(1, std::min(16384 / m, n / (2 * getNumThreads())));
     const int blocks = (n + rowsPerBlock - 1) / rowsPerBlock;
     parallel_for_(Range(0, blocks), [&](const Range& r) {
         const int cap = rowsPerBlock * m;

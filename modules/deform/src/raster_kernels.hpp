@@ -1,5 +1,6 @@
-// The CPU rasteriser's triangle kernels (private): the set-up of a run of triangles, shared by
-// the baseline/AVX2 kernel (raster_kernels.cpp) and the AVX-512 one (raster_avx512.cpp).
+// The CPU rasteriser's triangle kernels (private): the set-up of a run of triangles and the
+// span of a row, for the baseline/AVX2 kernel (raster_kernels.cpp); the AVX-512 one
+// (raster_avx512.cpp) computes the same values 8 triangles at a time, in the same order.
 #ifndef MULTICAGE_RASTER_KERNELS_HPP
 #define MULTICAGE_RASTER_KERNELS_HPP
 
@@ -156,7 +157,7 @@ inline bool rowSpan(const TriangleSetup& s, int t, int y, int xa, int xb, int& x
 
 // Draws the cells of one row of the mesh (nodes rows p0/p1 deformed, r0/r1 rest, `cells`
 // cells) into output rows [y0, y1) of the maps, in order: cell by cell, its kCellTriangles in
-// turn, a later triangle overwriting an earlier one.
+// turn, a later triangle overwriting an earlier one. s: the baseline kernel's scratch.
 using DrawCellRowFn = void (*)(const Point2f* p0, const Point2f* p1, const Point2f* r0,
                                const Point2f* r1, int cells, int y0, int y1, Point2f lo, Point2f hi,
                                Mat& mapx, Mat& mapy, TriangleSetup& s);
