@@ -2,7 +2,6 @@
 // (Debian package opencv-data), and the polygon a face gets (faces.hpp).
 #include "faces.hpp"
 
-#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <map>
@@ -11,7 +10,6 @@
 #include <opencv2/core/utility.hpp>
 #include <opencv2/imgproc.hpp>
 #include <opencv2/objdetect.hpp>
-#include <tuple>
 
 #include "segment.hpp"
 
@@ -115,11 +113,6 @@ void run(Search& s, const Mat& gray, const Mat& mirrored) {
     s.classifier->detectMultiScale(img, s.found, 1.2, 2, CASCADE_SCALE_IMAGE, Size(24, 24));
     if (s.mirrored)
         for (Rect& r : s.found) r.x = img.cols - r.x - r.width;
-    // The cascade's threads hand in their windows in any order; the groups are the same, their
-    // order is not. Sorted, the faces (and so the proposal) are a function of the image.
-    std::sort(s.found.begin(), s.found.end(), [](const Rect& a, const Rect& b) {
-        return std::tie(a.y, a.x, a.height, a.width) < std::tie(b.y, b.x, b.height, b.width);
-    });
 }
 
 // True when the image has colour (not grey stored in three channels): mean chroma distance
@@ -222,10 +215,10 @@ std::vector<Rect> detectFaces(InputArray image, const ProposeParams& params) {
     equalizeHist(gray, gray);
     Mat mirrored;
     flip(gray, mirrored, 1);
-    // One search after the other, each spread over the threads by the cascade itself (its
-    // windows, row stripes of every scale): three searches side by side kept one of two cores
-    // idle for a third of the time.
-    for (Search& s : searches) run(s, gray, mirrored);
+    // The searches are independent: run them side by side.
+    parallel_for_(Range(0, static_cast<int>(searches.size())), [&](const Range& r) {
+        for (int i = r.start; i < r.end; ++i) run(searches[i], gray, mirrored);
+    });
     std::vector<Rect> found;
     for (Search& s : searches) {
         for (const Rect& r : s.found)
