@@ -252,16 +252,14 @@ Mat segmentGrabCut(const Mat& img, const ProposeParams& params, double scale, co
                    params.rect.x, params.rect.y, params.rect.width, params.rect.height));
     Mat labels(small.size(), CV_8U, Scalar(GC_BGD));
     if (fromFrame) {
-        // The salient part first, then the subject from the frame inward, which must hold it
+        // The salient part and the subject from the frame inward, which must hold it
         // (subject.hpp).
         Mat salient(small.size(), CV_8U, Scalar(GC_BGD));
         const Rect r = automaticGrabCutRect(small) & Rect(1, 1, small.cols - 2, small.rows - 2);
-        if (r.width >= 2 && r.height >= 2) {
+        if (r.width >= 2 && r.height >= 2)
             salient(r).setTo(GC_PR_FGD);
-            seededGrabCut(small, salient, params.grabCutIterations);
-        } else {
+        else
             salient.release();
-        }
         labels = frameInwardSubject(small, params.grabCutIterations, salient);
     } else {
         labels(rect).setTo(GC_PR_FGD);

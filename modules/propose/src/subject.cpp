@@ -24,9 +24,14 @@
 // a table an apple stands on, in focus along the bottom, adds a strip along the frame (2.7%
 // of the picture, half of it near the frame), and keeping it cost the apple 0.05 and the
 // orange 0.07 of outline IoU.
+//
+// The salient part's GrabCut needs nothing from the frame-inward passes until the end: the two
+// run side by side (frameInwardSubject). Each GrabCut is seeded by itself (seededGrabCut), so
+// the result does not depend on which runs first or on how many threads there are.
 #include "subject.hpp"
 
 #include <algorithm>
+#include <opencv2/core/utility.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include "segment.hpp"
@@ -116,25 +121,23 @@ bool goesInward(const Mat& first, const Mat& second, int b) {
     return within >= kInward * all && within >= kInwardOfPicture * first.total();
 }
 
-// The frame-inward subject: the two passes above.
-Mat frameInward(const Mat& img, int iterations) {
-    CV_Assert(img.type() == CV_8UC3);
-    const int b = std::max(2, cvRound(kStrip * std::max(img.cols, img.rows)));
-    Mat labels(img.size(), CV_8U, Scalar(GC_BGD));
-    if (img.cols <= 4 * b || img.rows <= 4 * b) {  // too small for a strip and a band
-        // GrabCut needs background and subject to start from: a one-pixel frame and its inside.
-        if (img.cols < 3 || img.rows < 3)
-            CV_Error_(Error::StsBadArg,
-                      ("multicage: proposeMulticage: a %dx%d image is too small for GrabCut",
-                       img.cols, img.rows));
-        labels(Rect(1, 1, img.cols - 2, img.rows - 2)).setTo(GC_PR_FGD);
-        seededGrabCut(img, labels, iterations);
-        return labels;
-    }
-    const Mat first = labels.clone();
-    first(Rect(b, b, img.cols - 2 * b, img.rows - 2 * b)).setTo(GC_PR_FGD);
-    labels = first.clone();
-    seededGrabCut(img, labels, iterations);
+// GrabCut's start from the frame inward: the strip along the frame sure background, the rest
+// probable subject; `b` is the strip's width. An image too small for a strip and a band gets a
+// one-pixel frame.
+Mat frameStart(Size size, int b) {
+    if (size.width < 3 || size.height < 3)
+        CV_Error_(Error::StsBadArg,
+                  ("multicage: proposeMulticage: a %dx%d image is too small for GrabCut",
+                   size.width, size.height));
+    const int s = size.width <= 4 * b || size.height <= 4 * b ? 1 : b;
+    Mat labels(size, CV_8U, Scalar(GC_BGD));
+    labels(Rect(s, s, size.width - 2 * s, size.height - 2 * s)).setTo(GC_PR_FGD);
+    return labels;
+}
+
+// The second pass (where the first found the subject cut by the frame) on the labels of the
+// first: the first's labels, or the second's when it goes inward.
+Mat reopenedPass(const Mat& img, int iterations, int b, const Mat& first, const Mat& labels) {
     const std::vector<Piece> pieces = piecesAround(img.size(), b);
     const std::vector<char> open =
         reopened(pieces, (labels == GC_FGD) | (labels == GC_PR_FGD), img);
@@ -157,14 +160,41 @@ Mat frameInward(const Mat& img, int iterations) {
             return labels;
     }
     seededGrabCut(img, second, iterations);
-    if (goesInward(labels, second, b)) labels = second;
-    return labels;
+    return goesInward(labels, second, b) ? second : labels;
 }
 
 }  // namespace
 
-Mat frameInwardSubject(const Mat& img, int iterations, const Mat& salient) {
-    Mat labels = frameInward(img, iterations);
+Mat frameInwardSubject(const Mat& img, int iterations, const Mat& salientStart) {
+    CV_Assert(img.type() == CV_8UC3);
+    const int b = std::max(2, cvRound(kStrip * std::max(img.cols, img.rows)));
+    const Mat first = frameStart(img.size(), b);
+    // Where the salient part's rectangle is the strip's inside (the saliency spreads over the
+    // whole picture: the baboon, the apple) both GrabCuts start from the same labels and find
+    // the same subject: the first pass's is the salient part's.
+    const bool same = !salientStart.empty() && countNonZero(salientStart != first) == 0;
+    Mat labels, salient = same ? Mat() : salientStart.clone();
+    auto frameInward = [&] {
+        labels = first.clone();
+        seededGrabCut(img, labels, iterations);
+        if (same) salient = labels.clone();
+        if (img.cols > 4 * b && img.rows > 4 * b)  // else no strip to reopen
+            labels = reopenedPass(img, iterations, b, first, labels);
+    };
+    if (salient.empty()) {
+        frameInward();
+    } else {
+        // The salient part's GrabCut is needed only for the check below: it runs beside the
+        // frame-inward passes, on the second core. Nested parallel loops run serially in
+        // OpenCV, so each GrabCut stays on its task's thread.
+        parallel_for_(Range(0, 2), [&](const Range& r) {
+            for (int i = r.start; i < r.end; ++i)
+                if (i == 0)
+                    frameInward();
+                else
+                    seededGrabCut(img, salient, iterations);
+        });
+    }
     if (salient.empty()) return labels;
     // The frame-inward subject may extend the salient part (a close-up's whole animal around
     // the nose saliency found), never replace it: where it holds less than 80% of it, GrabCut

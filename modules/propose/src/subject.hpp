@@ -11,10 +11,11 @@ namespace propose_detail {
 
 /** GrabCut labels (GC_BGD ... GC_PR_FGD) of the subject of `img` (CV_8UC3, GrabCut's working
 size) after `iterations` iterations from the frame inward, then as many again with the frame
-reopened where the subject is cut by it (subject.cpp says when). `salient`, when not empty,
-holds GrabCut's labels from a rectangle around the salient part: the frame-inward subject is
-returned only if it holds at least 80% of that part's subject, else `salient` is. */
-Mat frameInwardSubject(const Mat& img, int iterations, const Mat& salient = Mat());
+reopened where the subject is cut by it (subject.cpp says when). `salientStart`, when not empty,
+holds GrabCut's start from a rectangle around the salient part: GrabCut runs from it too (beside
+the frame-inward passes), and the frame-inward subject is returned only if it holds at least 80%
+of that part's subject, else that part's labels are. */
+Mat frameInwardSubject(const Mat& img, int iterations, const Mat& salientStart = Mat());
 
 }  // namespace propose_detail
 }  // namespace multicage
