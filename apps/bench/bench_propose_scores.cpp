@@ -1,7 +1,7 @@
 // Scores the default proposal against references made by hand (issue 21, item 6):
 //
 //   bench_propose_scores [DIR] [--runs N] [--sheet SHEET.png] [--no-time] [--harmonic]
-//                        [--protect all|faces|saliency]
+//                        [--protect all|faces|saliency] [--coordinates mvc|local_mvc|...]
 //
 // DIR (default samples/data/propose_bench) holds NAME.jpg, NAME_mask.png (the object a person
 // would cage, 255) and NAME.ref.json ("faces" and "features": [x, y, w, h] boxes a person
@@ -112,6 +112,8 @@ double outlineIoU(const Multicage& cage, const cv::Mat& mask) {
            std::max(1.0, static_cast<double>(cv::countNonZero(outlines | mask)));
 }
 
+int gCoordinates = COORDINATES_FROM_CAGE;  // the cage's own, or --coordinates NAME
+
 Score score(const Reference& r, const Multicage& cage, bool harmonic) {
     Score s;
     const cv::Size size = r.image.size();
@@ -150,7 +152,7 @@ Score score(const Reference& r, const Multicage& cage, bool harmonic) {
             s.residual = HUGE_VAL;
             continue;
         }
-        if (binding.empty()) binding = bind(cage, COORDINATES_FROM_CAGE, 1);  // the cage's own
+        if (binding.empty()) binding = bind(cage, gCoordinates, 1);
         const std::vector<cv::Point2f> pose =
             multicage_fixtures::stretchPolygon(cage, outline, 1.2f, 1.0f);
         s.residual = std::max(s.residual, multicage_fixtures::boxResidual(binding, pose, f));
@@ -231,7 +233,12 @@ int main(int argc, char** argv) {
             time = false;
         else if (a == "--harmonic")
             harmonic = true;
-        else if (a == "--protect" && i + 1 < argc)
+        else if (a == "--coordinates" && i + 1 < argc) {
+            if (!parseCoordinateType(argv[++i], gCoordinates)) {
+                std::cerr << "bench_propose_scores: unknown coordinates " << argv[i] << "\n";
+                return 2;
+            }
+        } else if (a == "--protect" && i + 1 < argc)
             gParams.protect = parseProtectDetector(argv[++i]);
         else
             dir = a;

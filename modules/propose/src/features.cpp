@@ -6,6 +6,7 @@
 #include <cstdlib>
 #include <opencv2/imgproc.hpp>
 
+#include "eyes.hpp"
 #include "faces.hpp"
 #include "polygons.hpp"
 #include "segment.hpp"
@@ -115,6 +116,50 @@ std::vector<Rect> facesInside(const Mat& img, const ProposeParams& params,
     return in;
 }
 
+// True when `inner` lies inside `outer` at least `band` pixels from its boundary.
+bool nestsIn(const Polygon& inner, const Polygon& outer, double band) {
+    for (const Point2f& v : inner)
+        if (!geometry::contains(outer, v)) return false;
+    return !geometry::findCrossing({outer, inner}, nullptr) &&
+           boundaryDistance(outer, inner) >= band;
+}
+
+// The fixed polygons inside a face's polygon `face`: its eyes where findEyes finds both (what
+// a person protects, and what a retouch moves), and the anchors (faceAnchors()) the eyes do
+// not replace when the cage is bound with mean value coordinates and `params` asks for them.
+// Why only then: with local mean value or harmonic coordinates the inside of a face's polygon
+// depends on that polygon and its children alone, so a face polygon at rest keeps its face
+// exact, anchors or not (face residual 0.00-0.01 px on the benchmark's five faces with them,
+// with the eyes and the lower two, and with the eyes alone); with Algorithm 1's global sums the
+// outline leaks into the face and anchors cut the leak (docs/faces/README.md, "Eyes").
+std::vector<Polygon> innerFacePolygons(const Mat& gray, const Rect& f, const Polygon& face,
+                                       const Multicage& cage, const ProposeParams& params,
+                                       const Work& w, int budget, int slots) {
+    const double band = std::max(1.0, w.gap * w.scale);  // input pixels
+    std::vector<Polygon> eyes;
+    for (const Rect& e : findEyes(gray, f, params)) eyes.push_back(eyePolygon(e, 0.05 * e.width));
+    if (eyes.size() == 2 && !(nestsIn(eyes[0], face, band) && nestsIn(eyes[1], face, band) &&
+                              boundaryDistance(eyes[0], eyes[1]) >= band))
+        eyes.clear();
+    std::vector<Polygon> inner = eyes;
+    if (params.faceAnchors && cage.coordinates() == MEAN_VALUE) {
+        std::vector<Polygon> anchors = faceAnchors(f);
+        // The upper two stand where the eyes are: the eyes replace them.
+        for (size_t i = eyes.empty() ? 0 : 2; i < anchors.size(); ++i) {
+            bool clear = true;
+            for (const Polygon& e : eyes) clear = clear && boundaryDistance(anchors[i], e) >= band;
+            if (clear) inner.push_back(std::move(anchors[i]));
+        }
+    }
+    std::vector<Polygon> fitting;
+    for (Polygon& p : inner) {
+        if (static_cast<int>(p.size()) > budget || slots < 1) break;
+        budget -= static_cast<int>(p.size()), --slots;
+        fitting.push_back(std::move(p));
+    }
+    return fitting;
+}
+
 // What the faces inside a polygon become. A face gets its own polygon (facePolygon) when one
 // fits, at its margin or a smaller one, and its anchors inside (faceAnchors) when the budget
 // allows; otherwise it becomes a region like a salient blob, clipped to where a polygon may go
@@ -128,8 +173,9 @@ struct FacePlan {
     std::vector<Point2f> centres;   // of those faces, work pixels
 };
 
-FacePlan placeFaces(const std::vector<Rect>& faces, const Multicage& cage, int polygon,
-                    const ProposeParams& params, const Mat& insideDistance, const Work& w) {
+FacePlan placeFaces(const std::vector<Rect>& faces, const Mat& gray, const Multicage& cage,
+                    int polygon, const ProposeParams& params, const Mat& insideDistance,
+                    const Work& w) {
     const float faceBand = w.margin + 2 * w.gap;  // work pixels, as for blobs but thinner
     FacePlan plan;
     plan.keepOut = Mat::zeros(w.size, CV_8U);
@@ -154,12 +200,10 @@ FacePlan placeFaces(const std::vector<Rect>& faces, const Multicage& cage, int p
             fillWork(plan.keepOut, facePolygon(f, faceMargin(f) + kFaceKeepOut * faceSize(f), n), w,
                      Scalar(255));
             budget -= n, --slots;
-            if (params.faceAnchors && budget >= 4 * kFaceAnchors && slots >= kFaceAnchors) {
-                for (Polygon& a : faceAnchors(f)) {
-                    plan.polygons.push_back(std::move(a));
-                    plan.isFace.push_back(0), plan.sizes.push_back(faceSize(f));
-                }
-                budget -= 4 * kFaceAnchors, slots -= kFaceAnchors;
+            for (Polygon& a : innerFacePolygons(gray, f, placed, cage, params, w, budget, slots)) {
+                budget -= static_cast<int>(a.size()), --slots;
+                plan.polygons.push_back(std::move(a));
+                plan.isFace.push_back(0), plan.sizes.push_back(faceSize(f));
             }
             continue;
         }
@@ -264,6 +308,14 @@ Mat texturedOnly(const Mat& objects, const Mat& img, const Mat& inside, const Wo
     return out;
 }
 
+// The input as 8-bit grey, input pixels: where eyes are searched.
+Mat grayOf(const Mat& img) {
+    Mat gray = to8Bit(img);
+    if (gray.channels() == 3) cvtColor(gray, gray, COLOR_BGR2GRAY);
+    if (gray.channels() == 4) cvtColor(gray, gray, COLOR_BGRA2GRAY);
+    return gray;
+}
+
 }  // namespace
 
 bool wantsFaces(const ProposeParams& params) {
@@ -285,8 +337,8 @@ Multicage protectInPolygon(InputArray image, const Multicage& cage, int polygon,
     const Work w = resolve(img.size(), params);
     const Mat inside = protectableArea(cage, polygon, w);
     const Mat insideDistance = distanceTo(inside);
-    const FacePlan faces = placeFaces(facesInside(img, params, knownFaces, inside, w), cage,
-                                      polygon, params, insideDistance, w);
+    const FacePlan faces = placeFaces(facesInside(img, params, knownFaces, inside, w), grayOf(img),
+                                      cage, polygon, params, insideDistance, w);
     Multicage out = cage;  // faces first: the salient features get what is left
     for (const Polygon& p : faces.polygons) out.addPolygon(p);
     out.orient();
