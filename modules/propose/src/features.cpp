@@ -2,14 +2,13 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
-#include <cstdlib>
 #include <opencv2/imgproc.hpp>
 
 #include "eyes.hpp"
 #include "faces.hpp"
 #include "polygons.hpp"
 #include "segment.hpp"
+#include "texture.hpp"
 
 namespace cv {
 namespace multicage {
@@ -255,57 +254,6 @@ std::vector<Region> protectiveRegions(const Mat& objects, const FacePlan& faces,
     });
     for (Region& r : found) r.limit = limit;
     return found;
-}
-
-// The texture rule: which salient regions are features worth an inner polygon.
-//
-// Saliency lights up what is bright or different: a specular highlight, a shadow, a flat patch
-// of colour stand out as much as a logo does. What a person protects is structure: lettering,
-// a pattern, a badge, eyes, i.e. detail that a deformation would visibly bend. The measure of
-// detail is gradient energy: a region is kept when the mean gradient magnitude inside it is at
-// least kTextureRatio times the mean over the whole polygon it sits in (the object's own
-// texture). A highlight or a shadow is smooth inside (its only gradient is its soft edge) and
-// falls below; lettering and patterns are all edges and pass. On a plain fruit nothing passes:
-// no inner polygon. Gradients are taken on the grey work image blurred by a pixel, so JPEG
-// noise and film grain do not count as texture.
-constexpr double kTextureRatio = 1.3;
-
-Mat gradientMagnitude(const Mat& img8, const Work& w) {
-    Mat gray = toWork(img8, w, INTER_AREA);
-    if (gray.channels() == 3) cvtColor(gray, gray, COLOR_BGR2GRAY);
-    GaussianBlur(gray, gray, Size(), 1.0);
-    Mat edges;
-    Canny(gray, edges, 40, 100, 3, true);
-    edges.convertTo(edges, CV_32F, 1.0 / 255);
-    return edges;
-}
-
-// `objects` less the connected regions whose gradient energy is below kTextureRatio times the
-// polygon's (`inside`).
-Mat texturedOnly(const Mat& objects, const Mat& img, const Mat& inside, const Work& w) {
-    const Mat img8 = to8Bit(img);
-    const Mat mag = gradientMagnitude(img8, w);
-    const double object = mean(mag, inside)[0];
-    Mat ids, stats, centroids;
-    const int n = connectedComponentsWithStats(objects, ids, stats, centroids, 8, CV_32S);
-    std::vector<double> sum(n, 0.0);
-    for (int y = 0; y < ids.rows; ++y)
-        for (int x = 0; x < ids.cols; ++x) sum[ids.at<int>(y, x)] += mag.at<float>(y, x);
-    std::vector<char> keep(n, 0);
-    for (int i = 1; i < n; ++i) {
-        const double energy = sum[i] / std::max(1, stats.at<int>(i, CC_STAT_AREA));
-        keep[i] = energy >= kTextureRatio * object;
-        if (std::getenv("MULTICAGE_DEBUG_TEXTURE"))
-            std::fprintf(stderr, "texture: region %d at %d,%d area %d: %.2f of the object's %s\n",
-                         i, stats.at<int>(i, CC_STAT_LEFT), stats.at<int>(i, CC_STAT_TOP),
-                         stats.at<int>(i, CC_STAT_AREA), energy / std::max(1e-9, object),
-                         keep[i] ? "kept" : "dropped");
-    }
-    Mat out = objects.clone();
-    for (int y = 0; y < ids.rows; ++y)
-        for (int x = 0; x < ids.cols; ++x)
-            if (!keep[ids.at<int>(y, x)]) out.at<uchar>(y, x) = 0;
-    return out;
 }
 
 // The input as 8-bit grey, input pixels: where eyes are searched.
