@@ -123,7 +123,7 @@ std::vector<Rect> findEyes(const Mat& gray, const Rect& face, const ProposeParam
 
 Polygon eyePolygon(const Rect2d& eye, double margin) {
     const Point2d c(eye.x + 0.5 * eye.width - 0.5, eye.y + 0.5 * eye.height - 0.5);
-    const double a = 0.38 * eye.width + margin, b = 0.25 * eye.height + margin;
+    const double a = 0.42 * eye.width + margin, b = 0.3 * eye.height + margin;
     Polygon p;
     for (int i = 0; i < kEyeVertices; ++i) {
         // Vertices on the ellipse, the polygon's edges cut inside it: the ellipse through

@@ -135,11 +135,19 @@ std::vector<Polygon> innerFacePolygons(const Mat& gray, const Rect& f, const Pol
                                        const Multicage& cage, const ProposeParams& params,
                                        const Work& w, int budget, int slots) {
     const double band = std::max(1.0, w.gap * w.scale);  // input pixels
+    const std::vector<Rect> found = findEyes(gray, f, params);
     std::vector<Polygon> eyes;
-    for (const Rect& e : findEyes(gray, f, params)) eyes.push_back(eyePolygon(e, 0.05 * e.width));
-    if (eyes.size() == 2 && !(nestsIn(eyes[0], face, band) && nestsIn(eyes[1], face, band) &&
-                              boundaryDistance(eyes[0], eyes[1]) >= band))
+    // At a margin of 5% of the eye, else none, else 5% inside: close-set eyes get thinner
+    // polygons rather than none.
+    for (double margin : {0.05, 0.0, -0.05}) {
+        if (found.size() != 2) break;
+        eyes = {eyePolygon(found[0], margin * found[0].width),
+                eyePolygon(found[1], margin * found[1].width)};
+        if (nestsIn(eyes[0], face, band) && nestsIn(eyes[1], face, band) &&
+            boundaryDistance(eyes[0], eyes[1]) >= band)
+            break;
         eyes.clear();
+    }
     std::vector<Polygon> inner = eyes;
     if (params.faceAnchors && cage.coordinates() == MEAN_VALUE) {
         std::vector<Polygon> anchors = faceAnchors(f);
