@@ -56,11 +56,11 @@ double pairCost(const Rect2d& a, const Rect2d& b, const Size& face) {
     const double dx = cb.x - ca.x, dy = std::abs(cb.y - ca.y);
     const double w = face.width, h = face.height;
     if (!(ca.x < 0.5 * w && cb.x > 0.5 * w)) return -1;
-    if (dx < 0.25 * w || dx > 0.7 * w || dy > 0.25 * dx) return -1;
+    if (dx < 0.25 * w || dx > 0.55 * w || dy > 0.25 * dx) return -1;
     for (double y : {ca.y, cb.y})
         if (y < 0.15 * h || y > 0.6 * h) return -1;
     const double big = std::max(a.width, b.width), small = std::min(a.width, b.width);
-    if (big > 1.6 * small) return -1;
+    if (big > 1.3 * small) return -1;
     // Symmetric about the face's middle, level, alike.
     return std::abs(0.5 * (ca.x + cb.x) - 0.5 * w) / w + dy / dx + (big - small) / big;
 }

@@ -124,47 +124,42 @@ bool nestsIn(const Polygon& inner, const Polygon& outer, double band) {
 }
 
 // The fixed polygons inside a face's polygon `face`: its eyes where findEyes finds both (what
-// a person protects, and what a retouch moves), and the anchors (faceAnchors()) the eyes do
-// not replace when the cage is bound with mean value coordinates and `params` asks for them.
-// Why only then: with local mean value or harmonic coordinates the inside of a face's polygon
-// depends on that polygon and its children alone, so a face polygon at rest keeps its face
-// exact, anchors or not (face residual 0.00-0.01 px on the benchmark's five faces with them,
-// with the eyes and the lower two, and with the eyes alone); with Algorithm 1's global sums the
-// outline leaks into the face and anchors cut the leak (docs/faces/README.md, "Eyes").
+// a person protects, and what a retouch moves), or the four anchors (faceAnchors()) for a cage
+// bound with mean value coordinates when `params` asks for them.
+//
+// Why anchors only there: with local mean value or harmonic coordinates the inside of a
+// face's polygon depends on that polygon and its children alone, so a face polygon at rest
+// keeps its face exact, anchors or not (face residual 0.00-0.01 px on the benchmark's five
+// faces with the anchors, with the eyes and with neither). With Algorithm 1's global sums the
+// outline leaks into the face and the anchors cut the leak; eyes are smaller than the anchors
+// they would replace and cut less (astronaut.png, mean value coordinates, outline stretched
+// 20%: 0.77 px with four anchors, 1.08 with the eyes and the lower two, 1.18 with the eyes
+// alone), so a mean value cage keeps the anchors.
 std::vector<Polygon> innerFacePolygons(const Mat& gray, const Rect& f, const Polygon& face,
                                        const Multicage& cage, const ProposeParams& params,
                                        const Work& w, int budget, int slots) {
-    const double band = std::max(1.0, w.gap * w.scale);  // input pixels
-    const std::vector<Rect> found = findEyes(gray, f, params);
-    std::vector<Polygon> eyes;
-    // At a margin of 5% of the eye, else none, else 5% inside: close-set eyes get thinner
-    // polygons rather than none.
-    for (double margin : {0.05, 0.0, -0.05}) {
-        if (found.size() != 2) break;
-        eyes = {eyePolygon(found[0], margin * found[0].width),
-                eyePolygon(found[1], margin * found[1].width)};
-        if (nestsIn(eyes[0], face, band) && nestsIn(eyes[1], face, band) &&
-            boundaryDistance(eyes[0], eyes[1]) >= band)
-            break;
-        eyes.clear();
-    }
-    std::vector<Polygon> inner = eyes;
-    if (params.faceAnchors && cage.coordinates() == MEAN_VALUE) {
-        std::vector<Polygon> anchors = faceAnchors(f);
-        // The upper two stand where the eyes are: the eyes replace them.
-        for (size_t i = eyes.empty() ? 0 : 2; i < anchors.size(); ++i) {
-            bool clear = true;
-            for (const Polygon& e : eyes) clear = clear && boundaryDistance(anchors[i], e) >= band;
-            if (clear) inner.push_back(std::move(anchors[i]));
+    std::vector<Polygon> inner;
+    if (cage.coordinates() == MEAN_VALUE && params.faceAnchors) {
+        inner = faceAnchors(f);
+    } else {
+        const double band = std::max(1.0, w.gap * w.scale);  // input pixels
+        const std::vector<Rect> found = findEyes(gray, f, params);
+        // At a margin of 5% of the eye, else none, else 5% inside: close-set eyes get
+        // thinner polygons rather than none.
+        for (double margin : {0.05, 0.0, -0.05}) {
+            if (found.size() != 2) break;
+            inner = {eyePolygon(found[0], margin * found[0].width),
+                     eyePolygon(found[1], margin * found[1].width)};
+            if (nestsIn(inner[0], face, band) && nestsIn(inner[1], face, band) &&
+                boundaryDistance(inner[0], inner[1]) >= band)
+                break;
+            inner.clear();
         }
     }
-    std::vector<Polygon> fitting;
-    for (Polygon& p : inner) {
-        if (static_cast<int>(p.size()) > budget || slots < 1) break;
-        budget -= static_cast<int>(p.size()), --slots;
-        fitting.push_back(std::move(p));
-    }
-    return fitting;
+    int vertices = 0;
+    for (const Polygon& p : inner) vertices += static_cast<int>(p.size());
+    if (vertices > budget || static_cast<int>(inner.size()) > slots) inner.clear();  // all or none
+    return inner;
 }
 
 // What the faces inside a polygon become. A face gets its own polygon (facePolygon) when one
