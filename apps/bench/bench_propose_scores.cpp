@@ -118,37 +118,18 @@ double outlineIoU(const Multicage& cage, const cv::Mat& mask) {
 
 int gCoordinates = COORDINATES_FROM_CAGE;  // the cage's own, or --coordinates NAME
 
-// A reference box is hugged when exactly one inner polygon holds at least 95% of `must` (a
-// mask of what of the box must be inside) and is at most 3 times the box's area.
-bool hugged(const Multicage& cage, const cv::Rect& box, const cv::Mat& must) {
-    const double need = 0.95 * cv::countNonZero(must);
+// A face is hugged when exactly one inner polygon holds at least 95% of its box's inner 80%
+// and is at most 3 times the box's area.
+bool faceHugged(const Multicage& cage, const cv::Rect& face) {
+    const cv::Rect in = inner80(face) & cv::Rect(cv::Point(), cage.imageSize());
     int holders = 0;
     for (int p = 0; p < cage.polygonCount(); ++p) {
         if (cage.depth(p) < 2) continue;
         const cv::Mat m = multicage_fixtures::polygonMask(cage.polygon(p), cage.imageSize());
-        if (cv::countNonZero(m & must) >= need && cv::countNonZero(m) <= 3.0 * box.area())
+        if (cv::countNonZero(m(in)) >= 0.95 * in.area() && cv::countNonZero(m) <= 3.0 * face.area())
             ++holders;
     }
     return holders == 1;
-}
-
-// A face is hugged when its polygon holds the face box's inner 80%.
-bool faceHugged(const Multicage& cage, const cv::Rect& face) {
-    cv::Mat must = cv::Mat::zeros(cage.imageSize(), CV_8U);
-    must(inner80(face) & cv::Rect(cv::Point(), must.size())).setTo(255);
-    return hugged(cage, face, must);
-}
-
-// An eye is hugged when its polygon holds the ellipse inscribed in the eye's box: an eye is an
-// almond, and a hand-drawn box's corners are skin.
-bool eyeHugged(const Multicage& cage, const cv::Rect& eye) {
-    cv::Mat must = cv::Mat::zeros(cage.imageSize(), CV_8U);
-    cv::ellipse(must,
-                cv::RotatedRect(
-                    cv::Point2f(eye.x + 0.5f * eye.width - 0.5f, eye.y + 0.5f * eye.height - 0.5f),
-                    cv::Size2f(eye.width, eye.height), 0.f),
-                cv::Scalar(255), cv::FILLED);
-    return hugged(cage, eye, must);
 }
 
 Score score(const Reference& r, const Multicage& cage, bool harmonic) {
@@ -172,7 +153,8 @@ Score score(const Reference& r, const Multicage& cage, bool harmonic) {
     }
     s.faces = static_cast<int>(r.faces.size());
     s.eyes = static_cast<int>(r.eyes.size());
-    for (const cv::Rect& e : r.eyes) s.eyesHugged += eyeHugged(cage, e);
+    for (const cv::Rect& e : r.eyes)
+        s.eyesHugged += multicage_fixtures::eyeHolders(cage, e).size() == 1;
     Binding binding;
     for (const cv::Rect& f : r.faces) {
         s.hugged += faceHugged(cage, f);

@@ -5,34 +5,15 @@
 // (samples/data/propose_bench) and on a drawn scene whose answer is known.
 #include <opencv2/imgproc.hpp>
 
+#include "propose_bench.hpp"
 #include "testing.hpp"
 
 namespace {
 
 using namespace cv::multicage;
-using multicage_testing::readSample;
-
-bool haveCascades() {
-    return !faceCascadeFile().empty();
-}
-
-cv::Mat benchPhoto(const std::string& name) {
-    return readSample("propose_bench/" + name + ".jpg");
-}
-
-// The boxes under `key` ("faces", "eyes", "features") of a benchmark reference.
-std::vector<cv::Rect> referenceBoxes(const std::string& name, const char* key) {
-    cv::FileStorage fs(multicage_testing::samplePath("propose_bench/" + name + ".ref.json"),
-                       cv::FileStorage::READ);
-    EXPECT_TRUE(fs.isOpened()) << name;
-    std::vector<cv::Rect> out;
-    for (const cv::FileNode& b : fs[key]) {
-        std::vector<int> v;
-        b >> v;
-        if (v.size() == 4) out.emplace_back(v[0], v[1], v[2], v[3]);
-    }
-    return out;
-}
+using propose_bench::benchPhoto;
+using propose_bench::haveCascades;
+using propose_bench::referenceBoxes;
 
 int innerPolygons(const Multicage& cage) {
     int n = 0;
@@ -64,26 +45,6 @@ int facePolygonOf(const Multicage& cage, const cv::Rect& face) {
     return -1;
 }
 
-// The polygons holding at least 95% of the ellipse inscribed in an eye's box (an eye is an
-// almond: the box's corners are skin) with at most 3 times the box's area.
-std::vector<int> eyeHolders(const Multicage& cage, const cv::Rect& eye) {
-    cv::Mat almond = cv::Mat::zeros(cage.imageSize(), CV_8U);
-    cv::ellipse(almond,
-                cv::RotatedRect(
-                    cv::Point2f(eye.x + 0.5f * eye.width - 0.5f, eye.y + 0.5f * eye.height - 0.5f),
-                    cv::Size2f(eye.width, eye.height), 0.f),
-                cv::Scalar(255), cv::FILLED);
-    const double need = 0.95 * cv::countNonZero(almond);
-    std::vector<int> holders;
-    for (int p = 0; p < cage.polygonCount(); ++p) {
-        if (cage.depth(p) < 2) continue;
-        const cv::Mat m = polygonMask(cage, p);
-        if (cv::countNonZero(m & almond) >= need && cv::countNonZero(m) <= 3.0 * eye.area())
-            holders.push_back(p);
-    }
-    return holders;
-}
-
 }  // namespace
 
 // Faces of 95-330 px (a portrait, a cartoon close-up, a cartoon dinner scene): each eye a person
@@ -103,7 +64,7 @@ TEST(ProposeEyes, EyesOfLargeFacesGetPolygonsOfTheirOwnInTheFacesPolygon) {
         ASSERT_GE(face, 0) << "the face is not hugged";
         std::vector<int> eyePolygons;
         for (const cv::Rect& e : eyes) {
-            const std::vector<int> holders = eyeHolders(cage, e);
+            const std::vector<int> holders = multicage_fixtures::eyeHolders(cage, e);
             ASSERT_EQ(holders.size(), 1u) << e;
             eyePolygons.push_back(holders[0]);
         }

@@ -132,9 +132,9 @@ bool nestsIn(const Polygon& inner, const Polygon& outer, double band) {
 // keeps its face exact, anchors or not (face residual 0.00-0.01 px on the benchmark's five
 // faces with the anchors, with the eyes and with neither). With Algorithm 1's global sums the
 // outline leaks into the face and the anchors cut the leak; eyes are smaller than the anchors
-// they would replace and cut less (astronaut.png, mean value coordinates, outline stretched
-// 20%: 0.77 px with four anchors, 1.08 with the eyes and the lower two, 1.18 with the eyes
-// alone), so a mean value cage keeps the anchors.
+// they would replace and cut less (docs/faces/README.md, "Eyes": the astronaut's face 0.77 px
+// from a similarity with the four anchors, 1.18 with its eyes alone, over 1 px with its eyes
+// and the lower two anchors), so a mean value cage keeps the anchors.
 std::vector<Polygon> innerFacePolygons(const Mat& gray, const Rect& f, const Polygon& face,
                                        const Multicage& cage, const ProposeParams& params,
                                        const Work& w, int budget, int slots) {
@@ -163,9 +163,9 @@ std::vector<Polygon> innerFacePolygons(const Mat& gray, const Rect& f, const Pol
 }
 
 // What the faces inside a polygon become. A face gets its own polygon (facePolygon) when one
-// fits, at its margin or a smaller one, and its anchors inside (faceAnchors) when the budget
-// allows; otherwise it becomes a region like a salient blob, clipped to where a polygon may go
-// (mask, zone), and goes first in the budget.
+// fits, at its margin or a smaller one, and its eyes or anchors inside (innerFacePolygons)
+// when the budget allows; otherwise it becomes a region like a salient blob, clipped to where a
+// polygon may go (mask, zone), and goes first in the budget.
 struct FacePlan {
     std::vector<Polygon> polygons;  // placed (faces and their anchors), input pixels
     std::vector<char> isFace;       // per polygon: a face's (not an anchor)
@@ -288,8 +288,9 @@ Multicage protectInPolygon(InputArray image, const Multicage& cage, int polygon,
     const Work w = resolve(img.size(), params);
     const Mat inside = protectableArea(cage, polygon, w);
     const Mat insideDistance = distanceTo(inside);
-    const FacePlan faces = placeFaces(facesInside(img, params, knownFaces, inside, w), grayOf(img),
-                                      cage, polygon, params, insideDistance, w);
+    const std::vector<Rect> inFaces = facesInside(img, params, knownFaces, inside, w);
+    const FacePlan faces = placeFaces(inFaces, inFaces.empty() ? Mat() : grayOf(img), cage, polygon,
+                                      params, insideDistance, w);
     Multicage out = cage;  // faces first: the salient features get what is left
     for (const Polygon& p : faces.polygons) out.addPolygon(p);
     out.orient();
