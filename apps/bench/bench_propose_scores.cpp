@@ -1,22 +1,25 @@
 // Scores the default proposal against references made by hand (issue 21, item 6):
 //
 //   bench_propose_scores [DIR] [--runs N] [--sheet SHEET.png] [--no-time] [--harmonic]
-//                        [--protect all|faces|saliency]
+//                        [--protect all|faces|saliency] [--coordinates mvc|local_mvc|...]
 //
 // DIR (default samples/data/propose_bench) holds NAME.jpg, NAME_mask.png (the object a person
-// would cage, 255) and NAME.ref.json ("faces" and "features": [x, y, w, h] boxes a person
-// placed; see DIR/README.md for how each reference was made). Per photo it prints, as a
+// would cage, 255) and NAME.ref.json ("faces", "eyes" and "features": [x, y, w, h] boxes a
+// person placed; see DIR/README.md for how each reference was made). Per photo it prints, as a
 // Markdown table row:
 //   IoU      the union of the outlines (depth-1 polygons) against the reference mask
 //   ceiling  the same for the reference mask proposed as a mask (PROPOSE_MASK): what a
 //            perfect segmentation would score through the margin and the vertex budget
 //   faces    reference faces hugged: exactly one inner polygon holds >= 95% of the face box's
 //            inner 80% and has at most 3x the box's area
+//   eyes     reference eyes (of people and animals) hugged: the same test, holding the ellipse
+//            inscribed in the eye's box (an eye is an almond, the box's corners are skin)
 //   residual worst face's distance from a similarity (px, mean over grid nodes of the box's
 //            inner 80%, the cage's coordinates: local mean value, grid step 1) when the outline
-//            around it is stretched 20% horizontally and every inner polygon stays at rest
+//            around it is stretched 20% horizontally and every inner polygon stays at rest;
+//            --coordinates NAME binds with those instead (mvc: the paper's global sums)
 //   stray    inner polygons that protect nothing of the reference: less than half of their
-//            area on a reference face or feature box
+//            area on a reference face, eye or feature box
 //   ms       median time of proposeProtectedMulticage() with the default ProposeParams on
 //            the photo scaled to 1024 pixels on its longer side (1024x768 for 4:3)
 //   CPU ms   median CPU time of the same runs (all threads): what a proposal costs, less
@@ -48,7 +51,7 @@ using namespace cv::multicage;
 struct Reference {
     std::string name;
     cv::Mat image, mask;
-    std::vector<cv::Rect> faces, features;
+    std::vector<cv::Rect> faces, eyes, features;
 };
 
 std::vector<cv::Rect> boxes(const cv::FileNode& node) {
@@ -85,6 +88,7 @@ std::vector<Reference> readReferences(const std::string& dir) {
         }
         r.mask = r.mask > 127;
         r.faces = boxes(fs["faces"]);
+        r.eyes = boxes(fs["eyes"]);
         r.features = boxes(fs["features"]);
         refs.push_back(std::move(r));
     }
@@ -99,7 +103,7 @@ cv::Rect inner80(const cv::Rect& f) {
 struct Score {
     double iou = 0, ceiling = 0, residual = 0, ms = 0, cpuMs = 0, harmonicResidual = 0,
            harmonicMs = 0;
-    int hugged = 0, faces = 0, stray = 0, inner = 0;
+    int hugged = 0, faces = 0, eyesHugged = 0, eyes = 0, stray = 0, inner = 0;
 };
 
 // Outline IoU: the union of the outlines (depth-1 polygons) against the reference mask.
@@ -110,6 +114,22 @@ double outlineIoU(const Multicage& cage, const cv::Mat& mask) {
             outlines |= multicage_fixtures::polygonMask(cage.polygon(p), mask.size());
     return cv::countNonZero(outlines & mask) /
            std::max(1.0, static_cast<double>(cv::countNonZero(outlines | mask)));
+}
+
+int gCoordinates = COORDINATES_FROM_CAGE;  // the cage's own, or --coordinates NAME
+
+// A face is hugged when exactly one inner polygon holds at least 95% of its box's inner 80%
+// and is at most 3 times the box's area.
+bool faceHugged(const Multicage& cage, const cv::Rect& face) {
+    const cv::Rect in = inner80(face) & cv::Rect(cv::Point(), cage.imageSize());
+    int holders = 0;
+    for (int p = 0; p < cage.polygonCount(); ++p) {
+        if (cage.depth(p) < 2) continue;
+        const cv::Mat m = multicage_fixtures::polygonMask(cage.polygon(p), cage.imageSize());
+        if (cv::countNonZero(m(in)) >= 0.95 * in.area() && cv::countNonZero(m) <= 3.0 * face.area())
+            ++holders;
+    }
+    return holders == 1;
 }
 
 Score score(const Reference& r, const Multicage& cage, bool harmonic) {
@@ -123,8 +143,8 @@ Score score(const Reference& r, const Multicage& cage, bool harmonic) {
     fromMask.method = PROPOSE_MASK;
     s.ceiling = outlineIoU(proposeMulticage(r.mask, fromMask), r.mask);
     cv::Mat protectedByRef = cv::Mat::zeros(size, CV_8U);
-    for (const cv::Rect& b : r.faces) protectedByRef(b & cv::Rect(cv::Point(), size)).setTo(255);
-    for (const cv::Rect& b : r.features) protectedByRef(b & cv::Rect(cv::Point(), size)).setTo(255);
+    for (const std::vector<cv::Rect>* boxes : {&r.faces, &r.eyes, &r.features})
+        for (const cv::Rect& b : *boxes) protectedByRef(b & cv::Rect(cv::Point(), size)).setTo(255);
     for (int p = 0; p < cage.polygonCount(); ++p) {
         if (cage.depth(p) < 2) continue;
         ++s.inner;
@@ -132,25 +152,19 @@ Score score(const Reference& r, const Multicage& cage, bool harmonic) {
         if (cv::countNonZero(m & protectedByRef) < 0.5 * cv::countNonZero(m)) ++s.stray;
     }
     s.faces = static_cast<int>(r.faces.size());
+    s.eyes = static_cast<int>(r.eyes.size());
+    for (const cv::Rect& e : r.eyes)
+        s.eyesHugged += multicage_fixtures::eyeHolders(cage, e).size() == 1;
     Binding binding;
     for (const cv::Rect& f : r.faces) {
-        const cv::Rect in = inner80(f) & cv::Rect(cv::Point(), size);
-        int holders = 0;
-        for (int p = 0; p < cage.polygonCount(); ++p) {
-            if (cage.depth(p) < 2) continue;
-            const cv::Mat m = multicage_fixtures::polygonMask(cage.polygon(p), size);
-            if (cv::countNonZero(m(in)) >= 0.95 * in.area() &&
-                cv::countNonZero(m) <= 3.0 * f.area())
-                ++holders;
-        }
-        s.hugged += holders == 1;
+        s.hugged += faceHugged(cage, f);
         // The outline around the face, stretched 20% horizontally about its centroid.
         const int outline = multicage_fixtures::outlineAround(cage, f);
         if (outline < 0) {
             s.residual = HUGE_VAL;
             continue;
         }
-        if (binding.empty()) binding = bind(cage, COORDINATES_FROM_CAGE, 1);  // the cage's own
+        if (binding.empty()) binding = bind(cage, gCoordinates, 1);
         const std::vector<cv::Point2f> pose =
             multicage_fixtures::stretchPolygon(cage, outline, 1.2f, 1.0f);
         s.residual = std::max(s.residual, multicage_fixtures::boxResidual(binding, pose, f));
@@ -200,6 +214,7 @@ cv::Mat tile(const Reference& r, const Multicage& cage, const Score& s) {
     cv::findContours(r.mask.clone(), refContour, cv::RETR_EXTERNAL, cv::CHAIN_APPROX_NONE);
     cv::drawContours(view, refContour, -1, cv::Scalar(255, 255, 255), 1);
     for (const cv::Rect& b : r.faces) cv::rectangle(view, b, cv::Scalar(255, 0, 255), 1);
+    for (const cv::Rect& b : r.eyes) cv::rectangle(view, b, cv::Scalar(255, 0, 255), 1);
     for (const cv::Rect& b : r.features) cv::rectangle(view, b, cv::Scalar(255, 0, 255), 1);
     cage.draw(view, 2);
     const int side = 360;
@@ -208,8 +223,8 @@ cv::Mat tile(const Reference& r, const Multicage& cage, const Score& s) {
     cv::Mat out(side + 22, side, CV_8UC3, cv::Scalar(32, 32, 32));
     view.copyTo(out(cv::Rect(0, 0, view.cols, view.rows)));
     char label[160];
-    std::snprintf(label, sizeof label, "%s IoU %.2f faces %d/%d res %.1f stray %d", r.name.c_str(),
-                  s.iou, s.hugged, s.faces, s.residual, s.stray);
+    std::snprintf(label, sizeof label, "%s IoU %.2f faces %d/%d eyes %d/%d stray %d",
+                  r.name.c_str(), s.iou, s.hugged, s.faces, s.eyesHugged, s.eyes, s.stray);
     cv::putText(out, label, cv::Point(3, side + 16), cv::FONT_HERSHEY_SIMPLEX, 0.42,
                 cv::Scalar(255, 255, 255), 1, cv::LINE_AA);
     return out;
@@ -231,20 +246,24 @@ int main(int argc, char** argv) {
             time = false;
         else if (a == "--harmonic")
             harmonic = true;
-        else if (a == "--protect" && i + 1 < argc)
+        else if (a == "--coordinates" && i + 1 < argc) {
+            if (!parseCoordinateType(argv[++i], gCoordinates)) {
+                std::cerr << "bench_propose_scores: unknown coordinates " << argv[i] << "\n";
+                return 2;
+            }
+        } else if (a == "--protect" && i + 1 < argc)
             gParams.protect = parseProtectDetector(argv[++i]);
         else
             dir = a;
     }
     const std::vector<Reference> refs = readReferences(dir);
     std::printf(
-        "| photo | size | outline IoU | ceiling | faces hugged | face residual (px) | inner "
-        "polygons "
-        "| protecting nothing | ms at 1024 px | CPU ms "
-        "|\n|---|---|---|---|---|---|---|---|---|---|\n");
+        "| photo | size | outline IoU | ceiling | faces hugged | eyes hugged | face residual (px) "
+        "| inner polygons | protecting nothing | ms at 1024 px | CPU ms "
+        "|\n|---|---|---|---|---|---|---|---|---|---|---|\n");
     std::vector<cv::Mat> tiles;
     double iouSum = 0;
-    int hugged = 0, faces = 0, stray = 0;
+    int hugged = 0, faces = 0, eyesHugged = 0, eyes = 0, stray = 0;
     for (const Reference& r : refs) {
         const Multicage cage = proposeProtectedMulticage(r.image, gParams);
         Score s = score(r, cage, harmonic);
@@ -255,11 +274,13 @@ int main(int argc, char** argv) {
             std::tie(s.ms, s.cpuMs) = medianMs(big, runs);
         }
         iouSum += s.iou, hugged += s.hugged, faces += s.faces, stray += s.stray;
+        eyesHugged += s.eyesHugged, eyes += s.eyes;
         char residual[32] = "-";
         if (s.faces > 0) std::snprintf(residual, sizeof residual, "%.2f", s.residual);
-        std::printf("| %s | %dx%d | %.3f | %.3f | %d of %d | %s | %d | %d | %.0f | %.0f |\n",
-                    r.name.c_str(), r.image.cols, r.image.rows, s.iou, s.ceiling, s.hugged, s.faces,
-                    residual, s.inner, s.stray, s.ms, s.cpuMs);
+        std::printf(
+            "| %s | %dx%d | %.3f | %.3f | %d of %d | %d of %d | %s | %d | %d | %.0f | %.0f |\n",
+            r.name.c_str(), r.image.cols, r.image.rows, s.iou, s.ceiling, s.hugged, s.faces,
+            s.eyesHugged, s.eyes, residual, s.inner, s.stray, s.ms, s.cpuMs);
         if (harmonic && s.faces > 0)
             std::printf(
                 "|   harmonic coordinates, grid step 2: face residual %.3f px, binding %.0f ms |\n",
@@ -268,9 +289,9 @@ int main(int argc, char** argv) {
         tiles.push_back(tile(r, cage, s));
     }
     std::printf(
-        "\nmean outline IoU %.3f; faces hugged %d of %d; inner polygons protecting "
-        "nothing %d\n",
-        refs.empty() ? 0.0 : iouSum / refs.size(), hugged, faces, stray);
+        "\nmean outline IoU %.3f; faces hugged %d of %d; eyes hugged %d of %d; inner polygons "
+        "protecting nothing %d\n",
+        refs.empty() ? 0.0 : iouSum / refs.size(), hugged, faces, eyesHugged, eyes, stray);
     if (!sheet.empty() && !tiles.empty()) {
         const int cols = 4;
         std::vector<cv::Mat> rows;

@@ -175,6 +175,24 @@ cv::Mat polygonMask(const std::vector<cv::Point2f>& polygon, cv::Size size) {
     return m;
 }
 
+std::vector<int> eyeHolders(const cv::multicage::Multicage& cage, const cv::Rect& eye) {
+    cv::Mat almond = cv::Mat::zeros(cage.imageSize(), CV_8U);
+    cv::ellipse(almond,
+                cv::RotatedRect(
+                    cv::Point2f(eye.x + 0.5f * eye.width - 0.5f, eye.y + 0.5f * eye.height - 0.5f),
+                    cv::Size2f(eye.width, eye.height), 0.f),
+                cv::Scalar(255), cv::FILLED);
+    const double need = 0.95 * cv::countNonZero(almond);
+    std::vector<int> holders;
+    for (int p = 0; p < cage.polygonCount(); ++p) {
+        if (cage.depth(p) < 2) continue;
+        const cv::Mat m = polygonMask(cage.polygon(p), cage.imageSize());
+        if (cv::countNonZero(m & almond) >= need && cv::countNonZero(m) <= 3.0 * eye.area())
+            holders.push_back(p);
+    }
+    return holders;
+}
+
 int outlineAround(const cv::multicage::Multicage& cage, const cv::Rect& box) {
     int around = -1;
     const cv::Point2f centre(box.x + box.width / 2.f, box.y + box.height / 2.f);

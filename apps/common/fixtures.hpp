@@ -53,6 +53,12 @@ double boxResidual(const cv::multicage::Binding& binding, const std::vector<cv::
 mask the proposal benchmark and its tests score outlines with. */
 cv::Mat polygonMask(const std::vector<cv::Point2f>& polygon, cv::Size size);
 
+/** The inner polygons (depth 2 or more) of cage that hold at least 95% of the ellipse
+inscribed in an eye's box (an eye is an almond: a box's corners are skin) and are at most 3
+times the box's area. The eye is hugged when exactly one does (the proposal benchmark and its
+tests). */
+std::vector<int> eyeHolders(const cv::multicage::Multicage& cage, const cv::Rect& eye);
+
 /** The outline (depth-1 polygon) of cage holding the centre of box, or -1: the polygon a
 face's scores are measured against. */
 int outlineAround(const cv::multicage::Multicage& cage, const cv::Rect& box);

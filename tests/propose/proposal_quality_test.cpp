@@ -5,6 +5,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "propose_bench.hpp"
 #include "testing.hpp"
 
 namespace {
@@ -12,13 +13,8 @@ namespace {
 using namespace cv::multicage;
 using multicage_testing::readSample;
 
-bool haveCascades() {
-    return !faceCascadeFile().empty();
-}
-
-cv::Mat benchPhoto(const std::string& name) {
-    return readSample("propose_bench/" + name + ".jpg");
-}
+using propose_bench::benchPhoto;
+using propose_bench::haveCascades;
 
 cv::Mat benchMask(const std::string& name) {
     const cv::Mat m = cv::imread(
@@ -177,14 +173,6 @@ TEST(ProposePerson, TheOutlineAroundAFaceLeavesItAtMostAThirdOfAFaceOfRoom) {
             EXPECT_GT(box.y, 0) << name;
         }
     }
-}
-
-// Item 4: a plain fruit has no structure worth an inner polygon: its highlights and shadow
-// are smooth inside, and the texture rule leaves them out.
-TEST(ProposeFeatures, APlainFruitGetsNoInnerPolygon) {
-    const Multicage cage = proposeProtectedMulticage(benchPhoto("apple"));
-    EXPECT_GE(cage.polygonCount(), 1);
-    EXPECT_EQ(innerPolygons(cage), 0);
 }
 
 // Item 4: a salient region no more textured than its object (the butterfly's wings, as

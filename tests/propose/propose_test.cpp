@@ -526,11 +526,18 @@ TEST(ProposeFaces, StretchingTheOutlineLeavesEachFaceASimilarity) {
         std::vector<cv::Rect> faces;
         const Multicage cage = proposeProtectedMulticage(image, facesParams(), &faces);
         ASSERT_FALSE(faces.empty());
+        ASSERT_EQ(cage.coordinates(), LOCAL_MEAN_VALUE);
         // The same outlines without their inner polygons: the cage without protection.
         Multicage outlines(cage.imageSize());
         for (int p = 0; p < cage.polygonCount(); ++p)
             if (cage.depth(p) == 1) outlines.addPolygon(cage.polygon(p));
         outlines.orient();
+        // The proposal asks for local mean value coordinates (its faces' polygons hold the
+        // eyes); a cage bound with the paper's mean value coordinates is protected for them
+        // by protectFeatures (its faces' polygons hold the four anchors).
+        Multicage forMeanValue = outlines;
+        for (int p = 0; p < outlines.polygonCount(); ++p)
+            forMeanValue = protectFeatures(image, forMeanValue, p, facesParams());
         for (const cv::Rect& f : faces) {
             int outline = -1;
             for (int p = 0; p < outlines.polygonCount(); ++p)
@@ -548,19 +555,22 @@ TEST(ProposeFaces, StretchingTheOutlineLeavesEachFaceASimilarity) {
                 return multicage_testing::boxResidual(binding, pose, f);
             };
             const double mvcWithout = residual(outlines, MEAN_VALUE);
-            const double mvcWith = residual(cage, MEAN_VALUE);
+            const double mvcWith = residual(forMeanValue, MEAN_VALUE);
             const double harmWithout = residual(outlines, HARMONIC);
             const double harmWith = residual(cage, HARMONIC);
+            const double localWith = residual(cage, COORDINATES_FROM_CAGE);
             std::cout << "[ faces    ] " << name << " face " << f
                       << " similarity residual, outline stretched 20%: mean value " << mvcWithout
                       << " px without protection, " << mvcWith << " px with; harmonic "
-                      << harmWithout << " px without, " << harmWith << " px with\n";
+                      << harmWithout << " px without, " << harmWith
+                      << " px with; the proposal's local mean value " << localWith << " px\n";
             // Mean value coordinates are global: the outline's motion leaks through the face's
             // polygon; a polygon hugging the face with room to the outline keeps the leak
             // under a pixel (measured 0.5-0.9 px). Harmonic coordinates are local: exact.
             EXPECT_LE(mvcWith, 1.0);
             EXPECT_LE(3 * mvcWith, mvcWithout);
             EXPECT_LE(harmWith, 0.05);
+            EXPECT_LE(localWith, 0.05);
         }
     }
 }
@@ -595,8 +605,9 @@ double boundaryDistance(const std::vector<cv::Point2f>& a, const std::vector<cv:
 }  // namespace
 
 // Item 2: a face's polygon hugs the face (a rounded box a small margin around the detected box),
-// holds its anchors, and no salient polygon comes near it or goes around it.
-TEST(ProposeFaces, FacePolygonHugsTheFaceHoldsItsAnchorsAndKeepsSalientPolygonsAway) {
+// holds nothing but the face's eyes (issue 21: the proposal's local coordinates need no
+// anchors), and no salient polygon comes near it or goes around it.
+TEST(ProposeFaces, FacePolygonHugsTheFaceHoldsOnlyItsEyesAndKeepsSalientPolygonsAway) {
     if (!haveCascades()) GTEST_SKIP() << "opencv-data is not installed";
     for (const char* name : kFacePhotos) {
         SCOPED_TRACE(name);
@@ -613,20 +624,22 @@ TEST(ProposeFaces, FacePolygonHugsTheFaceHoldsItsAnchorsAndKeepsSalientPolygonsA
             std::cout << "[ faces    ] " << name << " face " << f << ": polygon " << area / f.area()
                       << " x the box's area\n";
             EXPECT_LE(area, 1.5 * f.area()) << "the polygon hugs the face";
-            int anchors = 0;
+            int eyes = 0;
             for (int p = 0; p < cage.polygonCount(); ++p) {
                 if (p == face) continue;
                 const std::vector<cv::Point2f>& q = cage.polygon(p);
                 if (cv::pointPolygonTest(cage.polygon(face), q[0], false) > 0) {
-                    ++anchors;  // inside the face's polygon: an anchor, inside the box
+                    ++eyes;  // inside the face's polygon: an eye, in the box's upper 60%
                     EXPECT_EQ(cage.depth(p), 3);
-                    for (const cv::Point2f& v : q) EXPECT_TRUE(f.contains(cv::Point(v)));
+                    for (const cv::Point2f& v : q)
+                        EXPECT_TRUE(
+                            cv::Rect(f.x, f.y, f.width, f.height * 6 / 10).contains(cv::Point(v)));
                 } else if (cage.depth(p) == 2) {  // a salient polygon beside the face
                     EXPECT_GE(boundaryDistance(q, cage.polygon(face)), 0.25 * (f.width + f.height))
                         << p;
                 }
             }
-            EXPECT_EQ(anchors, 4);
+            EXPECT_TRUE(eyes == 0 || eyes == 2) << eyes;  // a pair or none
         }
     }
 }
@@ -841,8 +854,9 @@ TEST(ProposeCli, DemoFacesStretchesTheBodyAndTheFaceStaysAFace) {
                                                cage.vertices()[cage.polygonOffset(p) + i]));
     EXPECT_GE(most, 0.06 * input.cols);
 
-    // The face moved by a similarity (mesh nodes inside its box, mean value coordinates).
-    const Binding binding = bind(cage, MEAN_VALUE, 2);
+    // The face moved by a similarity (mesh nodes inside its box, the coordinates the demo
+    // deforms with: the cage's own).
+    const Binding binding = bind(cage, COORDINATES_FROM_CAGE, 2);
     cv::Mat moved;
     binding.apply(pose, moved);
     std::vector<cv::Point2f> rest, after;

@@ -2,13 +2,13 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
-#include <cstdlib>
 #include <opencv2/imgproc.hpp>
 
+#include "eyes.hpp"
 #include "faces.hpp"
 #include "polygons.hpp"
 #include "segment.hpp"
+#include "texture.hpp"
 
 namespace cv {
 namespace multicage {
@@ -115,10 +115,57 @@ std::vector<Rect> facesInside(const Mat& img, const ProposeParams& params,
     return in;
 }
 
+// True when `inner` lies inside `outer` at least `band` pixels from its boundary.
+bool nestsIn(const Polygon& inner, const Polygon& outer, double band) {
+    for (const Point2f& v : inner)
+        if (!geometry::contains(outer, v)) return false;
+    return !geometry::findCrossing({outer, inner}, nullptr) &&
+           boundaryDistance(outer, inner) >= band;
+}
+
+// The fixed polygons inside a face's polygon `face`: its eyes where findEyes finds both (what
+// a person protects, and what a retouch moves), or the four anchors (faceAnchors()) for a cage
+// bound with mean value coordinates when `params` asks for them.
+//
+// Why anchors only there: with local mean value or harmonic coordinates the inside of a
+// face's polygon depends on that polygon and its children alone, so a face polygon at rest
+// keeps its face exact, anchors or not (face residual 0.00-0.01 px on the benchmark's five
+// faces with the anchors, with the eyes and with neither). With Algorithm 1's global sums the
+// outline leaks into the face and the anchors cut the leak; eyes are smaller than the anchors
+// they would replace and cut less (docs/faces/README.md, "Eyes": the astronaut's face 0.77 px
+// from a similarity with the four anchors, 1.18 with its eyes alone, over 1 px with its eyes
+// and the lower two anchors), so a mean value cage keeps the anchors.
+std::vector<Polygon> innerFacePolygons(const Mat& gray, const Rect& f, const Polygon& face,
+                                       const Multicage& cage, const ProposeParams& params,
+                                       const Work& w, int budget, int slots) {
+    std::vector<Polygon> inner;
+    if (cage.coordinates() == MEAN_VALUE && params.faceAnchors) {
+        inner = faceAnchors(f);
+    } else {
+        const double band = std::max(1.0, w.gap * w.scale);  // input pixels
+        const std::vector<Rect> found = findEyes(gray, f, params);
+        // At a margin of 5% of the eye, else none, else 5% inside: close-set eyes get
+        // thinner polygons rather than none.
+        for (double margin : {0.05, 0.0, -0.05}) {
+            if (found.size() != 2) break;
+            inner = {eyePolygon(found[0], margin * found[0].width),
+                     eyePolygon(found[1], margin * found[1].width)};
+            if (nestsIn(inner[0], face, band) && nestsIn(inner[1], face, band) &&
+                boundaryDistance(inner[0], inner[1]) >= band)
+                break;
+            inner.clear();
+        }
+    }
+    int vertices = 0;
+    for (const Polygon& p : inner) vertices += static_cast<int>(p.size());
+    if (vertices > budget || static_cast<int>(inner.size()) > slots) inner.clear();  // all or none
+    return inner;
+}
+
 // What the faces inside a polygon become. A face gets its own polygon (facePolygon) when one
-// fits, at its margin or a smaller one, and its anchors inside (faceAnchors) when the budget
-// allows; otherwise it becomes a region like a salient blob, clipped to where a polygon may go
-// (mask, zone), and goes first in the budget.
+// fits, at its margin or a smaller one, and its eyes or anchors inside (innerFacePolygons)
+// when the budget allows; otherwise it becomes a region like a salient blob, clipped to where a
+// polygon may go (mask, zone), and goes first in the budget.
 struct FacePlan {
     std::vector<Polygon> polygons;  // placed (faces and their anchors), input pixels
     std::vector<char> isFace;       // per polygon: a face's (not an anchor)
@@ -128,8 +175,9 @@ struct FacePlan {
     std::vector<Point2f> centres;   // of those faces, work pixels
 };
 
-FacePlan placeFaces(const std::vector<Rect>& faces, const Multicage& cage, int polygon,
-                    const ProposeParams& params, const Mat& insideDistance, const Work& w) {
+FacePlan placeFaces(const std::vector<Rect>& faces, const Mat& gray, const Multicage& cage,
+                    int polygon, const ProposeParams& params, const Mat& insideDistance,
+                    const Work& w) {
     const float faceBand = w.margin + 2 * w.gap;  // work pixels, as for blobs but thinner
     FacePlan plan;
     plan.keepOut = Mat::zeros(w.size, CV_8U);
@@ -154,12 +202,10 @@ FacePlan placeFaces(const std::vector<Rect>& faces, const Multicage& cage, int p
             fillWork(plan.keepOut, facePolygon(f, faceMargin(f) + kFaceKeepOut * faceSize(f), n), w,
                      Scalar(255));
             budget -= n, --slots;
-            if (params.faceAnchors && budget >= 4 * kFaceAnchors && slots >= kFaceAnchors) {
-                for (Polygon& a : faceAnchors(f)) {
-                    plan.polygons.push_back(std::move(a));
-                    plan.isFace.push_back(0), plan.sizes.push_back(faceSize(f));
-                }
-                budget -= 4 * kFaceAnchors, slots -= kFaceAnchors;
+            for (Polygon& a : innerFacePolygons(gray, f, placed, cage, params, w, budget, slots)) {
+                budget -= static_cast<int>(a.size()), --slots;
+                plan.polygons.push_back(std::move(a));
+                plan.isFace.push_back(0), plan.sizes.push_back(faceSize(f));
             }
             continue;
         }
@@ -213,55 +259,12 @@ std::vector<Region> protectiveRegions(const Mat& objects, const FacePlan& faces,
     return found;
 }
 
-// The texture rule: which salient regions are features worth an inner polygon.
-//
-// Saliency lights up what is bright or different: a specular highlight, a shadow, a flat patch
-// of colour stand out as much as a logo does. What a person protects is structure: lettering,
-// a pattern, a badge, eyes, i.e. detail that a deformation would visibly bend. The measure of
-// detail is gradient energy: a region is kept when the mean gradient magnitude inside it is at
-// least kTextureRatio times the mean over the whole polygon it sits in (the object's own
-// texture). A highlight or a shadow is smooth inside (its only gradient is its soft edge) and
-// falls below; lettering and patterns are all edges and pass. On a plain fruit nothing passes:
-// no inner polygon. Gradients are taken on the grey work image blurred by a pixel, so JPEG
-// noise and film grain do not count as texture.
-constexpr double kTextureRatio = 1.3;
-
-Mat gradientMagnitude(const Mat& img8, const Work& w) {
-    Mat gray = toWork(img8, w, INTER_AREA);
+// The input as 8-bit grey, input pixels: where eyes are searched.
+Mat grayOf(const Mat& img) {
+    Mat gray = to8Bit(img);
     if (gray.channels() == 3) cvtColor(gray, gray, COLOR_BGR2GRAY);
-    GaussianBlur(gray, gray, Size(), 1.0);
-    Mat edges;
-    Canny(gray, edges, 40, 100, 3, true);
-    edges.convertTo(edges, CV_32F, 1.0 / 255);
-    return edges;
-}
-
-// `objects` less the connected regions whose gradient energy is below kTextureRatio times the
-// polygon's (`inside`).
-Mat texturedOnly(const Mat& objects, const Mat& img, const Mat& inside, const Work& w) {
-    const Mat img8 = to8Bit(img);
-    const Mat mag = gradientMagnitude(img8, w);
-    const double object = mean(mag, inside)[0];
-    Mat ids, stats, centroids;
-    const int n = connectedComponentsWithStats(objects, ids, stats, centroids, 8, CV_32S);
-    std::vector<double> sum(n, 0.0);
-    for (int y = 0; y < ids.rows; ++y)
-        for (int x = 0; x < ids.cols; ++x) sum[ids.at<int>(y, x)] += mag.at<float>(y, x);
-    std::vector<char> keep(n, 0);
-    for (int i = 1; i < n; ++i) {
-        const double energy = sum[i] / std::max(1, stats.at<int>(i, CC_STAT_AREA));
-        keep[i] = energy >= kTextureRatio * object;
-        if (std::getenv("MULTICAGE_DEBUG_TEXTURE"))
-            std::fprintf(stderr, "texture: region %d at %d,%d area %d: %.2f of the object's %s\n",
-                         i, stats.at<int>(i, CC_STAT_LEFT), stats.at<int>(i, CC_STAT_TOP),
-                         stats.at<int>(i, CC_STAT_AREA), energy / std::max(1e-9, object),
-                         keep[i] ? "kept" : "dropped");
-    }
-    Mat out = objects.clone();
-    for (int y = 0; y < ids.rows; ++y)
-        for (int x = 0; x < ids.cols; ++x)
-            if (!keep[ids.at<int>(y, x)]) out.at<uchar>(y, x) = 0;
-    return out;
+    if (gray.channels() == 4) cvtColor(gray, gray, COLOR_BGRA2GRAY);
+    return gray;
 }
 
 }  // namespace
@@ -285,8 +288,9 @@ Multicage protectInPolygon(InputArray image, const Multicage& cage, int polygon,
     const Work w = resolve(img.size(), params);
     const Mat inside = protectableArea(cage, polygon, w);
     const Mat insideDistance = distanceTo(inside);
-    const FacePlan faces = placeFaces(facesInside(img, params, knownFaces, inside, w), cage,
-                                      polygon, params, insideDistance, w);
+    const std::vector<Rect> inFaces = facesInside(img, params, knownFaces, inside, w);
+    const FacePlan faces = placeFaces(inFaces, inFaces.empty() ? Mat() : grayOf(img), cage, polygon,
+                                      params, insideDistance, w);
     Multicage out = cage;  // faces first: the salient features get what is left
     for (const Polygon& p : faces.polygons) out.addPolygon(p);
     out.orient();

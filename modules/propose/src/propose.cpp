@@ -139,14 +139,14 @@ Multicage proposeProtectedMulticage(InputArray image, const ProposeParams& param
                              (kFaceVertices + (params.faceAnchors ? 4 * kFaceAnchors : 0))));
     Multicage cage = outlinesOf(std::move(s), img.size(), w, outlineParams, faces);
     if (params.method == PROPOSE_MASK || params.method == PROPOSE_LABELS) return cage;
-    const int top = cage.polygonCount();  // protectFeatures appends; only the outlines get it
-    for (int p = 0; p < top; ++p)
-        if (cage.depth(p) == 1) cage = protectInPolygon(img, cage, p, params, &faces);
     // What the inner polygons protect should follow them alone: with Algorithm 1's global sums
     // a face moves with its outline and the frame too (1-8 px on close-ups when the outline
     // stretches 20%). The cage asks for local mean value coordinates (docs/coordinates.md);
     // the cage file says so, and every binding that follows the cage uses them.
-    cage.setCoordinates(LOCAL_MEAN_VALUE);
+    cage.setCoordinates(LOCAL_MEAN_VALUE);  // before protectInPolygon: it places for them
+    const int top = cage.polygonCount();    // protectFeatures appends; only the outlines get it
+    for (int p = 0; p < top; ++p)
+        if (cage.depth(p) == 1) cage = protectInPolygon(img, cage, p, params, &faces);
     return cage;
 }
 

@@ -4,12 +4,13 @@
 Each NAME.ref.json holds what a person decided by looking at NAME.jpg: a GrabCut rectangle
 and strokes (sure foreground "fg", sure background "bg", polylines with a width), and/or
 polygons ("polygons": filled as object, "cuts": filled as background, applied after GrabCut),
-plus the feature boxes ("faces": [x, y, w, h] of each face a person sees). This script turns
+plus the boxes ([x, y, w, h]) of each face a person sees ("faces"), of each eye ("eyes") and of
+other features a person would protect ("features"). This script turns
 them into NAME_mask.png (255: the object) so a reference can be reviewed and redone:
 
     /usr/bin/python3 make_reference.py [NAME ...] [--overlay DIR]
 
---overlay writes NAME_ref.png (mask edge, strokes, face boxes over the photo) for review.
+--overlay writes NAME_ref.png (mask edge, strokes, boxes over the photo) for review.
 """
 import json
 import os
@@ -75,9 +76,9 @@ def overlay(img, mask, ref):
         cv2.polylines(out, [np.array(s["points"], np.int32)], False, (0, 255, 0), 2)
     for s in ref.get("bg", []):
         cv2.polylines(out, [np.array(s["points"], np.int32)], False, (0, 0, 255), 2)
-    for f in ref.get("faces", []):
-        x, y, fw, fh = f
-        cv2.rectangle(out, (x, y), (x + fw, y + fh), (255, 0, 255), 2)
+    for key, width in (("faces", 2), ("eyes", 1), ("features", 1)):
+        for x, y, fw, fh in ref.get(key, []):
+            cv2.rectangle(out, (x, y), (x + fw, y + fh), (255, 0, 255), width)
     for y in range(0, out.shape[0], 50):
         cv2.putText(out, str(y), (1, y + 10), cv2.FONT_HERSHEY_PLAIN, 0.8, (255, 255, 255), 1)
     for x in range(50, out.shape[1], 50):

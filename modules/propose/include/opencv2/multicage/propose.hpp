@@ -97,9 +97,12 @@ struct CV_EXPORTS ProposeParams {
     /** Keep only the faces in which haarcascade_eye.xml finds an eye (fewer false faces,
     misses faces with closed or hidden eyes). */
     bool faceEyes = false;
-    /** A face's polygon also holds four small fixed polygons (anchors, 16 vertices) spread
-    over the face: with mean value coordinates they cut what leaks into the face from a moved
-    outline by a quarter to a third. Off: the face's polygon only. */
+    /** In a cage bound with mean value coordinates (Multicage::coordinates()), a face's
+    polygon also holds four small fixed polygons (anchors, 16 vertices) spread over the face:
+    they cut what leaks into the face from a moved outline by a quarter to a third. Off, and in
+    a cage with local mean value or harmonic coordinates (the protected proposal's), where
+    they change nothing, the face's polygon holds its eyes instead where a face is at least
+    60 px wide and the eye cascades find both. */
     bool faceAnchors = true;
     /** Faces are searched on a copy whose longer side is at most this (0: full size): the
     cascades' cost grows with area. The smallest face found is 24 pixels of the copy, 7.5% of

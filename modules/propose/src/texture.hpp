@@ -1,0 +1,28 @@
+// The texture rule (private): which salient regions are features worth an inner polygon.
+#ifndef MULTICAGE_PROPOSE_TEXTURE_HPP
+#define MULTICAGE_PROPOSE_TEXTURE_HPP
+
+#include "work.hpp"
+
+namespace cv {
+namespace multicage {
+namespace propose_detail {
+
+/** A feature's edge density against its object's and its surroundings', and its largest
+share of the object (docs/propose/README.md, "The texture rule"). */
+constexpr double kTextureRatio = 1.3;
+constexpr double kFeatureShare = 0.1;
+
+/** `objects` (work pixels, 255 on salient regions) less the connected regions that are not
+features of the polygon `inside` (work pixels, 255 where protection may go) of image `img`:
+a region stays when its edge density is at least kTextureRatio times the density of the
+whole of `inside` (the object's own texture) and of a ring around the region (its
+surroundings), and it covers at most kFeatureShare of `inside`. MULTICAGE_DEBUG_TEXTURE=1
+prints each region's measures. */
+Mat texturedOnly(const Mat& objects, const Mat& img, const Mat& inside, const Work& w);
+
+}  // namespace propose_detail
+}  // namespace multicage
+}  // namespace cv
+
+#endif

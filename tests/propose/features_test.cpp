@@ -1,0 +1,206 @@
+// Issue 21, item 4: what inner polygons go around. Eyes, where a face is large enough for the
+// eye cascades, get polygons of their own inside the face's polygon; smooth highlights,
+// shadows, flat blobs and the texture of the object itself get none (the texture rule,
+// modules/propose/src/texture.cpp). On the benchmark's photos and their hand-made references
+// (samples/data/propose_bench) and on a drawn scene whose answer is known.
+#include <opencv2/imgproc.hpp>
+
+#include "propose_bench.hpp"
+#include "testing.hpp"
+
+namespace {
+
+using namespace cv::multicage;
+using propose_bench::benchPhoto;
+using propose_bench::haveCascades;
+using propose_bench::referenceBoxes;
+
+int innerPolygons(const Multicage& cage) {
+    int n = 0;
+    for (int p = 0; p < cage.polygonCount(); ++p) n += cage.depth(p) >= 2;
+    return n;
+}
+
+cv::Mat polygonMask(const Multicage& cage, int p) {
+    return multicage_fixtures::polygonMask(cage.polygon(p), cage.imageSize());
+}
+
+// The polygons directly inside polygon `outer` (one level deeper, holding their first vertex).
+std::vector<int> childrenOf(const Multicage& cage, int outer) {
+    std::vector<int> in;
+    for (int p = 0; p < cage.polygonCount(); ++p)
+        if (cage.depth(p) == cage.depth(outer) + 1 &&
+            cv::pointPolygonTest(cage.polygon(outer), cage.polygon(p)[0], false) > 0)
+            in.push_back(p);
+    return in;
+}
+
+// The inner polygon that holds the reference face box's inner 80% (the face's polygon), or -1.
+int facePolygonOf(const Multicage& cage, const cv::Rect& face) {
+    const cv::Rect in(face.x + face.width / 10, face.y + face.height / 10, face.width * 8 / 10,
+                      face.height * 8 / 10);
+    for (int p = 0; p < cage.polygonCount(); ++p)
+        if (cage.depth(p) == 2 && cv::countNonZero(polygonMask(cage, p)(in)) >= 0.95 * in.area())
+            return p;
+    return -1;
+}
+
+}  // namespace
+
+// Faces of 95-330 px (a portrait, a cartoon close-up, a cartoon dinner scene): each eye a person
+// marked is held by exactly one polygon, and that polygon sits directly in the face's polygon,
+// which holds the two eyes and nothing else.
+TEST(ProposeEyes, EyesOfLargeFacesGetPolygonsOfTheirOwnInTheFacesPolygon) {
+    if (!haveCascades()) GTEST_SKIP() << "opencv-data is not installed";
+    for (const char* name : {"astronaut", "megamind_closeup", "megamind_dinner"}) {
+        SCOPED_TRACE(name);
+        const Multicage cage = proposeProtectedMulticage(benchPhoto(name));
+        ASSERT_TRUE(cage.validate());
+        const std::vector<cv::Rect> faces = referenceBoxes(name, "faces");
+        const std::vector<cv::Rect> eyes = referenceBoxes(name, "eyes");
+        ASSERT_EQ(faces.size(), 1u);
+        ASSERT_EQ(eyes.size(), 2u);
+        const int face = facePolygonOf(cage, faces[0]);
+        ASSERT_GE(face, 0) << "the face is not hugged";
+        std::vector<int> eyePolygons;
+        for (const cv::Rect& e : eyes) {
+            const std::vector<int> holders = multicage_fixtures::eyeHolders(cage, e);
+            ASSERT_EQ(holders.size(), 1u) << e;
+            eyePolygons.push_back(holders[0]);
+        }
+        EXPECT_NE(eyePolygons[0], eyePolygons[1]);
+        std::vector<int> inFace = childrenOf(cage, face);
+        std::sort(inFace.begin(), inFace.end());
+        std::sort(eyePolygons.begin(), eyePolygons.end());
+        EXPECT_EQ(inFace, eyePolygons);
+        std::cout << "[ eyes     ] " << name << ": " << eyes.size()
+                  << " eyes hugged in the face's polygon\n";
+    }
+}
+
+// messi5.jpg's face is 50 px wide: too small for the eye cascades (they find one eye at most).
+// Its polygon holds nothing: no guessed eyes, and no anchors in a cage with local coordinates.
+TEST(ProposeEyes, AFaceTooSmallForEyesHoldsNoPolygon) {
+    if (!haveCascades()) GTEST_SKIP() << "opencv-data is not installed";
+    const Multicage cage = proposeProtectedMulticage(benchPhoto("messi5"));
+    const std::vector<cv::Rect> faces = referenceBoxes("messi5", "faces");
+    ASSERT_EQ(faces.size(), 1u);
+    const int face = facePolygonOf(cage, faces[0]);
+    ASSERT_GE(face, 0);
+    EXPECT_TRUE(childrenOf(cage, face).empty());
+}
+
+// A cage bound with the paper's mean value coordinates keeps the four anchors in each face's
+// polygon (they cut the outline's leak into the face); a cage with local coordinates gets the
+// eyes instead (there the face's polygon alone keeps the face exact).
+TEST(ProposeEyes, MeanValueCagesKeepTheAnchorsLocalOnesGetTheEyes) {
+    if (!haveCascades()) GTEST_SKIP() << "opencv-data is not installed";
+    const cv::Mat image = benchPhoto("astronaut");
+    const Multicage proposal = proposeProtectedMulticage(image);
+    Multicage outlines(proposal.imageSize());
+    for (int p = 0; p < proposal.polygonCount(); ++p)
+        if (proposal.depth(p) == 1) outlines.addPolygon(proposal.polygon(p));
+    outlines.orient();
+    const cv::Rect face = referenceBoxes("astronaut", "faces").at(0);
+    for (int coordinates : {MEAN_VALUE, LOCAL_MEAN_VALUE}) {
+        SCOPED_TRACE(coordinateTypeName(coordinates));
+        Multicage cage = outlines;
+        cage.setCoordinates(coordinates);
+        for (int p = 0; p < outlines.polygonCount(); ++p) cage = protectFeatures(image, cage, p);
+        const int polygon = facePolygonOf(cage, face);
+        ASSERT_GE(polygon, 0);
+        const std::vector<int> inFace = childrenOf(cage, polygon);
+        ASSERT_EQ(inFace.size(), coordinates == MEAN_VALUE ? 4u : 2u);
+        for (int p : inFace)  // anchors are diamonds, eyes octagons
+            EXPECT_EQ(cage.polygon(p).size(), coordinates == MEAN_VALUE ? 4u : 8u);
+    }
+}
+
+// Two plain fruits: highlights, a shadowed side, and (under the orange) a table's edge. None is
+// a feature of the fruit: no inner polygon. The orange's table edge had one before the texture
+// rule compared a region with its surroundings (it is 4.5 times as dense in edges as the
+// smooth orange, no denser than the table around it).
+TEST(ProposeFeatures, PlainFruitsGetNoInnerPolygon) {
+    for (const char* name : {"apple", "orange"}) {
+        const Multicage cage = proposeProtectedMulticage(benchPhoto(name));
+        EXPECT_GE(cage.polygonCount(), 1) << name;
+        EXPECT_EQ(innerPolygons(cage), 0) << name;
+    }
+}
+
+namespace {
+
+// A drawn object whose answer is known: its left half patterned with dots, its right half
+// smooth; on the smooth half a label (black lettering on white) and a smooth highlight; on the
+// patterned half a lit patch of the same pattern. Only the label is a feature: the highlight
+// is smooth inside, the lit patch is its surroundings' pattern in another light.
+struct DrawnScene {
+    cv::Mat image;
+    cv::Rect label, patch;
+    cv::Point highlight;
+};
+
+// Adds a smooth glow (a Gaussian `amount` levels high in its middle) to an 8-bit image.
+void addGlow(cv::Mat& image, cv::Point centre, double sigma, double amount) {
+    cv::Mat glow = cv::Mat::zeros(image.size(), CV_32F);
+    glow.at<float>(centre) = 1.f;
+    cv::GaussianBlur(glow, glow, cv::Size(), sigma);
+    glow *= amount / glow.at<float>(centre);
+    cv::Mat glow3, img;
+    cv::merge(std::vector<cv::Mat>{glow, glow, glow}, glow3);
+    image.convertTo(img, CV_32FC3);
+    img += glow3;
+    img.convertTo(image, CV_8UC3);
+}
+
+DrawnScene drawnScene() {
+    DrawnScene s;
+    s.image = cv::Mat(620, 900, CV_8UC3, cv::Scalar(200, 200, 200));
+    const cv::Rect object(50, 50, 800, 520);
+    s.image(object).setTo(cv::Scalar(90, 110, 130));
+    const cv::Point lit(230, 310);
+    addGlow(s.image, lit, 30, 100);
+    s.patch = cv::Rect(lit.x - 45, lit.y - 45, 90, 90);
+    // Dots 80 levels darker than what they are on: the same pattern in the lit patch as around.
+    for (int y = object.y + 6; y < object.br().y - 6; y += 20)
+        for (int x = object.x + 6; x < object.x + object.width / 2; x += 20) {
+            const cv::Vec3b under = s.image.at<cv::Vec3b>(y, x);
+            cv::circle(s.image, cv::Point(x, y), 3,
+                       cv::Scalar(under[0] - 80, under[1] - 80, under[2] - 80), cv::FILLED);
+        }
+    s.label = cv::Rect(560, 110, 140, 76);
+    s.image(s.label).setTo(cv::Scalar(255, 255, 255));
+    for (int line = 0; line < 3; ++line)
+        cv::putText(s.image, "AB12CD", cv::Point(s.label.x + 6, s.label.y + 22 + 23 * line),
+                    cv::FONT_HERSHEY_SIMPLEX, 0.7, cv::Scalar(0, 0, 0), 2, cv::LINE_AA);
+    s.highlight = cv::Point(650, 420);
+    addGlow(s.image, s.highlight, 22, 110);
+    return s;
+}
+
+}  // namespace
+
+// The texture rule: inside a polygon the user drew around the object, protectFeatures puts a
+// polygon around the label and none around the highlight or the brighter patch.
+TEST(ProposeFeatures, OnlyStructureThatStandsOutOfItsSurroundingsGetsAPolygon) {
+    const DrawnScene s = drawnScene();
+    Multicage cage(s.image.size());
+    const std::vector<cv::Point2f> around = {cv::Point2f(30, 30), cv::Point2f(870, 30),
+                                             cv::Point2f(870, 590), cv::Point2f(30, 590)};
+    cage.addPolygon(around);
+    cage.orient();
+    ProposeParams saliency;
+    saliency.protect = PROTECT_SALIENCY;
+    const Multicage out = protectFeatures(s.image, cage, 0, saliency);
+    ASSERT_TRUE(out.validateGeometry());
+    int aroundLabel = 0;
+    for (int p = 1; p < out.polygonCount(); ++p) {
+        const cv::Mat m = polygonMask(out, p);
+        const bool label = cv::countNonZero(m(s.label)) >= 0.9 * s.label.area();
+        aroundLabel += label;
+        EXPECT_TRUE(label) << "polygon " << p << " is not the label's";
+        EXPECT_EQ(m.at<uchar>(s.highlight), 0) << "polygon " << p << " holds the highlight";
+        EXPECT_LT(cv::countNonZero(m(s.patch)), 0.1 * s.patch.area()) << "polygon " << p;
+    }
+    EXPECT_EQ(aroundLabel, 1);
+}
