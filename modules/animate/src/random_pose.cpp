@@ -8,6 +8,8 @@
 #include <opencv2/multicage/internal/geometry.hpp>
 #include <opencv2/multicage/internal/point_input.hpp>
 
+#include "fan_sums.hpp"
+
 namespace cv {
 namespace multicage {
 
@@ -201,46 +203,48 @@ class VertexFans {
             coefficients_.at<double>(centres_[j], j) = 1;
         }
         byVertex_ = coefficients_.colRange(0, users).t();
+        restPoints_.assign(points_.begin(), points_.end());
+        for (const Vec3i& t : triangles_) {
+            const Point2d ra(points_[t[0]]), rb(points_[t[1]]), rc(points_[t[2]]);
+            positiveAtRest_.push_back((rb - ra).cross(rc - ra) > 0);
+        }
     }
 
     /** Whether pose (user vertices) reverses a triangle of a fan. */
     bool folds(const std::vector<Point2f>& pose, const std::vector<Point2f>& rest) const {
         if (points_.empty()) return false;
         const int users = static_cast<int>(pose.size()), count = byVertex_.cols;
-        std::vector<int> moved;
-        std::vector<double> dx, dy;
+        // Scratch kept by the thread (the fans are cached per thread too): a draw allocates
+        // nothing here.
+        thread_local FoldScratch s;
+        s.rows.clear(), s.dx.clear(), s.dy.clear();
         for (int j = 0; j < users; ++j)
             if (pose[j].x != rest[j].x || pose[j].y != rest[j].y)
-                moved.push_back(j), dx.push_back(pose[j].x - rest[j].x),
-                    dy.push_back(pose[j].y - rest[j].y);
+                s.rows.push_back(byVertex_.ptr<double>(j)), s.dx.push_back(pose[j].x - rest[j].x),
+                    s.dy.push_back(pose[j].y - rest[j].y);
+        const int moved = static_cast<int>(s.rows.size());
+        s.offset.resize(moved);
         // Fan by fan (a fan's triangles use only its own samples), so that a draw that folds
         // stops at the first fan that does. Each sample: sample + sum_j CC_j (v'_j - v_j), the
         // sum over j in order as one point at a time would add it (vertices at rest add
-        // nothing), a vertex at a time across the fan's samples (contiguous in byVertex_ rows:
-        // the inner loop vectorises).
-        std::vector<double> sx, sy;
-        std::vector<Point2d> m(count);
+        // nothing), a vertex at a time across the fan's samples (contiguous in byVertex_ rows).
         for (size_t f = 0; f < centres_.size(); ++f) {
             const int begin = centres_[f];
             const int end = f + 1 < centres_.size() ? centres_[f + 1] : count;
-            sx.assign(end - begin, 0.0), sy.assign(end - begin, 0.0);
-            for (size_t q = 0; q < moved.size(); ++q) {
-                const double* cc = byVertex_.ptr<double>(moved[q]) + begin;
-                const double ddx = dx[q], ddy = dy[q];
-                double* __restrict px = sx.data();
-                double* __restrict py = sy.data();
-                for (int i = 0; i < end - begin; ++i) px[i] += cc[i] * ddx, py[i] += cc[i] * ddy;
-            }
-            for (int i = begin; i < end; ++i)
-                m[i] = Point2d(points_[i]) + Point2d(sx[i - begin], sy[i - begin]);
+            s.sx.assign(end - begin, 0.0), s.sy.assign(end - begin, 0.0);
+            for (int q = 0; q < moved; ++q) s.offset[q] = s.rows[q] + begin;
+            accumulateFanSums(s.offset.data(), s.dx.data(), s.dy.data(), moved, end - begin,
+                              s.sx.data(), s.sy.data());
+            const Point2d* rest2 = restPoints_.data() + begin;
+            auto at = [&](int i) {
+                return rest2[i - begin] + Point2d(s.sx[i - begin], s.sy[i - begin]);
+            };
             const int tEnd = f + 1 < centres_.size() ? triangleStart_[f + 1]
                                                      : static_cast<int>(triangles_.size());
             for (int k = triangleStart_[f]; k < tEnd; ++k) {
                 const Vec3i& t = triangles_[k];
-                const Point2d a = m[t[0]], b = m[t[1]], c = m[t[2]];
-                const Point2d ra(points_[t[0]]), rb(points_[t[1]]), rc(points_[t[2]]);
-                const double before = (rb - ra).cross(rc - ra), after = (b - a).cross(c - a);
-                if ((before > 0) != (after > 0)) return true;
+                const Point2d a = at(t[0]), b = at(t[1]), c = at(t[2]);
+                if (positiveAtRest_[k] != ((b - a).cross(c - a) > 0)) return true;
             }
         }
         return false;
@@ -251,7 +255,14 @@ class VertexFans {
         if (a >= 0 && b >= 0 && c >= 0) triangles_.emplace_back(a, b, c);
     }
 
-    std::vector<Point2f> points_;  // fan centres (the vertices) and ring samples
+    struct FoldScratch {
+        std::vector<const double*> rows, offset;
+        std::vector<double> dx, dy, sx, sy;
+    };
+
+    std::vector<Point2f> points_;       // fan centres (the vertices) and ring samples
+    std::vector<Point2d> restPoints_;   // points_ in double
+    std::vector<char> positiveAtRest_;  // per triangle: its orientation at rest is positive
     std::vector<int> centres_;  // index of each user vertex's centre in points_ (its fan's first)
     std::vector<int> triangleStart_;  // index of each fan's first triangle in triangles_
     std::vector<Vec3i> triangles_;
@@ -428,6 +439,17 @@ void checkArguments(const Multicage& cage, double amplitude, const RandomPosePar
                  "jitter >= 0)");
 }
 
+/** binding.nodes(), kept by the thread for the last grid seen (they depend on the image size
+and grid step only). */
+const Mat& restNodesOf(const Binding& binding) {
+    thread_local Mat nodes;
+    thread_local Size image(-1, -1);
+    thread_local int step = -1;
+    if (binding.imageSize != image || binding.gridStep != step || nodes.size() != binding.gridSize)
+        nodes = binding.nodes(), image = binding.imageSize, step = binding.gridStep;
+    return nodes;
+}
+
 std::vector<Point2f> drawPose(const Multicage& cage, const Binding& binding,
                               const CageChecks& checks, double amplitude, RNG& rng,
                               const RandomPoseParams& params) {
@@ -436,9 +458,9 @@ std::vector<Point2f> drawPose(const Multicage& cage, const Binding& binding,
     if (amplitude == 0 || cage.polygonCount() == 0) return rest;
     const PoseDrawer& drawer = *checks.drawer;
     const VertexFans& fans = checks.fans;
-    const Mat restNodes = binding.nodes();
+    const Mat& restNodes = restNodesOf(binding);
     const double margin = params.frameMargin >= 0 ? params.frameMargin : amplitude;
-    Mat positions;
+    thread_local Mat positions;  // reused: a fresh one would be mapped and faulted in per draw
     for (int level = 0; level <= params.scaleDowns; ++level, amplitude *= 0.5) {
         for (int attempt = 0; attempt < params.attempts; ++attempt) {
             std::vector<Point2f> pose = drawer.draw(amplitude, margin, rng, params);

@@ -210,28 +210,57 @@ void rasterizeMaps(InputArray positionsIn, InputArray restIn, Size outputSize, O
 
 namespace {
 
+// AVX-512 too: eight doubles per instruction for the orientations (no fused multiply-add in
+// this file, and the products of floats are exact anyway: the same count on every clone).
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && \
+    !defined(__SANITIZE_ADDRESS__)
+#define MULTICAGE_FOLD_CLONES \
+    __attribute__((target_clones("arch=x86-64-v4", "arch=x86-64-v3", "default")))
+#else
+#define MULTICAGE_FOLD_CLONES
+#endif
+
 // The triangles of one row of cells (node rows p0/p1 deformed, r0/r1 rest) whose orientation
-// differs between the two meshes. A loop over cells without branches, so that it vectorises: a
-// random pose is checked on every node of a mesh, once per drawn pose.
-MULTICAGE_TARGET_CLONES
+// differs between the two meshes. The sign of cross(b - a, c - a): differences in float,
+// products and their difference in double (products of floats are exact in double, so the sign
+// is exact for those differences, fused or not). Each leg is a difference of two nodes of the
+// row pair (kCellTriangles: triangle 0 from (0,0) to (1,0) and (0,1); triangle 1 from (1,0) to
+// (1,1) and (0,1)); they are formed in blocks of cells as planes of floats, so that the loop
+// over cells vectorises: a random pose is checked on every node of a mesh, once per drawn pose.
+MULTICAGE_FOLD_CLONES
 int foldedInRow(const Point2f* p0, const Point2f* p1, const Point2f* r0, const Point2f* r1,
                 int cells) {
-    // The sign of cross(b - a, c - a): differences in float, products and their difference in
-    // double (exact products of floats; no fused multiply-add in this file).
-    auto orientation = [](Point2f a, Point2f b, Point2f c) {
-        const double ux = b.x - a.x, uy = b.y - a.y, vx = c.x - a.x, vy = c.y - a.y;
-        const double d = ux * vy - uy * vx;
-        return (d > 0) - (d < 0);
+    static_assert(kCellTriangles[0][0][0] == 0 && kCellTriangles[0][0][1] == 0 &&
+                      kCellTriangles[0][1][0] == 1 && kCellTriangles[0][1][1] == 0 &&
+                      kCellTriangles[0][2][0] == 0 && kCellTriangles[0][2][1] == 1 &&
+                      kCellTriangles[1][0][0] == 1 && kCellTriangles[1][0][1] == 0 &&
+                      kCellTriangles[1][1][0] == 1 && kCellTriangles[1][1][1] == 1 &&
+                      kCellTriangles[1][2][0] == 0 && kCellTriangles[1][2][1] == 1,
+                  "the legs below follow kCellTriangles");
+    constexpr int kBlock = 64;
+    auto cross = [](float ux, float uy, float vx, float vy) {
+        return double(ux) * vy - double(uy) * vx;
     };
+    // Orientations differ: one positive and the other not, or one negative and the other not.
+    auto differ = [](double p, double r) { return ((p > 0) != (r > 0)) | ((p < 0) != (r < 0)); };
     int folded = 0;
-    for (int gx = 0; gx < cells; ++gx) {
-        const Point2f* p[2] = {p0 + gx, p1 + gx};
-        const Point2f* r[2] = {r0 + gx, r1 + gx};
-#pragma GCC unroll 2
-        for (int t = 0; t < 2; ++t) {
-            const auto& c = kCellTriangles[t];
-            folded += orientation(p[c[0][1]][c[0][0]], p[c[1][1]][c[1][0]], p[c[2][1]][c[2][0]]) !=
-                      orientation(r[c[0][1]][c[0][0]], r[c[1][1]][c[1][0]], r[c[2][1]][c[2][0]]);
+    for (int g0 = 0; g0 < cells; g0 += kBlock) {
+        const int n = std::min(kBlock, cells - g0);
+        const float *a = reinterpret_cast<const float*>(p0 + g0),
+                    *b = reinterpret_cast<const float*>(p1 + g0),
+                    *ra = reinterpret_cast<const float*>(r0 + g0),
+                    *rb = reinterpret_cast<const float*>(r1 + g0);
+        for (int k = 0; k < n; ++k) {
+            const int x = 2 * k, y = 2 * k + 1, x1 = 2 * k + 2, y1 = 2 * k + 3;
+            // Triangle 0: legs top (a[k] -> a[k+1]) and left (a[k] -> b[k]); triangle 1: legs
+            // right (a[k+1] -> b[k+1]) and diagonal (a[k+1] -> b[k]).
+            const double posed0 = cross(a[x1] - a[x], a[y1] - a[y], b[x] - a[x], b[y] - a[y]);
+            const double rest0 =
+                cross(ra[x1] - ra[x], ra[y1] - ra[y], rb[x] - ra[x], rb[y] - ra[y]);
+            const double posed1 = cross(b[x1] - a[x1], b[y1] - a[y1], b[x] - a[x1], b[y] - a[y1]);
+            const double rest1 =
+                cross(rb[x1] - ra[x1], rb[y1] - ra[y1], rb[x] - ra[x1], rb[y] - ra[y1]);
+            folded += differ(posed0, rest0) + differ(posed1, rest1);
         }
     }
     return folded;
