@@ -32,10 +32,11 @@ void expectSameCage(const Multicage& a, const Multicage& b, const std::string& w
 // The baboon's salient part and frame-inward pass start from the same labels (one GrabCut
 // serves both) and its frame is reopened; the orange's salient part runs beside the
 // frame-inward passes and its reopened frame is refused; messi5 has a face (the person prior,
-// the face search's three cascades side by side).
+// the face search's three cascades side by side); the Megamind close-up's face is large
+// enough for eyes (the two eye cascades side by side).
 TEST(ProposeParallel, AProposalIsTheSameEveryTimeOnOneThreadOrMore) {
     ThreadCount restore;
-    for (const char* name : {"baboon", "orange", "messi5"}) {
+    for (const char* name : {"baboon", "orange", "messi5", "megamind_closeup"}) {
         const cv::Mat image =
             multicage_testing::readSample(std::string("propose_bench/") + name + ".jpg");
         const Multicage first = proposeProtectedMulticage(image);
