@@ -163,7 +163,7 @@ void exportImage(Editor& e, const std::string& path, const Settings& s, GLFWwind
     if (!note.empty()) e.message += "; " + note;
 }
 
-void propose(Editor& e) {
+void propose(Editor& e, Settings& s) {
     if (e.image.empty()) throw std::runtime_error("open an image first");
     const auto t0 = Clock::now();
     // As `multicage propose` with no flags: the library's default (outlines plus inner
@@ -173,6 +173,9 @@ void propose(Editor& e) {
     if (e.mode == Mode::Resize) e.fitPending = true;  // back to the image's own size
     e.mode = Mode::Rest;
     setDocument(e, makeDocument(cage));
+    // The coordinates the proposal asks for (local mean value: what an inner polygon holds
+    // follows it alone), as `multicage deform` follows the cage file.
+    s.coordinates = cage.coordinates();
     e.message = "proposed " + count(cage.polygonCount(), "polygon", "polygons") + ", " +
                 count(cage.vertexCount(), "vertex", "vertices") + " (" +
                 std::to_string(cvRound(msSince(t0))) + " ms)";

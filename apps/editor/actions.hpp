@@ -25,7 +25,7 @@ void openImage(Editor& e, View& v, Settings& s, const std::string& path);
 void openCage(Editor& e, const std::string& path, Settings& s);
 void saveCage(Editor& e, const std::string& path, const Settings& s);
 void exportImage(Editor& e, const std::string& path, const Settings& s, GLFWwindow* window);
-void propose(Editor& e);
+void propose(Editor& e, Settings& s);
 void setMode(Editor& e, Mode m);
 void finishPolygon(Editor& e);
 void deleteSelection(Editor& e, bool wholePolygons);

@@ -58,7 +58,7 @@ void filesSection(Editor& e, View& v, Settings& s) {
 }
 
 /** Mode, propose, undo, redo, delete. */
-void editSection(Editor& e) {
+void editSection(Editor& e, Settings& s) {
     ImGui::AlignTextToFramePadding();
     ImGui::Text("Mode (Tab)");
     ImGui::SameLine();
@@ -67,7 +67,7 @@ void editSection(Editor& e) {
     if (ImGui::RadioButton("Pose", e.mode == Mode::Pose)) setMode(e, Mode::Pose);
     ImGui::SameLine();
     if (ImGui::RadioButton("Resize (R)", e.mode == Mode::Resize)) setMode(e, Mode::Resize);
-    if (ImGui::Button("Propose multicage", ImVec2(-1, 0))) attempt(e, [&] { propose(e); });
+    if (ImGui::Button("Propose multicage", ImVec2(-1, 0))) attempt(e, [&] { propose(e, s); });
     ImGui::BeginDisabled(e.history.undoCount() == 0);
     if (ImGui::Button("Undo")) undo(e);
     ImGui::EndDisabled();
@@ -86,8 +86,9 @@ void editSection(Editor& e) {
 void deformationSection(Settings& s) {
     section("Deformation");
     ImGui::Checkbox("Show cage (C)", &s.showCage);
-    const char* coords[] = {"Mean value", "Harmonic"};
-    ImGui::Combo("Coordinates", &s.coordinates, coords, 2);
+    // In the order of CoordinateType's values: the combo's index is the type.
+    const char* coords[] = {"Mean value", "Harmonic", "Local mean value"};
+    ImGui::Combo("Coordinates", &s.coordinates, coords, 3);
     ImGui::SliderInt("Grid step", &s.gridStep, 1, 16);
     ImGui::SliderInt("Export step", &s.exportGridStep, 1, 8);
 }
@@ -215,7 +216,7 @@ void panel(Editor& e, View& v, Settings& s, GLFWwindow* window) {
     ImGui::SetNextWindowSize(ImVec2(kPanelWidth, ImGui::GetIO().DisplaySize.y));
     ImGui::Begin("panel", nullptr, ImGuiWindowFlags_NoDecoration | ImGuiWindowFlags_NoMove);
     filesSection(e, v, s);
-    editSection(e);
+    editSection(e, s);
     deformationSection(s);
     if (e.mode == Mode::Resize) resizeSection(e, v);
     posesSection(e);

@@ -18,7 +18,7 @@ const std::vector<ScriptVerb>& scriptVerbs() {
         {"add-polygon", 6, 1000, "add-polygon X0 Y0 X1 Y1 X2 Y2 ...   a new polygon (rest mode)"},
         {"insert-vertex", 3, 3, "insert-vertex P E T    a vertex on edge E of polygon P at T"},
         {"delete-vertex", 1, 1, "delete-vertex I        delete vertex I (rest mode)"},
-        {"coords", 1, 1, "coords mvc|harmonic    cage coordinates (rebinds)"},
+        {"coords", 1, 1, "coords mvc|harmonic|local_mvc  cage coordinates (rebinds)"},
         {"grid-step", 1, 1, "grid-step N            live grid step (rebinds)"},
         {"export-grid-step", 1, 1, "export-grid-step N     grid step of export (default 1)"},
         {"show-cage", 1, 1, "show-cage 0|1          overlay on or off"},

@@ -206,7 +206,7 @@ const Command kCommands[] = {
      }},
     {"propose",
      [](Session& r, const ScriptCommand&) {
-         propose(r.e);
+         propose(r.e, r.s);
          return Flow::NextFrame;
      }},
     {"mode",

@@ -511,6 +511,10 @@ TEST(EditorWindow, ProposeProtectsTheFace) {
     std::string why;
     ASSERT_TRUE(cage.validate(&why)) << why << "\n" << log;
     EXPECT_EQ(cage.imageSize(), Size(548, 342));
+    // The editor binds and saves with the coordinates the proposal asks for, as `multicage
+    // propose` writes them (it bound and saved mean value coordinates, in which the outline's
+    // motion leaks into the face).
+    EXPECT_EQ(cage.coordinates(), LOCAL_MEAN_VALUE) << log;
     // The face's box (the frontal cascade's 38x38 at 227,94 at full size; the search works on
     // a smaller copy, so a few pixels either way): inside an inner polygon, and the outline
     // around that.
