@@ -93,6 +93,11 @@ MULTICAGE_V4 inline void setUp(const __m512d qx[3], const __m512d qy[3], const _
     valid &= _mm512_cmp_pd_mask(absArea, _mm512_set1_pd(1e-12), _CMP_GT_OQ) &
              _mm512_cmp_pd_mask(absArea, _mm512_set1_pd(INFINITY), _CMP_LT_OQ);
     l.valid = valid;
+    // A half with no valid lane is still asked whether it has flat edges (drawCellRowAvx512
+    // picks findSpans' variant from both halves): an uninitialised bool there is undefined
+    // (UBSan in a GCC build, where this kernel is compiled).
+    l.anyFlat = false;
+    l.flat[0] = l.flat[1] = l.flat[2] = 0;
     if (!valid) return;
     const __m512d one = _mm512_set1_pd(1.0), inv = _mm512_div_pd(one, area);
     __m512d ax[3], ay[3], a0[3];
