@@ -69,8 +69,10 @@ Multicage randomMulticage(cv::RNG& rng, cv::Size size, int maxTop, int maxDepth,
     for (int attempt = 0; attempt < 200 && static_cast<int>(disks.size()) < top; ++attempt) {
         const float rmax = 0.45f * std::min(size.width, size.height);
         const float r = rng.uniform(0.25f * rmax, rmax);
-        const Point2f c(rng.uniform(r + 2.f, size.width - r - 2.f),
-                        rng.uniform(r + 2.f, size.height - r - 2.f));
+        // One draw per statement (y first, GCC's order of arguments): the same fixture
+        // from every compiler.
+        const float cy = rng.uniform(r + 2.f, size.height - r - 2.f);
+        const Point2f c(rng.uniform(r + 2.f, size.width - r - 2.f), cy);
         bool free = true;
         for (const cv::Vec3f& d : disks)
             free = free && std::hypot(c.x - d[0], c.y - d[1]) > r + d[2] + 2.f;

@@ -322,7 +322,12 @@ class PoseDrawer {
             const double angle = rng.uniform(-1.0, 1.0) * maxAngle;
             const double scale =
                 1.0 + rng.uniform(-1.0, 1.0) * std::min(params.maxScale, amplitude / r);
-            const Point2d t(rng.uniform(-amplitude, amplitude), rng.uniform(-amplitude, amplitude));
+            // Two draws in one expression would come in the compiler's order of evaluating
+            // arguments (GCC: right to left, clang: left to right), and a seed would replay
+            // differently by compiler: drawn one statement at a time, y first (the GCC order
+            // the recorded draws were made with).
+            const double ty = rng.uniform(-amplitude, amplitude);
+            const Point2d t(rng.uniform(-amplitude, amplitude), ty);
             const double a = scale * std::cos(angle) - 1, b = scale * std::sin(angle);
             Matx23d d(a, -b, -a * c.x + b * c.y + t.x, b, a, -b * c.x - a * c.y + t.y);
             double largest = 0;
@@ -338,7 +343,8 @@ class PoseDrawer {
         size_t k = 0;
         for (; k < displacement.size(); ++k) {
             const double j = std::min(params.jitter * amplitude, jitter_[k]);
-            displacement[k] += Point2d(rng.uniform(-j, j), rng.uniform(-j, j));
+            const double jy = rng.uniform(-j, j);  // y first, as t above
+            displacement[k] += Point2d(rng.uniform(-j, j), jy);
         }
         double longest = 0;
         for (const Point2d& d : displacement) longest = std::max(longest, cv::norm(d));
