@@ -127,7 +127,7 @@ TEST(ProposePerson, OutlineFollowsThePersonNotTheImageFrame) {
 // Item 3 on photos without faces (subject.cpp): GrabCut from the frame inward, the frame
 // reopened where the subject is cut by it, kept where it holds the salient part. The baboon
 // fills the frame: its outline goes to the frame (0.375 with the salient part alone, 0.91
-// now); the cat's outline takes its whole face, not only an eye (0.28, 0.49 now). The apple
+// now); the cat's outline takes its whole face, not only an eye (0.28, 0.46 now). The apple
 // and the orange stand on a table in focus along the bottom of the frame: reopening the frame
 // there would take the table (0.85 and 0.78), so the second pass is refused (0.90 and 0.85).
 TEST(ProposeSubject, TheFrameIsReopenedOnlyWhereTheSubjectGoesOnPastIt) {
@@ -141,6 +141,25 @@ TEST(ProposeSubject, TheFrameIsReopenedOnlyWhereTheSubjectGoesOnPastIt) {
         const double iou = cv::countNonZero(outline & reference) /
                            static_cast<double>(cv::countNonZero(outline | reference));
         std::cout << "[ subject  ] " << p.name << " outline IoU " << iou << "\n";
+        EXPECT_GE(iou, p.leastIoU) << p.name;
+    }
+}
+
+// Item 3: GrabCut from the frame inward runs until its labels settle (subject.cpp). Stopped
+// after two iterations, the squirrel's outline took a rectangle of bright leaves above it
+// (outline IoU 0.36) and the robin's a rectangle of blurred background (0.46); settled, 0.70
+// and 0.54.
+TEST(ProposeSubject, GrabCutFromTheFrameRunsUntilItsLabelsSettle) {
+    const struct {
+        const char* name;
+        double leastIoU;
+    } photos[] = {{"squirrel", 0.65}, {"robin", 0.5}};
+    for (const auto& p : photos) {
+        const cv::Mat reference = benchMask(p.name);
+        const cv::Mat outline = outlinesMask(proposeProtectedMulticage(benchPhoto(p.name)));
+        const double iou = cv::countNonZero(outline & reference) /
+                           static_cast<double>(cv::countNonZero(outline | reference));
+        std::cout << "[ settled  ] " << p.name << " outline IoU " << iou << "\n";
         EXPECT_GE(iou, p.leastIoU) << p.name;
     }
 }

@@ -134,7 +134,7 @@ Mat saliencyMap(const Mat& img, bool spectralResidual) {
     return out;
 }
 
-void seededGrabCut(const Mat& img, Mat& labels, int iterations) {
+void seededGrabCut(const Mat& img, Mat& labels, int iterations, int settleWithin) {
     // GrabCut seeds its colour models with k-means++ from cv::theRNG(): a fixed seed makes
     // the proposal a function of the image (not of what ran before on this thread), and the
     // caller's generator is put back as it was.
@@ -143,8 +143,20 @@ void seededGrabCut(const Mat& img, Mat& labels, int iterations) {
         SeededRng() { theRNG() = RNG(0x6d756c7469636167ULL); }
         ~SeededRng() { theRNG() = saved; }
     } seeded;
-    Mat bgd, fgd;
-    grabCut(img, labels, Rect(), bgd, fgd, iterations, GC_INIT_WITH_MASK);
+    // One iteration at a time: GC_EVAL goes on from the colour models the last one learnt, so
+    // the labels are, to the pixel, those of one call of as many iterations.
+    constexpr double kSettled = 0.01;  // of the pixels changing side in an iteration
+    Mat bgd, fgd, before;
+    for (int done = 0; done < std::max(iterations, settleWithin); ++done) {
+        // From the last of the `iterations` on, an iteration that moved at most kSettled of
+        // the pixels is the last one.
+        const bool settling = settleWithin > iterations && done + 1 >= iterations;
+        if (settling) labels.copyTo(before);
+        grabCut(img, labels, Rect(), bgd, fgd, 1, done == 0 ? GC_INIT_WITH_MASK : GC_EVAL);
+        // GC_FGD (1) and GC_PR_FGD (3) have bit 0 set, GC_BGD (0) and GC_PR_BGD (2) do not.
+        if (settling && countNonZero((before ^ labels) & Scalar(1)) <= kSettled * labels.total())
+            break;
+    }
 }
 
 namespace {
