@@ -31,6 +31,14 @@ cv::Mat outlinesMask(const Multicage& cage) {
     return m;
 }
 
+/** Outline IoU of the default proposal of a benchmark photo against its reference mask. */
+double outlineIoU(const std::string& name) {
+    const cv::Mat reference = benchMask(name);
+    const cv::Mat outline = outlinesMask(proposeProtectedMulticage(benchPhoto(name)));
+    return cv::countNonZero(outline & reference) /
+           static_cast<double>(cv::countNonZero(outline | reference));
+}
+
 int innerPolygons(const Multicage& cage) {
     int n = 0;
     for (int p = 0; p < cage.polygonCount(); ++p) n += cage.depth(p) >= 2;
@@ -136,10 +144,7 @@ TEST(ProposeSubject, TheFrameIsReopenedOnlyWhereTheSubjectGoesOnPastIt) {
         double leastIoU;
     } photos[] = {{"baboon", 0.85}, {"chelsea", 0.45}, {"apple", 0.88}, {"orange", 0.83}};
     for (const auto& p : photos) {
-        const cv::Mat reference = benchMask(p.name);
-        const cv::Mat outline = outlinesMask(proposeProtectedMulticage(benchPhoto(p.name)));
-        const double iou = cv::countNonZero(outline & reference) /
-                           static_cast<double>(cv::countNonZero(outline | reference));
+        const double iou = outlineIoU(p.name);
         std::cout << "[ subject  ] " << p.name << " outline IoU " << iou << "\n";
         EXPECT_GE(iou, p.leastIoU) << p.name;
     }
@@ -155,10 +160,7 @@ TEST(ProposeSubject, GrabCutFromTheFrameRunsUntilItsLabelsSettle) {
         double leastIoU;
     } photos[] = {{"squirrel", 0.65}, {"robin", 0.5}};
     for (const auto& p : photos) {
-        const cv::Mat reference = benchMask(p.name);
-        const cv::Mat outline = outlinesMask(proposeProtectedMulticage(benchPhoto(p.name)));
-        const double iou = cv::countNonZero(outline & reference) /
-                           static_cast<double>(cv::countNonZero(outline | reference));
+        const double iou = outlineIoU(p.name);
         std::cout << "[ settled  ] " << p.name << " outline IoU " << iou << "\n";
         EXPECT_GE(iou, p.leastIoU) << p.name;
     }
