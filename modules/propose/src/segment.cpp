@@ -143,19 +143,19 @@ void seededGrabCut(const Mat& img, Mat& labels, int iterations, int settleWithin
         SeededRng() { theRNG() = RNG(0x6d756c7469636167ULL); }
         ~SeededRng() { theRNG() = saved; }
     } seeded;
-    // One iteration at a time: GC_EVAL goes on from the colour models the last one learnt, so
-    // the labels are, to the pixel, those of one call of as many iterations.
+    // The iterations in one call; when settling, the last of them and those after it one at a
+    // time (GC_EVAL goes on from the colour models the last one learnt: the labels are, to the
+    // pixel, those of one call of as many iterations), each compared with the labels before it.
     constexpr double kSettled = 0.01;  // of the pixels changing side in an iteration
+    const bool settle = settleWithin > iterations;
+    int done = settle ? iterations - 1 : iterations;
     Mat bgd, fgd, before;
-    for (int done = 0; done < std::max(iterations, settleWithin); ++done) {
-        // From the last of the `iterations` on, an iteration that moved at most kSettled of
-        // the pixels is the last one.
-        const bool settling = settleWithin > iterations && done + 1 >= iterations;
-        if (settling) labels.copyTo(before);
+    if (done > 0) grabCut(img, labels, Rect(), bgd, fgd, done, GC_INIT_WITH_MASK);
+    for (; settle && done < settleWithin; ++done) {
+        labels.copyTo(before);
         grabCut(img, labels, Rect(), bgd, fgd, 1, done == 0 ? GC_INIT_WITH_MASK : GC_EVAL);
         // GC_FGD (1) and GC_PR_FGD (3) have bit 0 set, GC_BGD (0) and GC_PR_BGD (2) do not.
-        if (settling && countNonZero((before ^ labels) & Scalar(1)) <= kSettled * labels.total())
-            break;
+        if (countNonZero((before ^ labels) & Scalar(1)) <= kSettled * labels.total()) break;
     }
 }
 
