@@ -72,6 +72,14 @@ int defaultGridStep(cv::Size size) {
     return step;
 }
 
+/** The document becomes `cage`, bound with the coordinates the cage asks for (as `multicage
+deform` follows a cage file): a loaded cage file's, a proposal's (local mean value: what an
+inner polygon holds follows it alone). */
+void adoptCage(Editor& e, Settings& s, const mc::Multicage& cage) {
+    setDocument(e, makeDocument(cage));
+    s.coordinates = cage.coordinates();
+}
+
 }  // namespace
 
 void openImage(Editor& e, View& v, Settings& s, const std::string& path) {
@@ -109,8 +117,7 @@ void openCage(Editor& e, const std::string& path, Settings& s) {
     mc::Multicage cage = mc::Multicage::load(path);
     if (cage.imageSize() != e.image.size()) cage = cage.scaled(e.image.size());
     edit(e);
-    setDocument(e, makeDocument(cage));
-    s.coordinates = cage.coordinates();
+    adoptCage(e, s, cage);
     e.cagePath = path;
     e.message = "loaded " + path + ": " + count(cage.polygonCount(), "polygon", "polygons") + ", " +
                 count(cage.poseCount(), "pose", "poses");
@@ -172,10 +179,7 @@ void propose(Editor& e, Settings& s) {
     edit(e);
     if (e.mode == Mode::Resize) e.fitPending = true;  // back to the image's own size
     e.mode = Mode::Rest;
-    setDocument(e, makeDocument(cage));
-    // The coordinates the proposal asks for (local mean value: what an inner polygon holds
-    // follows it alone), as `multicage deform` follows the cage file.
-    s.coordinates = cage.coordinates();
+    adoptCage(e, s, cage);
     e.message = "proposed " + count(cage.polygonCount(), "polygon", "polygons") + ", " +
                 count(cage.vertexCount(), "vertex", "vertices") + " (" +
                 std::to_string(cvRound(msSince(t0))) + " ms)";
