@@ -77,7 +77,10 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     const bool geometry = cage.validateGeometry(&why);
     if (!geometry && why.empty()) finding("validateGeometry failed without a reason");
     cage.validate(&why);
-    if (cage.imageSize().area() <= 0) finding("read() accepted a non-positive image size");
+    const int64_t pixels = int64_t(cage.imageSize().width) * cage.imageSize().height;
+    if (cage.imageSize().width <= 0 || cage.imageSize().height <= 0)
+        finding("read() accepted a non-positive image size");
+    if (pixels > Multicage::kMaxImagePixels) finding("read() accepted an image over 2^30 pixels");
     for (int p = 0; p < cage.polygonCount(); ++p)
         if (cage.polygon(p).size() < 3) finding("read() accepted a polygon with < 3 vertices");
     for (int i = 0; i < cage.poseCount(); ++i)

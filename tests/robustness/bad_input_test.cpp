@@ -77,6 +77,10 @@ TEST(BadInput, CageFilesOfEveryMalformedKind) {
          "image_size: must be [ width, height ] with two positive integers"},
         {"image_size not integers", "realsize.yml", std::string(kYaml) + "image_size: [ 10.5, 10 ]\npolygons: []\n",
          "image_size: must be [ width, height ] with two positive integers"},
+        // Found by fuzz_cage_file: width x height overflowed int wherever a pixel count was taken.
+        {"image_size over 2^30 pixels", "hugesize.yml",
+         std::string(kYaml) + "image_size: [ 64, 888888848 ]\npolygons: []\n",
+         "image_size: 64x888888848 is over the limit of 2^30 pixels"},
         {"unknown coordinates", "coords.yml", std::string(kYaml) + "coordinates: green\n" + ok,
          "coordinates: must be mean_value, harmonic or local_mean_value"},
         {"polygons missing", "nopolygons.yml", std::string(kYaml) + "image_size: [ 10, 10 ]\n", "polygons: missing"},
@@ -154,6 +158,8 @@ TEST(BadInput, InvalidMulticagesAreNamedAndNotBound) {
         expectError(std::string(c.what) + " (bind)", [&] { bind(cage); }, "multicage: cannot bind: " + why);
     }
     expectError("image size 0x0", [] { bind(Multicage(Size(0, 0))); }, "the image size 0x0 is not positive");
+    expectError("image size over 2^30 pixels", [] { bind(Multicage(Size(65536, 32769))); },
+                "the image size 65536x32769 is over the limit of 2^30 pixels");
     // Wrong orientation is not an error for binding: bind() orients on the fly.
     const Multicage reversed = square();  // clockwise on screen (A > 0) at depth 1
     std::string why;

@@ -81,6 +81,25 @@ TEST(Regression, CageFileParserStandardExceptionBecomesCvException) {
     }
 }
 
+// fuzz_cage_file, finding 6: image_size [ 64, 888888848 ] loaded, and every width x height
+// taken as an int overflowed (undefined behaviour; UBSan stops here): in scaled(), which
+// `multicage deform` calls to fit a cage file to its image, and in the coefficient grids.
+// Cage files and validate() now refuse images over 2^30 pixels, cv::imread's own limit.
+TEST(Regression, ImageSizeWhosePixelCountOverflowsIntIsRefused) {
+    Multicage huge(Size(64, 888888848));
+    huge.addPolygon(std::vector<Point2f>{{10, 10}, {50, 10}, {50, 40}});
+    std::string why;
+    EXPECT_FALSE(huge.validate(&why));
+    EXPECT_EQ(why, "the image size 64x888888848 is over the limit of 2^30 pixels");
+    // Scaling such a cage to a real image is plain arithmetic and stays defined.
+    const Multicage fitted = huge.scaled(Size(64, 48));
+    EXPECT_EQ(fitted.imageSize(), Size(64, 48));
+    EXPECT_TRUE(fitted.validateGeometry(&why)) << why;
+    // The largest size allowed is exactly 2^30 pixels.
+    EXPECT_TRUE(Multicage(Size(32768, 32768)).validateGeometry(&why)) << why;
+    EXPECT_FALSE(Multicage(Size(32768, 32769)).validateGeometry());
+}
+
 // fuzz_cage_file, finding 3: OpenCV 4.6's YAML parser loops forever when a second document
 // starts with '-', which it reaches when the first document ends early (an indented or
 // non-map top level, a '...' line), so Multicage::load hung. load() now refuses such layouts

@@ -113,6 +113,9 @@ void Multicage::read(const FileNode& root) {
         static_cast<int>(size[0]) <= 0 || static_cast<int>(size[1]) <= 0)
         malformed("image_size", "must be [ width, height ] with two positive integers");
     cage.imageSize_ = Size(static_cast<int>(size[0]), static_cast<int>(size[1]));
+    if (int64_t(cage.imageSize_.width) * cage.imageSize_.height > kMaxImagePixels)
+        malformed("image_size", format("%dx%d is over the limit of 2^30 pixels",
+                                       cage.imageSize_.width, cage.imageSize_.height));
 
     const FileNode coordinates = root["coordinates"];  // optional, mean value by default
     if (!coordinates.empty()) {

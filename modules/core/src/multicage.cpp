@@ -92,6 +92,9 @@ bool Multicage::validateGeometry(std::string* why) const {
     if (imageSize_.width <= 0 || imageSize_.height <= 0)
         return fail(why, format("the image size %dx%d is not positive", imageSize_.width,
                                 imageSize_.height));
+    if (int64_t(imageSize_.width) * imageSize_.height > kMaxImagePixels)
+        return fail(why, format("the image size %dx%d is over the limit of 2^30 pixels",
+                                imageSize_.width, imageSize_.height));
     const float right = imageSize_.width - 0.5f, bottom = imageSize_.height - 0.5f;
     for (int p = 0; p < polygonCount(); ++p) {
         const std::vector<Point2f>& polygon = polygons_[p];
@@ -310,7 +313,7 @@ Multicage Multicage::posed(InputArray poseIn) const {
 }
 
 Multicage Multicage::scaled(Size newSize) const {
-    CV_Assert(imageSize_.area() > 0 && newSize.area() > 0);
+    CV_Assert(!imageSize_.empty() && !newSize.empty());
     const float sx = static_cast<float>(newSize.width) / imageSize_.width;
     const float sy = static_cast<float>(newSize.height) / imageSize_.height;
     auto map = [&](std::vector<Point2f>& points) {

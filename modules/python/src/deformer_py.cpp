@@ -36,7 +36,7 @@ std::vector<cv::Point2f> scalePose(std::vector<cv::Point2f> pose, int vertexCoun
 /** The rest multicage for an image: the multicage itself, or scaled to the image as
 `multicage deform` scales a cage file (edit small, render big). */
 Multicage restForImage(const Multicage& cage, cv::Size imageSize) {
-    if (cage.imageSize().area() <= 0)
+    if (cage.imageSize().empty())
         throw py::value_error(
             "rest: the multicage has no image size; make it with Multicage((width, height)) "
             "or Multicage.for_image(image)");

@@ -17,7 +17,7 @@ void contentAwareResize(InputArray image, Size newSize, OutputArray dst, const M
     checkResizeSize(image.size(), newSize, params.maxScale);
     // An empty cage means the default proposal; a cage drawn on another size follows the image.
     Multicage rest =
-        cage.imageSize().area() == 0 && cage.polygonCount() == 0 ? resizeCage(image, params) : cage;
+        cage.imageSize().empty() && cage.polygonCount() == 0 ? resizeCage(image, params) : cage;
     if (rest.imageSize() != image.size()) rest = rest.scaled(image.size());
     DeformParams deform;
     deform.coordinates = params.coordinates;

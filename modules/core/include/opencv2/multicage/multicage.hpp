@@ -4,6 +4,7 @@
 
 #include <opencv2/core.hpp>
 
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -92,7 +93,13 @@ public:
     /** Applies the orientation rule: reverses every polygon whose signed area has the wrong
     sign for its depth, keeping vertex 0 first; poses are reordered the same way. */
     void orient();
-    /** Checks that the multicage can be bound: a positive image size; every polygon with at
+    /** The largest image a multicage describes, in pixels: 2^30, the default limit of
+    cv::imread (OPENCV_IO_MAX_IMAGE_PIXELS). Larger sizes would overflow the int pixel counts
+    that OpenCV and the coefficient grids use. */
+    static constexpr int64_t kMaxImagePixels = int64_t(1) << 30;
+
+    /** Checks that the multicage can be bound: a positive image size of at most
+    kMaxImagePixels; every polygon with at
     least 3 finite vertices, no repeated consecutive vertex, a non-zero area, no
     self-intersection, strictly inside the image frame; no two polygons touching or crossing;
     the orientation rule; every pose with the right vertex count and finite positions.
