@@ -16,6 +16,14 @@
 
 namespace multicage_cli {
 
+std::string reasonOf(const cv::Exception& e) {
+    std::string s = e.err;
+    for (const char* prefix :
+         {"multicage: ", "proposeMulticage: ", "proposeSegmentation: ", "protectFeatures: "})
+        if (s.rfind(prefix, 0) == 0) s = s.substr(std::string(prefix).size());
+    return s;
+}
+
 cv::Mat readImage(const std::string& path) {
     if (!std::filesystem::is_regular_file(path)) throw Failure(path + ": no such file");
     cv::Mat img;

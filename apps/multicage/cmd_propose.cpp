@@ -30,14 +30,6 @@ void checkCageOutput(const std::string& path) {
         throw Failure("cannot write " + path + ": no folder " + dir.string());
 }
 
-// "multicage: proposeMulticage: the image is constant ..." -> "the image is constant ...".
-std::string reason(const cv::Exception& e) {
-    std::string s = e.err;
-    for (const char* prefix : {"multicage: ", "proposeMulticage: ", "protectFeatures: "})
-        if (s.rfind(prefix, 0) == 0) s = s.substr(std::string(prefix).size());
-    return s;
-}
-
 cv::multicage::ProposeParams proposeParams(const ProposeOptions& o) {
     using namespace cv::multicage;
     ProposeParams params;
@@ -146,7 +138,7 @@ void runPropose(const ProposeOptions& o) {
     try {
         cage = proposeCage(o, params, image, input, &note);
     } catch (const cv::Exception& e) {
-        throw Failure(o.image + ": " + reason(e));
+        throw Failure(o.image + ": " + reasonOf(e));
     }
     if (cage.polygonCount() == 0)
         throw Failure(o.image + ": no object found with --method " + o.method +

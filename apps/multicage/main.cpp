@@ -47,7 +47,7 @@ int main(int argc, char** argv) {
     } catch (const CLI::ParseError& e) {
         return fail(e.what(), 2);
     } catch (const cv::Exception& e) {
-        return fail(e.err, 1);
+        return fail(multicage_cli::reasonOf(e), 1);
     } catch (const std::exception& e) {
         return fail(e.what(), 1);
     }

@@ -70,6 +70,11 @@ TEST(Cli, BadInputGivesOneLineAndNoOutput) {
     std::ofstream(dir + "/noposes.yml") << "%YAML:1.0\n---\nimage_size: [ 493, 356 ]\npolygons:\n"
                                            "  - [ 100, 100, 200, 100, 200, 200 ]\n";
     const std::string cage = sample("../butterfly.yml"), image = sample("butterfly.jpg");
+    // Slivers: a one-pixel column and a 500x2 strip (the library's "multicage: " prefix is
+    // not repeated after the command's name).
+    cv::Mat column(300, 1, CV_8UC3), strip(2, 500, CV_8UC3);
+    cv::randu(column, 0, 256), cv::randu(strip, 0, 256);
+    cv::imwrite(dir + "/column.png", column), cv::imwrite(dir + "/strip.png", strip);
     struct Case {
         std::string args, expected;
     } cases[] = {
@@ -82,6 +87,11 @@ TEST(Cli, BadInputGivesOneLineAndNoOutput) {
         {"deform " + image + " " + cage + " -o " + dir + "/out.xyz --backend cpu", "out.xyz"},
         {"deform " + image + " " + cage + " -o /nonexistent-dir/out.png --backend cpu", "cannot write"},
         {"frobnicate", "unknown command 'frobnicate'"},
+        {"resize " + dir + "/column.png --size 1x350 -o " + dir + "/out.png",
+         "multicage resize: cannot bind: the image size 1x300 is too small: a multicage needs at "
+         "least 2x2 pixels"},
+        {"propose " + dir + "/strip.png -o " + dir + "/out.yml",
+         "multicage propose: " + dir + "/strip.png: a 500x2 image is too thin to propose a cage in"},
     };
     for (const Case& c : cases) {
         const Result r = run(c.args, dir);

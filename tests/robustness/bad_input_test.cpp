@@ -158,6 +158,8 @@ TEST(BadInput, InvalidMulticagesAreNamedAndNotBound) {
         expectError(std::string(c.what) + " (bind)", [&] { bind(cage); }, "multicage: cannot bind: " + why);
     }
     expectError("image size 0x0", [] { bind(Multicage(Size(0, 0))); }, "the image size 0x0 is not positive");
+    expectError("image size 1x300", [] { bind(Multicage(Size(1, 300))); },
+                "the image size 1x300 is too small: a multicage needs at least 2x2 pixels");
     expectError("image size over 2^30 pixels", [] { bind(Multicage(Size(65536, 32769))); },
                 "the image size 65536x32769 is over the limit of 2^30 pixels");
     // Wrong orientation is not an error for binding: bind() orients on the fly.
@@ -184,6 +186,37 @@ TEST(BadInput, UnsupportedImagesAreRefused) {
     expectError("3-D image", create(Mat(3, dims, CV_8UC1, Scalar(0))), "multicage: the image must be 2-dimensional");
     expectError("image of another size than the multicage", create(Mat(30, 40, CV_8UC3, Scalar(0))),
                 "the image is 40x30 but the multicage was made for 80x60; use Multicage::scaled");
+}
+
+// Rows "slivers": images too thin for a cage. Proposing in a 500x1 or 4x2000 photo stopped in
+// OpenCV's resize with "!dsize.empty()" (a copy scaled to nothing); it now names the image.
+// One pixel more and the proposal runs: a valid multicage, or none (no object found).
+TEST(BadInput, SliversAreRefusedByTheProposalWithTheirSize) {
+    RNG rng(5);
+    auto noise = [&](int w, int h) {
+        Mat m(h, w, CV_8UC3);
+        rng.fill(m, RNG::UNIFORM, 0, 256);
+        return m;
+    };
+    for (const Size size : {Size(500, 1), Size(500, 2), Size(4, 2000), Size(8, 2000)})
+        for (const int method : {PROPOSE_AUTO, PROPOSE_GRABCUT, PROPOSE_SALIENCY, PROPOSE_THRESHOLD}) {
+            ProposeParams params;
+            params.method = method;
+            const Mat image = noise(size.width, size.height);
+            expectError(format("%dx%d sliver, method %d", size.width, size.height, method),
+                        [&] { proposeProtectedMulticage(image, params); },
+                        format("a %dx%d image is too thin to propose a cage in", size.width, size.height));
+        }
+    for (const Size size : {Size(500, 3), Size(16, 2000), Size(3, 3), Size(2000, 40)})
+        for (const int method : {PROPOSE_AUTO, PROPOSE_GRABCUT, PROPOSE_SALIENCY}) {
+            ProposeParams params;
+            params.method = method;
+            Multicage cage;
+            ASSERT_NO_THROW(cage = proposeProtectedMulticage(noise(size.width, size.height), params))
+                << size << " method " << method;
+            std::string why;
+            EXPECT_TRUE(cage.polygonCount() == 0 || cage.validate(&why)) << size << ": " << why;
+        }
 }
 
 // Rows "poses": wrong count, NaN, infinity, wrong array shape and type.
@@ -342,13 +375,13 @@ TEST(BadInput, MissingGpuFailsWithTheReasonOrFallsBackToTheCpu) {
         const char* expected;
     } cases[] = {
         {"__EGL_VENDOR_LIBRARY_FILENAMES=/nonexistent/multicage.json",
-         "multicage: BACKEND_GPU requested but no headless EGL platform: neither a hardware "
+         "multicage deform: BACKEND_GPU requested but no headless EGL platform: neither a hardware "
          "EGL_EXT_platform_device nor EGL_MESA_platform_surfaceless is available"},
         // Mesa's failed driver load leaks ~6 KB in the driver it then unloads (LeakSanitizer
         // sees an "<unknown module>", which no suppression can name): leak checks are off for
         // this child only (tests/robustness/lsan.supp).
         {"GALLIUM_DRIVER=multicage_nonexistent ASAN_OPTIONS=detect_leaks=0",
-         "multicage: BACKEND_GPU requested but eglInitialize failed on Mesa's surfaceless platform"},
+         "multicage deform: BACKEND_GPU requested but eglInitialize failed on Mesa's surfaceless platform"},
     };
     for (const Case& c : cases) {
         std::filesystem::remove(dir + "/out.png");

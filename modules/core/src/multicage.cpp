@@ -92,6 +92,10 @@ bool Multicage::validateGeometry(std::string* why) const {
     if (imageSize_.width <= 0 || imageSize_.height <= 0)
         return fail(why, format("the image size %dx%d is not positive", imageSize_.width,
                                 imageSize_.height));
+    // The node mesh a binding makes needs two nodes each way (one per pixel at grid step 1).
+    if (imageSize_.width < 2 || imageSize_.height < 2)
+        return fail(why, format("the image size %dx%d is too small: a multicage needs at least "
+                                "2x2 pixels", imageSize_.width, imageSize_.height));
     if (int64_t(imageSize_.width) * imageSize_.height > kMaxImagePixels)
         return fail(why, format("the image size %dx%d is over the limit of 2^30 pixels",
                                 imageSize_.width, imageSize_.height));

@@ -201,9 +201,10 @@ std::vector<Rect> detectFaces(InputArray image, const ProposeParams& params) {
     const double scale = params.faceWorkingSize > 0 && longer > params.faceWorkingSize
                              ? longer / static_cast<double>(params.faceWorkingSize)
                              : 1.0;
-    if (scale > 1.0)
-        resize(small, small, Size(cvRound(img.cols / scale), cvRound(img.rows / scale)), 0, 0,
-               INTER_AREA);
+    if (scale > 1.0)  // (a side of a thin image keeps at least a pixel)
+        resize(small, small,
+               Size(std::max(1, cvRound(img.cols / scale)), std::max(1, cvRound(img.rows / scale))),
+               0, 0, INTER_AREA);
     Mat gray, ycrcb;
     if (small.channels() == 3) {
         cvtColor(small, gray, COLOR_BGR2GRAY);

@@ -200,11 +200,10 @@ Mat segmentThreshold(const Mat& img, const Mat& region, bool adaptive) {
 Mat segmentSaliency(const Mat& img, const Mat& region, bool spectral) {
     // The map is blurred to blobs below, so a copy of at most 320 pixels loses nothing and
     // costs the fine grained centre-surround a third of the time.
-    const double s = std::min(1.0, 320.0 / std::max(img.cols, img.rows));
-    Mat small = img;
-    if (s < 1.0) resize(img, small, Size(), s, s, INTER_AREA);
+    Mat small;
+    shrink(img, small, 320.0 / std::max(img.cols, img.rows), INTER_AREA);
     Mat map = saliencyMap(small, spectral);
-    if (s < 1.0) resize(map, map, img.size(), 0, 0, INTER_LINEAR);
+    if (map.size() != img.size()) resize(map, map, img.size(), 0, 0, INTER_LINEAR);
     // Saliency responds to edges and texture; a blur of ~2% of the size turns the response
     // into blobs that follow whole objects instead of their outlines.
     const double sigma = std::max(1.0, 0.02 * std::max(img.cols, img.rows));
@@ -235,22 +234,24 @@ Mat segmentGrabCut(const Mat& img, const ProposeParams& params, double scale, co
     else
         color = img;
     // GrabCut's cost is per pixel and per iteration: run it small, upscale the mask.
-    const double s =
-        std::min(1.0, params.grabCutMaxSide / static_cast<double>(std::max(img.cols, img.rows)));
+    if (img.cols < 3 || img.rows < 3)
+        CV_Error_(Error::StsBadArg,
+                  ("multicage: proposeMulticage: a %dx%d image is too small for GrabCut (it "
+                   "needs 3 pixels each way; try method threshold or saliency)",
+                   img.cols, img.rows));
     Mat small;
-    if (s < 1.0)
-        resize(color, small, Size(), s, s, INTER_AREA);
-    else
-        small = color;
+    const Point2d s =
+        shrink(color, small, params.grabCutMaxSide / static_cast<double>(std::max(img.cols, img.rows)),
+               INTER_AREA);
     Rect rect;
     if (!region.empty()) {
         Mat r;
         resize(region, r, small.size(), 0, 0, INTER_NEAREST);
         rect = boundingRect(r);
     } else if (params.rect.area() > 0) {
-        const double k = s / scale;  // input pixels -> small pixels
-        rect = Rect(cvFloor(params.rect.x * k), cvFloor(params.rect.y * k),
-                    cvCeil(params.rect.width * k), cvCeil(params.rect.height * k));
+        const double kx = s.x / scale, ky = s.y / scale;  // input pixels -> small pixels
+        rect = Rect(cvFloor(params.rect.x * kx), cvFloor(params.rect.y * ky),
+                    cvCeil(params.rect.width * kx), cvCeil(params.rect.height * ky));
     } else {
         rect = Rect(0, 0, small.cols, small.rows);  // unused: the seed or the frame is the start
     }

@@ -42,6 +42,12 @@ Work resolve(Size full, const ProposeParams& p) {
     w.size = w.scale > 1.0 ? Size(std::max(1, cvRound(full.width / w.scale)),
                                   std::max(1, cvRound(full.height / w.scale)))
                            : full;
+    // GrabCut and the frame strips need 3 pixels each way; a sliver has no room for a cage.
+    if (w.size.width < 3 || w.size.height < 3)
+        CV_Error_(Error::StsBadSize,  // (the only StsBadSize of a proposal: resizeCage's cue)
+                  ("multicage: proposeMulticage: a %dx%d image is too thin to propose a cage in "
+                   "(its working copy is %dx%d; each side needs 3 pixels)",
+                   full.width, full.height, w.size.width, w.size.height));
     const double diagonal = std::hypot(full.width, full.height);
     const double margin = p.margin >= 0 ? p.margin : std::max(3.0, 0.012 * diagonal);
     w.margin = static_cast<float>(std::max(1.0, margin / w.scale));
@@ -51,6 +57,22 @@ Work resolve(Size full, const ProposeParams& p) {
                                        : std::max(1, cvRound(0.005 * wlonger));
     w.minArea = p.minRegionArea * w.size.area();
     return w;
+}
+
+Point2d shrink(const Mat& img, Mat& out, double s, int interpolation, int minSide) {
+    if (!(s < 1.0)) {
+        out = img;
+        return {1.0, 1.0};
+    }
+    const Size plain(cvRound(img.cols * s), cvRound(img.rows * s));  // resize's own rounding
+    const int minW = std::min(img.cols, minSide), minH = std::min(img.rows, minSide);
+    if (plain.width >= minW && plain.height >= minH) {
+        resize(img, out, Size(), s, s, interpolation);
+        return {s, s};
+    }
+    const Size kept(std::max(plain.width, minW), std::max(plain.height, minH));
+    resize(img, out, kept, 0, 0, interpolation);
+    return {kept.width / static_cast<double>(img.cols), kept.height / static_cast<double>(img.rows)};
 }
 
 Mat toWork(const Mat& img, const Work& w, int interpolation) {

@@ -29,6 +29,11 @@ struct Work {
 
 /** The working copy for an input of size `full`. */
 Work resolve(Size full, const ProposeParams& p);
+/** img scaled by s into out, exactly as resize(img, out, Size(), s, s, interpolation) does,
+except that each side keeps at least minSide pixels (or all it has, where fewer): a thin
+image's smaller copies (GrabCut's, the saliency map's) keep the rows a frame strip and a band
+need instead of rounding to none. s >= 1: out is img. Returns the scale applied per axis. */
+Point2d shrink(const Mat& img, Mat& out, double s, int interpolation, int minSide = 8);
 /** An input-size image resized to the work size (itself when the sizes agree). */
 Mat toWork(const Mat& img, const Work& w, int interpolation);
 /** A work-size mask resized to the input size, thresholded at 127. */

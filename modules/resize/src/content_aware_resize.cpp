@@ -8,7 +8,14 @@ Multicage resizeCage(InputArray image, const ResizeParams& params) {
     ProposeParams propose;
     if (params.protect >= 0) propose.protect = params.protect;
     propose.margin = params.margin;
-    return proposeProtectedMulticage(image, propose);
+    try {
+        return proposeProtectedMulticage(image, propose);
+    } catch (const Exception& e) {
+        // A sliver (a row of pixels, a strip too thin for a cage) holds nothing a cage could
+        // protect: it scales plainly, as an image where no object is found does.
+        if (e.code != Error::StsBadSize) throw;
+        return Multicage(image.size());
+    }
 }
 
 void contentAwareResize(InputArray image, Size newSize, OutputArray dst, const Multicage& cage,

@@ -98,8 +98,8 @@ public:
     that OpenCV and the coefficient grids use. */
     static constexpr int64_t kMaxImagePixels = int64_t(1) << 30;
 
-    /** Checks that the multicage can be bound: a positive image size of at most
-    kMaxImagePixels; every polygon with at
+    /** Checks that the multicage can be bound: an image size of at least 2x2 and at most
+    kMaxImagePixels pixels; every polygon with at
     least 3 finite vertices, no repeated consecutive vertex, a non-zero area, no
     self-intersection, strictly inside the image frame; no two polygons touching or crossing;
     the orientation rule; every pose with the right vertex count and finite positions.

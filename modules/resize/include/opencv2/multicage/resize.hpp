@@ -73,7 +73,8 @@ CV_EXPORTS void contentAwareResize(InputArray image, Size newSize, OutputArray d
                                    const ResizeParams& params = ResizeParams());
 
 /** The multicage contentAwareResize() uses for image when given none: proposeProtectedMulticage()
-with params.protect and params.margin. */
+with params.protect and params.margin; for an image too thin to propose in (a strip under 3
+pixels each way in the proposal's working copy), no polygon: it scales plainly. */
 CV_EXPORTS Multicage resizeCage(InputArray image, const ResizeParams& params = ResizeParams());
 
 /** Throws cv::Exception (StsOutOfRange) unless newSize is a size resizePose() accepts for an
