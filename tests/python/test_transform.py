@@ -108,6 +108,41 @@ def test_keypoints_outside_are_flagged_and_dropped_when_asked(butterfly, cage):
     np.testing.assert_array_equal(dropped["bboxes_visible"], [False, True])
 
 
+@pytest.mark.parametrize("border", ["constant", "reflect"])
+def test_masks_of_any_dtype_move_as_uint8_masks_do(butterfly, cage, border):
+    # bool, int64, uint32 and float16 masks (cv2.remap refuses or narrows them) and a mask of
+    # 6 channels pick the same nearest pixels as a uint8 mask, and keep their dtype.
+    h, w = butterfly.shape[:2]
+    labels = (np.random.default_rng(3).random((h, w)) * 5).astype(np.uint8)
+    labels[0, :] = 4  # a border row, so that reflect copies a known value
+    warp = mc.MulticageWarp(amplitude=20, cage=cage, seed=5, border_mode=border, mask_value=0)
+    reference = warp(image=butterfly, mask=labels, index=2)["mask"]
+    for dtype in (bool, np.int64, np.uint32, np.float16):
+        m = labels.astype(dtype) if dtype is not bool else labels > 0
+        out = warp(image=butterfly, mask=m, masks=[m], index=2)
+        expected = reference if dtype is not bool else reference > 0
+        for moved in (out["mask"], out["masks"][0]):
+            assert moved.dtype == np.dtype(dtype) and moved.shape == (h, w)
+            np.testing.assert_array_equal(moved, expected.astype(dtype))
+    many = warp(image=butterfly, mask=np.repeat(labels[..., None], 6, axis=2), index=2)["mask"]
+    assert many.shape == (h, w, 6)
+    for c in range(6):
+        np.testing.assert_array_equal(many[..., c], reference)
+
+
+def test_bad_boxes_and_keypoints_are_named(butterfly, cage):
+    warp = mc.MulticageWarp(amplitude=10, cage=cage)
+    with pytest.raises(ValueError, match=r"bboxes: box 1 \(50.0, 40.0, 10.0, 60.0\) has its maximum before"):
+        warp(image=butterfly, bboxes=[(1, 1, 5, 5), (50, 40, 10, 60)], seed=1)
+    with pytest.raises(ValueError, match="bboxes: box 0 is not finite"):
+        warp(image=butterfly, bboxes=[(np.nan, 1, 5, 5)], seed=1)
+    with pytest.raises(ValueError, match="keypoints: keypoint 1 is not finite"):
+        warp(image=butterfly, keypoints=[(3.0, 4.0), (np.inf, 2.0)], seed=1)
+    # A box of no width (a line) is kept: only a maximum before its minimum is refused.
+    out = warp(image=butterfly, bboxes=[(20, 20, 20, 60)], seed=1)
+    assert len(out["bboxes"]) == 1
+
+
 def test_border_mode_and_probability(butterfly, cage):
     never = mc.MulticageWarp(amplitude=10, cage=cage, p=0.0)
     out = never(image=butterfly, keypoints=np.array([[5.0, 5.0]], np.float32), index=1, return_params=True)

@@ -53,6 +53,11 @@ _BORDER_MODES = {
 NO_SUBJECT_CHOICES = ("default", "skip", "raise")
 
 
+# What cv2.remap carries unchanged: other mask dtypes go through their indices (_move_mask).
+_REMAP_DTYPES = tuple(np.dtype(t) for t in (np.uint8, np.int8, np.uint16, np.int16, np.int32,
+                                            np.float32, np.float64))
+
+
 def sample_seed(seed, index):
     """The seed of sample `index` of a run seeded with `seed` (both integers >= 0): a pure
     function (numpy's SeedSequence), so every process gives every sample the same seed."""
@@ -404,8 +409,18 @@ class MulticageWarp:
             raise ValueError(f"mask: shape {mask.shape} but the image is {size[0]}x{size[1]}")
         if maps is None:
             return mask.copy()
-        return cv2.remap(mask, maps[0], maps[1], cv2.INTER_NEAREST, borderMode=self.border_mode,
-                         borderValue=self._cv_border(self.mask_value))
+        channels = mask.shape[2] if mask.ndim == 3 else 1
+        if mask.dtype in _REMAP_DTYPES and channels <= 4:
+            return cv2.remap(mask, maps[0], maps[1], cv2.INTER_NEAREST, borderMode=self.border_mode,
+                             borderValue=self._cv_border(self.mask_value))
+        # dtypes cv2.remap refuses (bool, uint32, float16) or narrows (int64 to int32), and
+        # masks of many channels: the same nearest pixels, found by remapping their indices.
+        w, h = size
+        index = cv2.remap(np.arange(w * h, dtype=np.int32).reshape(h, w), maps[0], maps[1],
+                          cv2.INTER_NEAREST, borderMode=self.border_mode, borderValue=(-1,) * 4)
+        out = mask.reshape(w * h, -1)[np.maximum(index, 0)].reshape(mask.shape)
+        out[index < 0] = self.mask_value
+        return out
 
     @staticmethod
     def _split(rows, width, what):
@@ -430,8 +445,16 @@ class MulticageWarp:
             return out.astype(rows.dtype if rows.dtype.kind == "f" else np.float32)
         return [tuple(m) + e for m, e, k in zip(moved.tolist(), extras, keep) if k]
 
+    @staticmethod
+    def _check_finite(coords, what, item):
+        bad = ~np.isfinite(coords).all(axis=1)
+        if bad.any():
+            i = int(np.flatnonzero(bad)[0])
+            raise ValueError(f"{what}: {item} {i} is not finite {tuple(coords[i].tolist())}")
+
     def _move_keypoints(self, keypoints, deformer, pose, w, h):
         k, extras = self._split(keypoints, 2, "keypoints")
+        self._check_finite(k[:, :2], "keypoints", "keypoint")
         moved = k.copy()
         if deformer is not None and len(k):
             moved[:, :2] = deformer.transform_points(pose, k[:, :2].astype(np.float32))
@@ -442,6 +465,12 @@ class MulticageWarp:
 
     def _move_boxes(self, bboxes, deformer, pose, w, h):
         b, extras = self._split(bboxes, 4, "bboxes")
+        self._check_finite(b[:, :4], "bboxes", "box")
+        inverted = (b[:, 2] < b[:, 0]) | (b[:, 3] < b[:, 1])
+        if inverted.any():
+            i = int(np.flatnonzero(inverted)[0])
+            raise ValueError(f"bboxes: box {i} {tuple(b[i, :4].tolist())} has its maximum before its "
+                             "minimum (pascal_voc boxes are x_min, y_min, x_max, y_max)")
         moved = b.copy()
         if deformer is not None and len(b):
             outlines = [box_outline(box) for box in b]
