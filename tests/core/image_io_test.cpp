@@ -128,3 +128,39 @@ TEST(ImageIo, ConversionKeepsWhiteWhiteAndTheDepthWhereTheFormatCan) {
     EXPECT_EQ(m.type(), CV_32FC1);
     EXPECT_FLOAT_EQ(m.at<float>(0, 0), 1.f);
 }
+
+// cv::imwrite refuses colour in .pgm/.pbm and grey or alpha in .ppm ("Portable bitmap(.pgm)
+// expects gray image"), after the work was done, and drops a JPEG's alpha without a word.
+TEST(ImageIo, ChannelsAreConvertedToWhatTheFormatStoresAndSaid) {
+    const std::string dir = multicage_testing::tempDir("image_io_channels");
+    const Mat bgr(4, 6, CV_8UC3, Scalar(10, 100, 200)), grey(4, 6, CV_8UC1, Scalar(77));
+    const Mat bgra(4, 6, CV_8UC4, Scalar(10, 100, 200, 128));
+    std::string note;
+    struct Case {
+        const char* file;
+        Mat image;
+        int type;
+        const char* said;
+    } cases[] = {
+        {"a.pgm", bgr, CV_8UC1, ".pgm does not store 3 channels; wrote the colour image as grey"},
+        {"a.pbm", bgra, CV_8UC1, ".pbm does not store 4 channels; wrote the colour image as grey"},
+        {"a.ppm", grey, CV_8UC3, ".ppm does not store 1 channels; wrote the grey image as colour"},
+        {"a.ppm", bgra, CV_8UC3, ".ppm does not store 4 channels; wrote the colour image without its alpha channel"},
+        {"a.jpg", bgra, CV_8UC3, ".jpg does not store 4 channels; wrote the colour image without its alpha channel"},
+        {"a.hdr", bgra, CV_32FC3, ".hdr does not store 4 channels; wrote the colour image without its alpha channel; "
+                                  ".hdr does not store 8-bit pixels; wrote float"},
+        {"a.png", bgra, CV_8UC4, ""},
+        {"a.pgm", grey, CV_8UC1, ""},
+    };
+    for (const Case& c : cases) {
+        const Mat m = convertForImageFormat(dir + "/" + c.file, c.image, &note);
+        EXPECT_EQ(m.type(), c.type) << c.file << " from " << c.image.channels();
+        if (*c.said)
+            EXPECT_NE(note.find(c.said), std::string::npos) << note;
+        else
+            EXPECT_EQ(note, "") << c.file;
+        EXPECT_TRUE(imwrite(dir + "/" + c.file, m)) << c.file;  // and OpenCV writes it
+    }
+    // Grey is the image's luminance: (10, 100, 200) BGR is 0.114*10 + 0.587*100 + 0.299*200.
+    EXPECT_EQ(convertForImageFormat("a.pgm", bgr).at<uchar>(0, 0), 120);
+}

@@ -5,6 +5,7 @@
 #include <fstream>
 #include <iterator>
 #include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
 #include <opencv2/multicage/imageio.hpp>
 
 namespace cv {
@@ -102,12 +103,56 @@ std::vector<int> imageFormatDepths(const String& path) {
     return {CV_8U};
 }
 
+std::vector<int> imageFormatChannels(const String& path) {
+    const std::string ext = lowerExtension(path);
+    if (ext == "pgm" || ext == "pbm") return {1};
+    if (ext == "ppm") return {3};
+    if (ext == "pnm" || ext == "hdr" || ext == "pic" || ext == "pfm") return {1, 3};
+    // OpenCV writes these without their alpha channel, silently: said here instead.
+    if (ext == "jpg" || ext == "jpeg" || ext == "jpe" || ext == "bmp" || ext == "dib" ||
+        ext == "ras" || ext == "sr")
+        return {1, 3};
+    return {1, 3, 4};
+}
+
+namespace {
+
+// image with a channel count the format stores: colour to grey, grey to colour, alpha dropped.
+Mat convertChannels(const Mat& image, const std::vector<int>& channels, std::string& what) {
+    const int from = image.channels();
+    if (std::find(channels.begin(), channels.end(), from) != channels.end()) return image;
+    const bool grey = std::find(channels.begin(), channels.end(), 1) != channels.end();
+    Mat out;
+    if (from == 4 && std::find(channels.begin(), channels.end(), 3) != channels.end()) {
+        cvtColor(image, out, COLOR_BGRA2BGR), what = "the colour image without its alpha channel";
+    } else if (from == 1) {
+        cvtColor(image, out, COLOR_GRAY2BGR), what = "the grey image as colour";
+    } else if (grey) {
+        cvtColor(image, out, from == 4 ? COLOR_BGRA2GRAY : COLOR_BGR2GRAY);
+        what = "the colour image as grey";
+    } else {
+        return image;  // (no format here wants that); the writer says what it refuses
+    }
+    return out;
+}
+
+}  // namespace
+
 Mat convertForImageFormat(const String& path, InputArray imageIn, std::string* note) {
     if (note) note->clear();
-    const Mat image = imageIn.getMat();
+    const std::string ext = lowerExtension(path);
+    std::string channelWords;
+    const Mat image = convertChannels(imageIn.getMat(), imageFormatChannels(path), channelWords);
+    const std::string channelNote =
+        channelWords.empty() ? "" : path + ": ." + ext + " does not store " +
+                                        std::to_string(imageIn.getMat().channels()) +
+                                        " channels; wrote " + channelWords;
     const std::vector<int> depths = imageFormatDepths(path);
     const int from = image.depth();
-    if (std::find(depths.begin(), depths.end(), from) != depths.end()) return image;
+    if (std::find(depths.begin(), depths.end(), from) != depths.end()) {
+        if (note) *note = channelNote;
+        return image;
+    }
     // The deepest the format holds (floats lose least in 16 bits; 8 bits go to float when
     // float is all there is).
     const int to = depths.back();
@@ -129,10 +174,10 @@ Mat convertForImageFormat(const String& path, InputArray imageIn, std::string* n
     Mat out;
     image.convertTo(out, to, scale);
     if (note) {
-        const std::string ext = lowerExtension(path);
         *note = path + ": ." + ext + " does not store " + depthWords(from) + " pixels; wrote " + depthWords(to) +
                 ", the " + depthWords(from) + " image" + range + " scaled by " +
                 (scale < 1 ? "1/" + format("%g", 1.0 / scale) : format("%g", scale));
+        if (!channelNote.empty()) *note = channelNote + "; " + note->substr(path.size() + 2);
     }
     return out;
 }

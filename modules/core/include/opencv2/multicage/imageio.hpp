@@ -28,8 +28,14 @@ CV_EXPORTS Mat readImage(const String& path, int flags = -1 /* IMREAD_UNCHANGED 
 (JPEG, BMP, WebP, ...) 8 bits. */
 CV_EXPORTS std::vector<int> imageFormatDepths(const String& path);
 
-/** image converted, if needed, to a depth the format of path stores (imageFormatDepths), and
-in *note one sentence saying what was done ("" when the depth is kept). The scales keep white
+/** The channel counts the image format of path (by its extension) stores: PGM and PBM grey
+only, PPM colour only, PNM, Radiance HDR and PFM grey or colour; JPEG, BMP and Sun raster grey
+or colour (OpenCV would drop an alpha channel without a word); the others 1, 3 or 4. */
+CV_EXPORTS std::vector<int> imageFormatChannels(const String& path);
+
+/** image converted, if needed, to a channel count (imageFormatChannels: colour to grey, grey
+to colour, the alpha channel dropped) and a depth the format of path stores
+(imageFormatDepths), and in *note one sentence saying what was done ("" when nothing is). The scales keep white
 white: 16 to 8 bits x1/257; float to 8 bits x255 and to 16 bits x65535 when the values are in
 [0, 1] (the usual range of float images; a maximum up to 2 still counts, as lossy float
 codecs overshoot), otherwise the floats are taken as 0-255 (x1 and x257); 8 bits to float
