@@ -944,3 +944,31 @@ TEST(ProposeCli, NoFaceFoundIsSaidOnce) {
     std::filesystem::remove_all(dir);
 }
 #endif
+
+// A float photo with a few infinite pixels (a division by zero upstream) was stretched by its
+// infinite maximum to one grey: "the image is constant". The stretch now takes the finite values.
+TEST(Propose, FloatPhotoWithInfinitePixelsIsStretchedByItsFiniteValues) {
+    cv::Mat photo;
+    readSample("butterfly.jpg").convertTo(photo, CV_32FC3, 1.0 / 255);
+    const Multicage clean = proposeMulticage(photo);
+    cv::RNG rng(9);
+    for (int k = 0; k < 200; ++k)
+        photo.at<cv::Vec3f>(rng.uniform(0, photo.rows), rng.uniform(0, photo.cols))[rng.uniform(0, 3)] =
+            k % 2 ? INFINITY : -INFINITY;
+    const Multicage spotted = proposeMulticage(photo);
+    std::string why;
+    ASSERT_TRUE(spotted.validate(&why)) << why;
+    ASSERT_EQ(spotted.polygonCount(), clean.polygonCount());
+    // The same butterfly: the outlines cover each other's area almost entirely.
+    cv::Mat a = cv::Mat::zeros(photo.size(), CV_8U), b = a.clone();
+    std::vector<std::vector<cv::Point>> pa, pb;
+    for (int p = 0; p < clean.polygonCount(); ++p) {
+        std::vector<cv::Point> q, r;
+        for (const cv::Point2f& v : clean.polygon(p)) q.emplace_back(cvRound(v.x), cvRound(v.y));
+        for (const cv::Point2f& v : spotted.polygon(p)) r.emplace_back(cvRound(v.x), cvRound(v.y));
+        pa.push_back(q), pb.push_back(r);
+    }
+    cv::fillPoly(a, pa, 255), cv::fillPoly(b, pb, 255);
+    const double iou = cv::countNonZero(a & b) / static_cast<double>(cv::countNonZero(a | b));
+    EXPECT_GT(iou, 0.9) << iou;
+}

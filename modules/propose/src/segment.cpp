@@ -1,6 +1,7 @@
 #include "segment.hpp"
 
 #include <algorithm>
+#include <cfloat>
 #include <opencv2/imgproc.hpp>
 #include <opencv2/saliency.hpp>
 
@@ -28,9 +29,14 @@ Mat to8Bit(const Mat& image) {
     if (img.depth() == CV_16U) {
         img.convertTo(out, CV_8U, 1.0 / 257.0);
     } else {
-        // Floats and other integers have no fixed range: stretch what is there.
-        double lo, hi;
-        minMaxLoc(img.reshape(1), &lo, &hi);
+        // Floats and other integers have no fixed range: stretch what is there, its finite
+        // values (an infinite pixel stretched the rest to one value: "the image is constant").
+        const Mat values = img.reshape(1);
+        Mat finite;
+        if (values.depth() == CV_32F || values.depth() == CV_64F)
+            compare(abs(values), values.depth() == CV_32F ? FLT_MAX : DBL_MAX, finite, CMP_LE);
+        double lo = 0, hi = 0;
+        minMaxLoc(values, &lo, &hi, nullptr, nullptr, finite);
         img.convertTo(out, CV_8U, hi > lo ? 255.0 / (hi - lo) : 0.0,
                       hi > lo ? -lo * 255.0 / (hi - lo) : 0.0);
     }
