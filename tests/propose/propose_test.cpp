@@ -952,9 +952,12 @@ TEST(Propose, FloatPhotoWithInfinitePixelsIsStretchedByItsFiniteValues) {
     readSample("butterfly.jpg").convertTo(photo, CV_32FC3, 1.0 / 255);
     const Multicage clean = proposeMulticage(photo);
     cv::RNG rng(9);
-    for (int k = 0; k < 200; ++k)
-        photo.at<cv::Vec3f>(rng.uniform(0, photo.rows), rng.uniform(0, photo.cols))[rng.uniform(0, 3)] =
-            k % 2 ? INFINITY : -INFINITY;
+    for (int k = 0; k < 200; ++k) {  // one draw per statement: the same pixels from any compiler
+        const int y = rng.uniform(0, photo.rows);
+        const int x = rng.uniform(0, photo.cols);
+        const int c = rng.uniform(0, 3);
+        photo.at<cv::Vec3f>(y, x)[c] = k % 2 ? INFINITY : -INFINITY;
+    }
     const Multicage spotted = proposeMulticage(photo);
     std::string why;
     ASSERT_TRUE(spotted.validate(&why)) << why;

@@ -246,9 +246,8 @@ Mat segmentGrabCut(const Mat& img, const ProposeParams& params, double scale, co
                    "needs 3 pixels each way; try method threshold or saliency)",
                    img.cols, img.rows));
     Mat small;
-    const Point2d s =
-        shrink(color, small, params.grabCutMaxSide / static_cast<double>(std::max(img.cols, img.rows)),
-               INTER_AREA);
+    const double longer = std::max(img.cols, img.rows);
+    const Point2d s = shrink(color, small, params.grabCutMaxSide / longer, INTER_AREA);
     Rect rect;
     if (!region.empty()) {
         Mat r;

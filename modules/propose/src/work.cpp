@@ -72,7 +72,8 @@ Point2d shrink(const Mat& img, Mat& out, double s, int interpolation, int minSid
     }
     const Size kept(std::max(plain.width, minW), std::max(plain.height, minH));
     resize(img, out, kept, 0, 0, interpolation);
-    return {kept.width / static_cast<double>(img.cols), kept.height / static_cast<double>(img.rows)};
+    return {kept.width / static_cast<double>(img.cols),
+            kept.height / static_cast<double>(img.rows)};
 }
 
 Mat toWork(const Mat& img, const Work& w, int interpolation) {

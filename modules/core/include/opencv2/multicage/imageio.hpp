@@ -1,5 +1,5 @@
 // Reading and writing image files without silent damage: truncated inputs are refused, and
-// outputs are converted to a depth the file format can hold, with the scale said out loud.
+// outputs are converted to a depth and channels the file format can hold, said out loud.
 #ifndef OPENCV2_MULTICAGE_IMAGEIO_HPP
 #define OPENCV2_MULTICAGE_IMAGEIO_HPP
 
@@ -35,12 +35,12 @@ CV_EXPORTS std::vector<int> imageFormatChannels(const String& path);
 
 /** image converted, if needed, to a channel count (imageFormatChannels: colour to grey, grey
 to colour, the alpha channel dropped) and a depth the format of path stores
-(imageFormatDepths), and in *note one sentence saying what was done ("" when nothing is). The scales keep white
-white: 16 to 8 bits x1/257; float to 8 bits x255 and to 16 bits x65535 when the values are in
-[0, 1] (the usual range of float images; a maximum up to 2 still counts, as lossy float
-codecs overshoot), otherwise the floats are taken as 0-255 (x1 and x257); 8 bits to float
-x1/255, 16 bits to float x1/65535. A depth the format holds is never changed: 16 bits stay 16
-bits in PNG and TIFF, float stays float in TIFF and EXR. */
+(imageFormatDepths), and in *note one sentence saying what was done ("" when nothing is). The
+scales keep white white: 16 to 8 bits x1/257; float to 8 bits x255 and to 16 bits x65535
+when the values are in [0, 1] (the usual range of float images; a maximum up to 2 still
+counts, as lossy float codecs overshoot), otherwise the floats are taken as 0-255 (x1 and
+x257); 8 bits to float x1/255, 16 bits to float x1/65535. A depth the format holds is never
+changed: 16 bits stay 16 bits in PNG and TIFF, float stays float in TIFF and EXR. */
 CV_EXPORTS Mat convertForImageFormat(const String& path, InputArray image, std::string* note = nullptr);
 
 }  // namespace multicage
