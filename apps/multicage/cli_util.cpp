@@ -19,7 +19,8 @@ namespace multicage_cli {
 std::string reasonOf(const cv::Exception& e) {
     std::string s = e.err;
     for (const char* prefix :
-         {"multicage: ", "proposeMulticage: ", "proposeSegmentation: ", "protectFeatures: "})
+         {"multicage: ", "proposeMulticage: ", "proposeSegmentation: ", "protectFeatures: ",
+          "resize: "})
         if (s.rfind(prefix, 0) == 0) s = s.substr(std::string(prefix).size());
     return s;
 }

@@ -16,7 +16,8 @@ struct Failure : std::runtime_error {
 };
 
 /** A library error as the tools print it: without the library's "multicage: " and the name of
-the function that refused ("proposeMulticage: "), which the command line already says. */
+the function or module that refused ("proposeMulticage: ", "resize: "), which the command line
+already says. */
 std::string reasonOf(const cv::Exception& e);
 
 /** Reads an image as stored (depth and alpha kept), or throws a Failure that says why (a

@@ -111,8 +111,7 @@ void runResize(const ResizeCommandOptions& o) {
         try {
             checkResizeSize(image.size(), s, rp.maxScale);
         } catch (const cv::Exception& e) {
-            throw Failure(e.err.substr(
-                e.err.find("resize: ") == std::string::npos ? 0 : e.err.find("resize: ") + 8));
+            throw Failure(reasonOf(e));
         }
         checkImageOutput(outputFor(o.output, s, sizes.size() > 1));
     }

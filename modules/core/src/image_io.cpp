@@ -136,23 +136,11 @@ Mat convertChannels(const Mat& image, const std::vector<int>& channels, std::str
     return out;
 }
 
-}  // namespace
-
-Mat convertForImageFormat(const String& path, InputArray imageIn, std::string* note) {
-    if (note) note->clear();
-    const std::string ext = lowerExtension(path);
-    std::string channelWords;
-    const Mat image = convertChannels(imageIn.getMat(), imageFormatChannels(path), channelWords);
-    const std::string channelNote =
-        channelWords.empty() ? "" : path + ": ." + ext + " does not store " +
-                                        std::to_string(imageIn.getMat().channels()) +
-                                        " channels; wrote " + channelWords;
+// image at a depth the format stores (imageFormatDepths); `said` what was done, "" if nothing.
+Mat convertDepth(const String& path, const std::string& ext, const Mat& image, std::string& said) {
     const std::vector<int> depths = imageFormatDepths(path);
     const int from = image.depth();
-    if (std::find(depths.begin(), depths.end(), from) != depths.end()) {
-        if (note) *note = channelNote;
-        return image;
-    }
+    if (std::find(depths.begin(), depths.end(), from) != depths.end()) return image;
     // The deepest the format holds (floats lose least in 16 bits; 8 bits go to float when
     // float is all there is).
     const int to = depths.back();
@@ -173,11 +161,30 @@ Mat convertForImageFormat(const String& path, InputArray imageIn, std::string* n
     }
     Mat out;
     image.convertTo(out, to, scale);
+    said = "." + ext + " does not store " + depthWords(from) + " pixels; wrote " + depthWords(to) +
+           ", the " + depthWords(from) + " image" + range + " scaled by " +
+           (scale < 1 ? "1/" + format("%g", 1.0 / scale) : format("%g", scale));
+    return out;
+}
+
+}  // namespace
+
+Mat convertForImageFormat(const String& path, InputArray imageIn, std::string* note) {
+    if (note) note->clear();
+    const Mat image = imageIn.getMat();
+    const std::string ext = lowerExtension(path);
+    // Depth first (it gives 8 bits, 16 bits or float, which every channel conversion takes),
+    // then the channels; the note says the channels first.
+    std::string depthNote, channelWords;
+    const Mat deep = convertDepth(path, ext, image, depthNote);
+    const Mat out = convertChannels(deep, imageFormatChannels(path), channelWords);
     if (note) {
-        *note = path + ": ." + ext + " does not store " + depthWords(from) + " pixels; wrote " + depthWords(to) +
-                ", the " + depthWords(from) + " image" + range + " scaled by " +
-                (scale < 1 ? "1/" + format("%g", 1.0 / scale) : format("%g", scale));
-        if (!channelNote.empty()) *note = channelNote + "; " + note->substr(path.size() + 2);
+        std::vector<std::string> said;
+        if (!channelWords.empty())
+            said.push_back("." + ext + " does not store " + std::to_string(image.channels()) +
+                           " channels; wrote " + channelWords);
+        if (!depthNote.empty()) said.push_back(depthNote);
+        for (size_t i = 0; i < said.size(); ++i) *note += (i ? "; " : path + ": ") + said[i];
     }
     return out;
 }

@@ -240,11 +240,6 @@ Mat segmentGrabCut(const Mat& img, const ProposeParams& params, double scale, co
     else
         color = img;
     // GrabCut's cost is per pixel and per iteration: run it small, upscale the mask.
-    if (img.cols < 3 || img.rows < 3)
-        CV_Error_(Error::StsBadArg,
-                  ("multicage: proposeMulticage: a %dx%d image is too small for GrabCut (it "
-                   "needs 3 pixels each way; try method threshold or saliency)",
-                   img.cols, img.rows));
     Mat small;
     const double longer = std::max(img.cols, img.rows);
     const Point2d s = shrink(color, small, params.grabCutMaxSide / longer, INTER_AREA);

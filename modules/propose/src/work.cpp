@@ -44,7 +44,9 @@ Work resolve(Size full, const ProposeParams& p) {
                            : full;
     // GrabCut and the frame strips need 3 pixels each way; a sliver has no room for a cage.
     if (w.size.width < 3 || w.size.height < 3)
-        CV_Error_(Error::StsBadSize,  // (the only StsBadSize of a proposal: resizeCage's cue)
+        // StsBadSize: resizeCage's cue to scale such a strip plainly (a proposal's other
+        // StsBadSize, protectFeatures' image and cage of different sizes, cannot reach it)
+        CV_Error_(Error::StsBadSize,
                   ("multicage: proposeMulticage: a %dx%d image is too thin to propose a cage in "
                    "(its working copy is %dx%d; each side needs 3 pixels)",
                    full.width, full.height, w.size.width, w.size.height));
