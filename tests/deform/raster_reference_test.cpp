@@ -238,6 +238,21 @@ TEST(RasterReference, RandomAndFoldedMeshesBitForBit) {
             }
 }
 
+// Triangles wider than 256 px (a coarse grid, or a cell stretched that far): the AVX-512 kernel
+// fills a long span 8 pixels at a time, and a chunk whose remaining length was 256..263 px once
+// got the mask of length mod 256 (BZHI reads 8 bits of its index): 8 pixels left undrawn.
+TEST(RasterReference, SpansLongerThan256PixelsBitForBit) {
+    RNG rng(5);
+    const Size size(700, 40);
+    for (int step : {300, 350, 699})
+        for (float jitter : {0.f, 3.f}) {
+            Mat positions, rest;
+            randomMesh(rng, size, step, jitter, positions, rest);
+            expectSameAsReference(positions, rest, size, noArray(),
+                                  format("700x40 step %d jitter %.0f", step, jitter));
+        }
+}
+
 TEST(RasterReference, DegenerateFarAndNonFiniteNodesBitForBit) {
     RNG rng(4);
     const Size size(120, 90);

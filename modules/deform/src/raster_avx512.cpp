@@ -165,7 +165,9 @@ MULTICAGE_V4 inline void fillSpan(double mxx, double myx, double bx, double by, 
     const __m512d mxxv = _mm512_set1_pd(mxx), myxv = _mm512_set1_pd(myx);
     const __m512d bxv = _mm512_set1_pd(bx), byv = _mm512_set1_pd(by);
     for (int x = xl; x <= xr; x += 8) {
-        const __mmask8 lanes = static_cast<__mmask8>(_bzhi_u32(0xff, unsigned(xr - x + 1)));
+        // At most 8: BZHI reads only the low 8 bits of its index (a remaining 256 would give 0).
+        const __mmask8 lanes =
+            static_cast<__mmask8>(_bzhi_u32(0xff, unsigned(std::min(xr - x + 1, 8))));
         const __m512d xv = _mm512_cvtepi32_pd(_mm256_add_epi32(_mm256_set1_epi32(x), iota));
         // std::min(std::max(v, lo), hi): max_ps(lo, v) and min_ps(hi, .) pick v when it is NaN,
         // as std::max and std::min do.
