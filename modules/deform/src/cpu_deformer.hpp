@@ -7,6 +7,8 @@
 #include <opencv2/multicage/internal/backend_contract.hpp>
 #include <vector>
 
+#include "mesh_pull.hpp"
+
 namespace cv {
 namespace multicage {
 
@@ -64,12 +66,23 @@ class RasterMesh {
     Drawn in bands of rows, in parallel; bandDone(y0, y1), if given, is called on the band's
     thread as soon as rows [y0, y1) are final (to sample them while they are in cache). */
     void draw(Mat& mapx, Mat& mapy, const std::function<void(int, int)>& bandDone = {});
+    /** Whether draw() may pull the maps of a mesh that folds nowhere pixel by pixel (the default)
+    instead of drawing every triangle: within a few float roundings of the raster's values. */
+    void setPullPreferred(bool pull) { pullPreferred_ = pull; }
+    /** Whether draw() pulls the current nodes and frame: a binding's grid of step 1 or 2 that
+    folds nowhere (raster::pullable), pulling preferred, on a CPU with the pull kernel. */
+    bool pulls() const;
 
   private:
     template <typename F>
     void forEachRingNode(F&& f) const;
     template <typename RestNode>
     void resetWith(Size grid, Size outputSize, bool separable, RestNode&& rest);
+    raster::PullMesh pullMesh() const;
+    // rowMin_ and rowMax_ for the current nodes.
+    void findRowExtents();
+    // The largest grid step whose meshes are pulled (draw()).
+    static constexpr int kMaxPullStep = 2;
     // Row ey of the rest mesh: R_'s, or made in `buffer` from restX_ and restY_.
     const Point2f* restRow(int ey, std::vector<Point2f>& buffer) const;
     std::vector<Mat> owners_;  // the memory of P_ and R_
@@ -78,6 +91,8 @@ class RasterMesh {
     Point2f lo_, hi_;
     Size rest_, out_;  // the rest frame's size (the ring's parameter), the size drawn
     std::vector<float> rowMin_, rowMax_;
+    int gridStep_ = 0;  // a binding's grid step (its nodes rest at multiples of it), else 0
+    bool pullPreferred_ = true;
 };
 
 }  // namespace multicage

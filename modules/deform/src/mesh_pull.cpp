@@ -1,0 +1,421 @@
+// The pull kernel: inverse maps found pixel by pixel, each pixel walking to its triangle.
+//
+// Why: at grid step 1 a cell covers about one pixel, so the raster kernel spends its time on
+// what a triangle costs whatever it covers (set-up, bounds, spans): 1.57 M triangles at
+// 1024x768, about as long as reading all the coefficients. Where the mesh folds nowhere a pixel
+// lies in exactly one triangle (pullable), so it can be found from the pixel instead: 16 pixels
+// in lanes, a guess extrapolated from the two rows above, and Newton's method on the piecewise
+// linear map, each step one cell's 4 nodes per pixel. 96% of the vectors settle in one step at
+// 1024x768 (bench --augment's pose). The 16 pixels' cells mostly lie in one or two rows of
+// cells within 31 columns: their nodes come from runs of 32 nodes loaded whole and looked up in
+// registers, gathers (slow) only otherwise; the rows three ahead are prefetched, since the
+// nodes were written by Binding::apply long enough ago to have left the cache. The cost is per
+// pixel whatever the cell size, so at grid steps above 2 the raster is faster (RasterMesh::draw).
+
+// First, before any other header (clang-format would sort it among them): the rasteriser's
+// floating-point options.
+// clang-format off
+#include "raster_options.hpp"
+// clang-format on
+
+#include "mesh_pull.hpp"
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <opencv2/core/utility.hpp>
+#include <opencv2/multicage/internal/backend_contract.hpp>
+#include <vector>
+
+#if defined(__GNUC__) && defined(__x86_64__)
+#if !defined(__clang__)
+// GCC 12's AVX-512 headers start vectors from _mm512_undefined_*(), which -W(maybe-)uninitialized
+// reports at every use.
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+#pragma GCC diagnostic ignored "-Wuninitialized"
+#endif
+#include <immintrin.h>
+#define MULTICAGE_AVX512_PULL 1
+#define MULTICAGE_PULL_TARGET __attribute__((target("avx512f,avx512vl,avx512dq,avx512bw,bmi2")))
+#endif
+
+namespace cv {
+namespace multicage {
+namespace raster {
+
+#if defined(MULTICAGE_AVX512_PULL)
+namespace {
+
+// A triangle is pullable when cross(e1, e2) exceeds this part of |e1.x e2.y| + |e1.y e2.x|: its
+// angles are not within 1e-4 rad of 0 or pi, so the float barycentrics of the walk hold 3 digits
+// more than the edge tolerance needs.
+constexpr float kSliver = 1e-4f;
+
+// 16 points (x, y interleaved in lo, then hi) as x and y planes.
+MULTICAGE_PULL_TARGET inline void deinterleave(__m512 lo, __m512 hi, __m512& x, __m512& y) {
+    const __m512i even = _mm512_setr_epi32(0, 2, 4, 6, 8, 10, 12, 14, 16, 18, 20, 22, 24, 26, 28, 30);
+    x = _mm512_permutex2var_ps(lo, even, hi);
+    y = _mm512_permutex2var_ps(lo, _mm512_add_epi32(even, _mm512_set1_epi32(1)), hi);
+}
+
+// Nodes p[0..n) (n <= 16) as x and y planes (0 past n); masked loads read nothing past p[n - 1].
+MULTICAGE_PULL_TARGET inline void loadPlanes(const Point2f* p, int n, __m512& x, __m512& y) {
+    const float* f = &p->x;
+    if (n >= 16) return deinterleave(_mm512_loadu_ps(f), _mm512_loadu_ps(f + 16), x, y);
+    const unsigned lo = 2u * std::min(std::max(n, 0), 8), hi = 2u * std::max(n - 8, 0);
+    deinterleave(_mm512_maskz_loadu_ps(static_cast<__mmask16>(_bzhi_u32(0xffff, lo)), f),
+                 _mm512_maskz_loadu_ps(static_cast<__mmask16>(_bzhi_u32(0xffff, hi)), f + 16), x,
+                 y);
+}
+
+// The triangles of cells [0, cells) of node rows p0, p1 (kCellTriangles: (a,b,c) and (b,d,c))
+// that are not clearly positive; NaN and infinite nodes count (their tests are false).
+MULTICAGE_PULL_TARGET int notPositiveInRow(const Point2f* p0, const Point2f* p1, int cells) {
+    static_assert(kCellTriangles[0][1][0] == 1 && kCellTriangles[0][2][1] == 1 &&
+                      kCellTriangles[1][0][0] == 1 && kCellTriangles[1][1][0] == 1 &&
+                      kCellTriangles[1][1][1] == 1 && kCellTriangles[1][2][1] == 1,
+                  "the legs below follow kCellTriangles");
+    const __m512 sliver = _mm512_set1_ps(kSliver);
+    auto positive = [&](__m512 e1x, __m512 e1y, __m512 e2x, __m512 e2y) {
+        const __m512 l = _mm512_mul_ps(e1x, e2y), r = _mm512_mul_ps(e1y, e2x);
+        return _mm512_cmp_ps_mask(
+            _mm512_sub_ps(l, r),
+            _mm512_mul_ps(sliver, _mm512_add_ps(_mm512_abs_ps(l), _mm512_abs_ps(r))), _CMP_GT_OQ);
+    };
+    int bad = 0;
+    for (int k = 0; k < cells; k += 16) {
+        const int n = std::min(16, cells - k);
+        __m512 ax, ay, bx, by, cx, cy, dx, dy;
+        loadPlanes(p0 + k, n, ax, ay), loadPlanes(p0 + k + 1, n, bx, by);
+        loadPlanes(p1 + k, n, cx, cy), loadPlanes(p1 + k + 1, n, dx, dy);
+        const __mmask16 good =
+            positive(_mm512_sub_ps(bx, ax), _mm512_sub_ps(by, ay), _mm512_sub_ps(cx, ax),
+                     _mm512_sub_ps(cy, ay)) &
+            positive(_mm512_sub_ps(dx, bx), _mm512_sub_ps(dy, by), _mm512_sub_ps(cx, bx),
+                     _mm512_sub_ps(cy, by));
+        bad += _mm_popcnt_u32(_bzhi_u32(~unsigned(good), unsigned(n)));
+    }
+    return bad;
+}
+
+
+constexpr int kMaxSteps = 12;        // then the band is drawn by the raster kernel
+constexpr float kEdge = 1e-6f;       // barycentric tolerance: shared edges leave no crack
+constexpr float kFrameMargin = 2e-3f;  // px: nearer the frame than this, the raster decides
+
+// The x and y planes of 16 nodes gathered from P at idx (lanes of `lanes`).
+MULTICAGE_PULL_TARGET inline void gatherNodes(const double* P, __m512i idx, __mmask16 lanes,
+                                             __m512& x, __m512& y) {
+    const __m512d lo = _mm512_mask_i32gather_pd(_mm512_setzero_pd(), static_cast<__mmask8>(lanes),
+                                                _mm512_castsi512_si256(idx), P, 8);
+    const __m512d hi =
+        _mm512_mask_i32gather_pd(_mm512_setzero_pd(), static_cast<__mmask8>(lanes >> 8),
+                                 _mm512_extracti64x4_epi64(idx, 1), P, 8);
+    deinterleave(_mm512_castpd_ps(lo), _mm512_castpd_ps(hi), x, y);
+}
+
+// Up to 32 consecutive nodes of a row as x and y planes (two registers each), and lookups in them.
+struct NodeRun {
+    __m512 x0, x1, y0, y1;
+    // Nodes p[0..min(32, available)).
+    MULTICAGE_PULL_TARGET inline void load(const Point2f* p, int available) {
+        loadPlanes(p, std::min(available, 16), x0, y0);
+        loadPlanes(p + 16, std::min(available - 16, 16), x1, y1);
+    }
+    // Nodes i (0..31) of the run.
+    MULTICAGE_PULL_TARGET inline void lookup(__m512i i, __m512& x, __m512& y) const {
+        x = _mm512_permutex2var_ps(x0, i, x1), y = _mm512_permutex2var_ps(y0, i, y1);
+    }
+    // The same into the lanes of `lanes` of x and y.
+    MULTICAGE_PULL_TARGET inline void lookupInto(__m512i i, __mmask16 lanes, __m512& x,
+                                                 __m512& y) const {
+        x = _mm512_mask_mov_ps(x, lanes, _mm512_permutex2var_ps(x0, i, x1));
+        y = _mm512_mask_mov_ps(y, lanes, _mm512_permutex2var_ps(y0, i, y1));
+    }
+};
+
+// The frame's edges as lines n.p + c (n a unit normal pointing inside): signed distances.
+struct FrameLines {
+    float nx[4], ny[4], c[4];
+};
+
+}  // namespace
+
+bool pullable(const PullMesh& m) {
+    const int C = m.cols, R = m.rows;
+    if (C < 2 || R < 2) return false;
+    // The ring's outer boundary: the frame quadrilateral TL, TR, BR, BL, convex and turning as
+    // the rest grid does (cross((1,0), (0,1)) > 0 in the y-down image).
+    const Point2f* P = m.nodes;
+    const Point2d q[4] = {P[0], P[C - 1], P[size_t(R - 1) * C + C - 1], P[size_t(R - 1) * C]};
+    for (int i = 0; i < 4; ++i) {
+        const Point2d u = q[(i + 1) % 4] - q[i], v = q[(i + 2) % 4] - q[(i + 1) % 4];
+        if (!(u.x * v.y - u.y * v.x > 0)) return false;
+    }
+    std::atomic<int> bad{0};
+    parallel_for_(
+        Range(0, R - 1),
+        [&](const Range& r) {
+            int local = 0;
+            for (int ey = r.start; ey < r.end && local == 0; ++ey)
+                local += notPositiveInRow(P + size_t(ey) * C, P + size_t(ey + 1) * C, C - 1);
+            bad += local;
+        },
+        std::max(1.0, (R - 1) / 64.0));
+    return bad == 0;
+}
+
+MULTICAGE_PULL_TARGET
+bool pullRows(const PullMesh& m, int y0, int y1, Mat& mapx, Mat& mapy) {
+    const int W = mapx.cols, H = mapx.rows, C = m.cols;
+    const int cellsX = m.cols - 1, cellsY = m.rows - 1;
+    const double* P = reinterpret_cast<const double*>(m.nodes);
+    FrameLines frame;
+    {
+        const Point2f* N = m.nodes;
+        const Point2f q[4] = {N[0], N[C - 1], N[size_t(m.rows - 1) * C + C - 1],
+                              N[size_t(m.rows - 1) * C]};
+        for (int i = 0; i < 4; ++i) {
+            const Point2d e = Point2d(q[(i + 1) % 4]) - Point2d(q[i]);
+            const double len = std::sqrt(e.dot(e));
+            const double nx = -e.y / len, ny = e.x / len;
+            frame.nx[i] = float(nx), frame.ny[i] = float(ny);
+            frame.c[i] = float(-(nx * q[i].x + ny * q[i].y));
+        }
+    }
+    // A guess for the first row: nodes 1..cols-2 rest on pixels 0..W-1 of a frame at rest.
+    const float sx = W > 1 ? float(m.cols - 3) / float(W - 1) : 0.f;
+    const float sy = H > 1 ? float(m.rows - 3) / float(H - 1) : 0.f;
+    // Where each pixel of the two rows above ended, in cell coordinates (cell + barycentric).
+    thread_local std::vector<float> estimates;
+    estimates.resize(4 * (size_t(W) + 16));
+    float* e1x = estimates.data();
+    float* e1y = e1x + W + 16;
+    float* e2x = e1y + W + 16;
+    float* e2y = e2x + W + 16;
+
+    const __m512 iota =
+        _mm512_setr_ps(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
+    const __m512 zero = _mm512_setzero_ps(), one = _mm512_set1_ps(1.f);
+    const __m512 edgeLo = _mm512_set1_ps(-kEdge), edgeHi = _mm512_set1_ps(1.f + kEdge);
+    const __m512i cols = _mm512_set1_epi32(C);
+    for (int y = y0; y < y1; ++y) {
+        float* mx = mapx.ptr<float>(y);
+        float* my = mapy.ptr<float>(y);
+        const int seen = y - y0;  // rows of this band already pulled
+        const __m512 py = _mm512_set1_ps(float(y));
+        for (int x0 = 0; x0 < W; x0 += 16) {
+            // (at most 16: BZHI reads only the low 8 bits of its index)
+            const __mmask16 lanes =
+                static_cast<__mmask16>(_bzhi_u32(0xffff, unsigned(std::min(W - x0, 16))));
+            const __m512 px = _mm512_add_ps(_mm512_set1_ps(float(x0)), iota);
+            __m512 gx, gy;
+            if (seen >= 2) {  // extrapolated from the two rows above
+                const __m512 ax = _mm512_loadu_ps(e1x + x0), ay = _mm512_loadu_ps(e1y + x0);
+                gx = _mm512_sub_ps(_mm512_add_ps(ax, ax), _mm512_loadu_ps(e2x + x0));
+                gy = _mm512_sub_ps(_mm512_add_ps(ay, ay), _mm512_loadu_ps(e2y + x0));
+            } else if (seen == 1) {
+                gx = _mm512_loadu_ps(e1x + x0);
+                gy = _mm512_add_ps(_mm512_loadu_ps(e1y + x0), _mm512_set1_ps(sy));
+            } else {
+                gx = _mm512_add_ps(one, _mm512_mul_ps(px, _mm512_set1_ps(sx)));
+                gy = _mm512_set1_ps(1.f + float(y) * sy);
+            }
+            // The guess as a cell and coordinates in it: a walk's step is then decided by its own
+            // cell's coordinates (a pixel 1e-6 left of a cell, whose absolute coordinate 634 -
+            // 1e-6 rounds to 634 in float, still goes left).
+            const __m512 big = _mm512_set1_ps(float(std::max(cellsX, cellsY) + 1));
+            gx = _mm512_min_ps(_mm512_max_ps(gx, _mm512_set1_ps(-1.f)), big);  // NaN: -1
+            gy = _mm512_min_ps(_mm512_max_ps(gy, _mm512_set1_ps(-1.f)), big);
+            __m512 gu = _mm512_roundscale_ps(gx, _MM_FROUND_TO_NEG_INF);
+            __m512 gv = _mm512_roundscale_ps(gy, _MM_FROUND_TO_NEG_INF);
+            __m512i gcx = _mm512_cvttps_epi32(gu), gcy = _mm512_cvttps_epi32(gv);
+            gu = _mm512_sub_ps(gx, gu), gv = _mm512_sub_ps(gy, gv);
+            __mmask16 active = lanes, covered = 0;
+            __m512i cellX = _mm512_setzero_si512(), cellY = _mm512_setzero_si512();
+            __m512 fu = zero, fv = zero;
+            const __m512i zeroI = _mm512_setzero_si512(), oneI = _mm512_set1_epi32(1);
+            const __m512i lastXi = _mm512_set1_epi32(cellsX - 1), lastYi = _mm512_set1_epi32(cellsY - 1);
+            for (int step = 0; active; ++step) {
+                if (step == kMaxSteps) return false;
+                // The cell of the guess, clamped to the mesh.
+                const __m512i cx = _mm512_min_epi32(
+                    _mm512_max_epi32(_mm512_add_epi32(gcx, _mm512_cvttps_epi32(_mm512_roundscale_ps(
+                                                              gu, _MM_FROUND_TO_NEG_INF))),
+                                     zeroI),
+                    lastXi);
+                const __m512i cy = _mm512_min_epi32(
+                    _mm512_max_epi32(_mm512_add_epi32(gcy, _mm512_cvttps_epi32(_mm512_roundscale_ps(
+                                                              gv, _MM_FROUND_TO_NEG_INF))),
+                                     zeroI),
+                    lastYi);
+                __m512 ax, ay, bx, by, cxv, cyv, dx, dy;
+                // The cells of 16 neighbouring pixels mostly lie in one row of cells, within 31
+                // cells: their nodes are then read from two runs of 32 nodes (loads and in-register
+                // lookups), else gathered one by one.
+                const int firstX = _mm512_mask_reduce_min_epi32(active, cx);
+                const int row = _mm512_mask_reduce_min_epi32(active, cy);
+                const __m512i local = _mm512_sub_epi32(cx, _mm512_set1_epi32(firstX));
+                const __mmask16 lower = _mm512_cmpgt_epi32_mask(cy, _mm512_set1_epi32(row));
+                if (!(active & ~(_mm512_cmple_epi32_mask(cy, _mm512_set1_epi32(row + 1)) &
+                                 _mm512_cmple_epi32_mask(local, _mm512_set1_epi32(30))))) {
+                    // Cells in rows `row` and `row + 1`: node runs of rows row..row+2, the lanes of
+                    // the lower cell row taking theirs from the runs one row down.
+                    const __m512i local1 = _mm512_add_epi32(local, oneI);
+                    if (step == 0 && row + 3 < m.rows) {  // the next rows' nodes, on their way
+                        const char* ahead =
+                            reinterpret_cast<const char*>(m.nodes + size_t(row + 3) * C + firstX);
+                        for (int line = 0; line < 4; ++line)
+                            _mm_prefetch(ahead + 64 * line, _MM_HINT_T0);
+                    }
+                    NodeRun r0, r1;
+                    r0.load(m.nodes + size_t(row) * C + firstX, C - firstX);
+                    r1.load(m.nodes + size_t(row + 1) * C + firstX, C - firstX);
+                    r0.lookup(local, ax, ay), r0.lookup(local1, bx, by);
+                    r1.lookup(local, cxv, cyv), r1.lookup(local1, dx, dy);
+                    if (active & lower) {
+                        NodeRun r2;
+                        r2.load(m.nodes + size_t(row + 2) * C + firstX, C - firstX);
+                        r1.lookupInto(local, lower, ax, ay), r1.lookupInto(local1, lower, bx, by);
+                        r2.lookupInto(local, lower, cxv, cyv), r2.lookupInto(local1, lower, dx, dy);
+                    }
+                } else {
+                    const __m512i ia = _mm512_add_epi32(_mm512_mullo_epi32(cy, cols), cx);
+                    const __m512i ic = _mm512_add_epi32(ia, cols);
+                    gatherNodes(P, ia, active, ax, ay);
+                    gatherNodes(P, _mm512_add_epi32(ia, oneI), active, bx, by);
+                    gatherNodes(P, ic, active, cxv, cyv);
+                    gatherNodes(P, _mm512_add_epi32(ic, oneI), active, dx, dy);
+                }
+                // Triangle 0 (a, b, c): p = a + u (b - a) + v (c - a).
+                const __m512 e1x_ = _mm512_sub_ps(bx, ax), e1y_ = _mm512_sub_ps(by, ay);
+                const __m512 e2x_ = _mm512_sub_ps(cxv, ax), e2y_ = _mm512_sub_ps(cyv, ay);
+                const __m512 qx = _mm512_sub_ps(px, ax), qy = _mm512_sub_ps(py, ay);
+                const __m512 inv0 = _mm512_div_ps(
+                    one, _mm512_sub_ps(_mm512_mul_ps(e1x_, e2y_), _mm512_mul_ps(e1y_, e2x_)));
+                const __m512 u = _mm512_mul_ps(
+                    _mm512_sub_ps(_mm512_mul_ps(qx, e2y_), _mm512_mul_ps(qy, e2x_)), inv0);
+                const __m512 v = _mm512_mul_ps(
+                    _mm512_sub_ps(_mm512_mul_ps(e1x_, qy), _mm512_mul_ps(e1y_, qx)), inv0);
+                // Triangle 1 (b, d, c): p = d + s (c - d) + t (b - d).
+                const __m512 f1x = _mm512_sub_ps(cxv, dx), f1y = _mm512_sub_ps(cyv, dy);
+                const __m512 f2x = _mm512_sub_ps(bx, dx), f2y = _mm512_sub_ps(by, dy);
+                const __m512 rx = _mm512_sub_ps(px, dx), ry = _mm512_sub_ps(py, dy);
+                const __m512 inv1 = _mm512_div_ps(
+                    one, _mm512_sub_ps(_mm512_mul_ps(f1x, f2y), _mm512_mul_ps(f1y, f2x)));
+                const __m512 s = _mm512_mul_ps(
+                    _mm512_sub_ps(_mm512_mul_ps(rx, f2y), _mm512_mul_ps(ry, f2x)), inv1);
+                const __m512 t = _mm512_mul_ps(
+                    _mm512_sub_ps(_mm512_mul_ps(f1x, ry), _mm512_mul_ps(f1y, rx)), inv1);
+                auto inside = [&](__m512 a, __m512 b) {
+                    return static_cast<__mmask16>(
+                        _mm512_cmp_ps_mask(a, edgeLo, _CMP_GE_OQ) &
+                        _mm512_cmp_ps_mask(b, edgeLo, _CMP_GE_OQ) &
+                        _mm512_cmp_ps_mask(_mm512_add_ps(a, b), edgeHi, _CMP_LE_OQ));
+                };
+                const __mmask16 in0 = inside(u, v), in1 = inside(s, t);
+                // Cell coordinates of p by triangle 1 where it holds p (later in drawing order, so
+                // it wins a shared edge as in the raster) or, neither holding it, where p lies on
+                // its side of the diagonal; else by triangle 0.
+                const __mmask16 half0 = _mm512_cmp_ps_mask(_mm512_add_ps(u, v), one, _CMP_LE_OQ);
+                const __mmask16 by1 = in1 | (static_cast<__mmask16>(~in0) & ~half0);
+                const __m512 U = _mm512_mask_sub_ps(u, by1, one, s);
+                const __m512 V = _mm512_mask_sub_ps(v, by1, one, t);
+                const __mmask16 found = active & (in0 | in1);
+                cellX = _mm512_mask_mov_epi32(cellX, found, cx);
+                cellY = _mm512_mask_mov_epi32(cellY, found, cy);
+                fu = _mm512_mask_mov_ps(fu, found, U), fv = _mm512_mask_mov_ps(fv, found, V);
+                covered |= found;
+                active &= static_cast<__mmask16>(~found);
+                // Newton's step: the cell coordinates of p by this cell's affine map, at most a few
+                // cells away (then one) so that a poor guess cannot oscillate far.
+                const float reach = step < 6 ? 4.f : 1.f;
+                gcx = cx, gcy = cy;
+                gu = _mm512_min_ps(_mm512_max_ps(U, _mm512_set1_ps(-reach)),
+                                   _mm512_set1_ps(1.f + reach));
+                gv = _mm512_min_ps(_mm512_max_ps(V, _mm512_set1_ps(-reach)),
+                                   _mm512_set1_ps(1.f + reach));
+                // A walk that would leave the mesh from its border cells: p is outside the frame
+                // (uncovered, done), clearly inside (it goes on along the border), or on it.
+                const __mmask16 leaving =
+                    active & ((_mm512_cmpeq_epi32_mask(cx, zeroI) &
+                               _mm512_cmp_ps_mask(gu, zero, _CMP_LT_OQ)) |
+                              (_mm512_cmpeq_epi32_mask(cx, lastXi) &
+                               _mm512_cmp_ps_mask(gu, one, _CMP_GE_OQ)) |
+                              (_mm512_cmpeq_epi32_mask(cy, zeroI) &
+                               _mm512_cmp_ps_mask(gv, zero, _CMP_LT_OQ)) |
+                              (_mm512_cmpeq_epi32_mask(cy, lastYi) &
+                               _mm512_cmp_ps_mask(gv, one, _CMP_GE_OQ)));
+                if (leaving) {
+                    __mmask16 outside = 0, inside = 0xffff;
+                    for (int i = 0; i < 4; ++i) {
+                        const __m512 d = _mm512_add_ps(
+                            _mm512_add_ps(_mm512_mul_ps(_mm512_set1_ps(frame.nx[i]), px),
+                                          _mm512_mul_ps(_mm512_set1_ps(frame.ny[i]), py)),
+                            _mm512_set1_ps(frame.c[i]));
+                        outside |=
+                            _mm512_cmp_ps_mask(d, _mm512_set1_ps(-kFrameMargin), _CMP_LT_OQ);
+                        inside &= _mm512_cmp_ps_mask(d, _mm512_set1_ps(kFrameMargin), _CMP_GT_OQ);
+                    }
+                    if (leaving & ~outside & ~inside) return false;  // on the frame
+                    active &= static_cast<__mmask16>(~(leaving & outside));
+                }
+            }
+            // Rest points: X0 + U (X1 - X0), Y0 + V (Y1 - Y0) of the cell each pixel lies in, the
+            // rest of node column ex being node min(max(ex - 1, 0), m - 1)'s (the ring's nearest).
+            auto rest = [&](__m512i node, int count, float last) {
+                const __m512i k = _mm512_min_epi32(_mm512_max_epi32(node, zeroI),
+                                                   _mm512_set1_epi32(count - 1));
+                return _mm512_min_ps(_mm512_mul_ps(_mm512_cvtepi32_ps(k), _mm512_set1_ps(m.step)),
+                                     _mm512_set1_ps(last));
+            };
+            const __m512 X0 = rest(_mm512_sub_epi32(cellX, oneI), m.gridSize.width, m.hi.x);
+            const __m512 X1 = rest(cellX, m.gridSize.width, m.hi.x);
+            const __m512 Y0 = rest(_mm512_sub_epi32(cellY, oneI), m.gridSize.height, m.hi.y);
+            const __m512 Y1 = rest(cellY, m.gridSize.height, m.hi.y);
+            const __m512 rx = _mm512_add_ps(X0, _mm512_mul_ps(fu, _mm512_sub_ps(X1, X0)));
+            const __m512 ry = _mm512_add_ps(Y0, _mm512_mul_ps(fv, _mm512_sub_ps(Y1, Y0)));
+            const __m512 none = _mm512_set1_ps(kUncovered);
+            const __m512 outX = _mm512_mask_mov_ps(
+                none, covered,
+                _mm512_min_ps(_mm512_set1_ps(m.hi.x), _mm512_max_ps(_mm512_set1_ps(m.lo.x), rx)));
+            const __m512 outY = _mm512_mask_mov_ps(
+                none, covered,
+                _mm512_min_ps(_mm512_set1_ps(m.hi.y), _mm512_max_ps(_mm512_set1_ps(m.lo.y), ry)));
+            _mm512_mask_storeu_ps(mx + x0, lanes, outX);
+            _mm512_mask_storeu_ps(my + x0, lanes, outY);
+            // Where each pixel ended, for the guesses of the next rows (uncovered: the last guess).
+            const __m512 ex = _mm512_mask_add_ps(_mm512_add_ps(_mm512_cvtepi32_ps(gcx), gu), covered,
+                                                 _mm512_cvtepi32_ps(cellX), fu);
+            const __m512 ey = _mm512_mask_add_ps(_mm512_add_ps(_mm512_cvtepi32_ps(gcy), gv), covered,
+                                                 _mm512_cvtepi32_ps(cellY), fv);
+            _mm512_mask_storeu_ps(e2x + x0, lanes, ex);
+            _mm512_mask_storeu_ps(e2y + x0, lanes, ey);
+        }
+        std::swap(e1x, e2x), std::swap(e1y, e2y);  // this row's estimates become the row above
+    }
+    return true;
+}
+
+bool havePullKernel() {
+    static const bool avx512 =
+        __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512vl") &&
+        __builtin_cpu_supports("avx512dq") && __builtin_cpu_supports("avx512bw") &&
+        __builtin_cpu_supports("bmi2");
+    return avx512;
+}
+#else
+bool pullable(const PullMesh&) {
+    return false;
+}
+bool pullRows(const PullMesh&, int, int, Mat&, Mat&) {
+    return false;
+}
+bool havePullKernel() {
+    return false;
+}
+#endif
+
+}  // namespace raster
+}  // namespace multicage
+}  // namespace cv

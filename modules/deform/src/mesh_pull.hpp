@@ -1,0 +1,44 @@
+// The pull kernel (private): inverse maps of a mesh that folds nowhere, found pixel by pixel.
+#ifndef MULTICAGE_MESH_PULL_HPP
+#define MULTICAGE_MESH_PULL_HPP
+
+#include <opencv2/core.hpp>
+
+namespace cv {
+namespace multicage {
+namespace raster {
+
+/** A binding's node grid with its ring (RasterMesh's layout): deformed nodes ((n+2) x (m+2)
+CV_32FC2, continuous) around grid nodes that rest at (min(gx step, hi.x), min(gy step, hi.y)), the
+ring's nodes at rest on their nearest grid node. */
+struct PullMesh {
+    const Point2f* nodes;
+    int cols, rows;  // nodes per row (m + 2), node rows (n + 2)
+    Size gridSize;   // m, n
+    float step;
+    Point2f lo, hi;  // the rest nodes' extent, the maps' clamp (as the raster's)
+};
+
+/** Whether every triangle of the mesh (kCellTriangles of each cell, ring included) keeps the rest
+grid's orientation by a clear margin (no fold, no sliver, every node finite), and the ring's outer
+boundary is a convex quadrilateral of that orientation. Then every pixel centre inside the frame lies
+in exactly one triangle (the boundary winds once around it, and each triangle counts +1), except on
+shared edges, where the triangles' affine maps agree: a pixel's value does not depend on the order
+triangles are drawn in, and it can be found from the pixel. */
+bool pullable(const PullMesh& mesh);
+
+/** Rows [y0, y1) of the inverse maps of a pullable mesh, each pixel found by walking from a guess
+to the triangle that holds it: the rest point (clamped to [lo, hi]) of that triangle, or kUncovered
+outside the frame. False when some pixel's walk did not settle (a frame edge through a pixel
+centre, or a mesh distorted beyond the walk's reach): the caller then draws the rows with the
+raster kernel. Float arithmetic: the values are the raster's within a few float roundings. */
+bool pullRows(const PullMesh& mesh, int y0, int y1, Mat& mapx, Mat& mapy);
+
+/** Whether this build and CPU have the pull kernel (AVX-512). */
+bool havePullKernel();
+
+}  // namespace raster
+}  // namespace multicage
+}  // namespace cv
+
+#endif

@@ -1,0 +1,189 @@
+// The pull kernel (mesh_pull.cpp) against the rasteriser. Where a binding's mesh folds nowhere the
+// CPU backend finds each pixel's triangle instead of drawing every triangle: it must cover the
+// same pixels with the same rest points, within float rounding. Where the mesh folds, a node is
+// not finite, the frame is not convex, or the frame runs through pixel centres, the rasteriser
+// decides, bit for bit.
+#include <cfloat>
+#include <cstring>
+#include <functional>
+
+#include "cpu_deformer.hpp"
+#include "mesh_pull.hpp"
+#include "testing.hpp"
+
+using namespace cv;
+using namespace cv::multicage;
+
+namespace {
+
+struct Maps {
+    Mat x, y;
+    bool pulled = false;  // RasterMesh::pulls() before drawing
+};
+
+// The maps of a pose of a binding, pulled where the mesh lets it (pull) or drawn; `edit` may
+// change the nodes (ring included) before they are drawn, `frame` replace the pose's frame.
+Maps drawMaps(const Binding& b, const std::vector<Point2f>& pose, bool pull,
+              const std::vector<Point2f>& frame = {},
+              const std::function<void(Mat& nodes)>& edit = {}) {
+    RasterMesh mesh;
+    mesh.reset(b);
+    std::vector<Point2f> v = b.completePose(pose);
+    if (!frame.empty()) std::copy(frame.begin(), frame.end(), v.end() - 4);
+    Mat nodes = mesh.nodes();
+    b.apply(v, nodes);
+    const Point2f* corners = &v[v.size() - 4];
+    mesh.setFrame(corners);
+    mesh.setOutputSize(frameOutputSize(corners, b.imageSize));
+    if (edit) {
+        Mat whole = nodes;  // the view's parent: the mesh with its ring
+        Size parent;
+        Point offset;
+        whole.locateROI(parent, offset);
+        whole.adjustROI(offset.y, parent.height - offset.y - nodes.rows, offset.x,
+                        parent.width - offset.x - nodes.cols);
+        edit(whole);
+    }
+    mesh.setPullPreferred(pull);
+    Maps m;
+    m.pulled = mesh.pulls();
+    m.x.create(mesh.outputSize(), CV_32F);
+    m.y.create(mesh.outputSize(), CV_32F);
+    mesh.draw(m.x, m.y);
+    return m;
+}
+
+bool sameBits(const Mat& a, const Mat& b) {
+    if (a.size() != b.size() || a.type() != b.type()) return false;
+    for (int y = 0; y < a.rows; ++y)
+        if (std::memcmp(a.ptr(y), b.ptr(y), a.cols * a.elemSize()) != 0) return false;
+    return true;
+}
+
+// Pixels covered by one map and not the other, and the largest difference of a value (in units
+// of a float rounding of the value) where both cover.
+struct Agreement {
+    int coverage = 0;
+    double roundings = 0;
+};
+
+Agreement compare(const Maps& a, const Maps& ref) {
+    Agreement out;
+    for (const auto& pair : {std::make_pair(&a.x, &ref.x), std::make_pair(&a.y, &ref.y)})
+        for (int y = 0; y < ref.x.rows; ++y)
+            for (int x = 0; x < ref.x.cols; ++x) {
+                const float v = pair.first->at<float>(y, x), r = pair.second->at<float>(y, x);
+                if ((v == kUncovered) != (r == kUncovered)) {
+                    ++out.coverage;
+                    continue;
+                }
+                const double ulp = FLT_EPSILON * std::max(1.f, std::abs(r));
+                out.roundings = std::max(out.roundings, std::abs(double(v) - r) / ulp);
+            }
+    return out;
+}
+
+}  // namespace
+
+// Smooth poses of the paper's lotus multicage, grid steps 1 and 2, rows of 97 and 33 px (part-
+// filled vectors of 16 pixels) and a frame moved as content-aware resizing moves it.
+TEST(MeshPull, PulledMapsAreTheRastersWithinFloatRounding) {
+    if (!raster::havePullKernel()) GTEST_SKIP() << "no AVX-512 here: every mesh is drawn";
+    int pulledCases = 0;
+    for (const Size size : {Size(320, 240), Size(97, 33), Size(33, 120)}) {
+        const Multicage cage = multicage_fixtures::lotusMulticage(size, 24);
+        for (int step : {1, 2}) {
+            const Binding b = bind(cage, MEAN_VALUE, step);
+            for (float amplitude : {0.f, 1.5f, 4.f}) {
+                const std::vector<Point2f> wave = multicage_fixtures::wavePose(cage, amplitude, 0.7f);
+                // The same wave in an image 5/4 as wide, as content-aware resizing poses it: every
+                // vertex and the frame stretched together.
+                const Size wider(size.width * 5 / 4, size.height);
+                std::vector<Point2f> stretched = wave;
+                for (Point2f& v : stretched) v.x = (v.x + 0.5f) * wider.width / size.width - 0.5f;
+                const std::array<Point2f, 4> wide = frameCorners(wider);
+                for (const std::vector<Point2f>& frame :
+                     {std::vector<Point2f>{}, std::vector<Point2f>(wide.begin(), wide.end())}) {
+                    const std::vector<Point2f>& pose = frame.empty() ? wave : stretched;
+                    const Maps pulled = drawMaps(b, pose, true, frame);
+                    const Maps drawn = drawMaps(b, pose, false, frame);
+                    const std::string what =
+                        format("%dx%d step %d amplitude %.1f%s", size.width, size.height, step,
+                               amplitude, frame.empty() ? "" : " resize frame");
+                    ASSERT_FALSE(drawn.pulled) << what;
+                    ASSERT_EQ(pulled.x.size(), drawn.x.size()) << what;
+                        if (!pulled.pulled) continue;  // folded: drawn (checked below)
+                    ++pulledCases;
+                    const Agreement a = compare(pulled, drawn);
+                    EXPECT_EQ(a.coverage, 0) << what << ": pixels covered by one map only";
+                    EXPECT_LE(a.roundings, 4.0) << what;
+                }
+            }
+        }
+    }
+    EXPECT_GE(pulledCases, 30) << "the pull kernel was hardly used: the test would prove nothing";
+}
+
+// What the pull kernel must leave to the rasteriser, and then gives the rasteriser's bits.
+TEST(MeshPull, FoldsBadNodesAndOddFramesAreDrawnBitForBit) {
+    if (!raster::havePullKernel()) GTEST_SKIP() << "no AVX-512 here: every mesh is drawn";
+    const Size size(97, 64);
+    const Multicage cage = multicage_fixtures::lotusMulticage(size, 24);
+    const Binding b = bind(cage, MEAN_VALUE, 1);
+    const std::vector<Point2f> smooth = multicage_fixtures::wavePose(cage, 2.f, 0.3f);
+    ASSERT_TRUE(drawMaps(b, smooth, true).pulled) << "the smooth pose itself must be pullable";
+
+    struct Case {
+        const char* what;
+        std::vector<Point2f> pose, frame;
+        std::function<void(Mat&)> edit;
+        bool pullable;  // RasterMesh::pulls() (the band may still be drawn)
+    };
+    const std::vector<Point2f> foldedFrame = {
+        {-0.5f, -0.5f}, {size.width - 0.5f, -0.5f}, {20.f, 30.f}, {-0.5f, size.height - 0.5f}};
+    const std::vector<Point2f> throughCentres = {
+        {0.f, 0.f}, {size.width - 1.f, 0.f}, {size.width - 1.f, size.height - 1.f},
+        {0.f, size.height - 1.f}};
+    const Case cases[] = {
+        {"a folded pose", multicage_fixtures::wavePose(cage, 30.f, 0.3f), {}, {}, false},
+        {"one node swapped with its neighbour", smooth, {},
+         [](Mat& n) { std::swap(n.at<Point2f>(30, 40), n.at<Point2f>(30, 41)); }, false},
+        {"a NaN node", smooth, {}, [](Mat& n) { n.at<Point2f>(10, 10).x = NAN; }, false},
+        {"an infinite node", smooth, {}, [](Mat& n) { n.at<Point2f>(12, 50).y = INFINITY; }, false},
+        {"a node 1e30 px away", smooth, {}, [](Mat& n) { n.at<Point2f>(40, 5).x = 1e30f; }, false},
+        {"a concave frame", smooth, foldedFrame, {}, false},
+        // convex and fold-free, but its edges run through pixel centres: pulled, and those
+        // pixels covered as the rasteriser's edge tolerance covers them
+        {"a frame through pixel centres", smooth, throughCentres, {}, true},
+    };
+    for (const Case& c : cases) {
+        const Maps pulled = drawMaps(b, c.pose, true, c.frame, c.edit);
+        const Maps drawn = drawMaps(b, c.pose, false, c.frame, c.edit);
+        EXPECT_EQ(pulled.pulled, c.pullable) << c.what;
+        if (c.pullable) {
+            const Agreement a = compare(pulled, drawn);
+            EXPECT_EQ(a.coverage, 0) << c.what << ": pixels covered by one map only";
+            EXPECT_LE(a.roundings, 4.0) << c.what;
+            continue;
+        }
+        EXPECT_TRUE(sameBits(pulled.x, drawn.x)) << c.what << ": mapx is not the rasteriser's";
+        EXPECT_TRUE(sameBits(pulled.y, drawn.y)) << c.what << ": mapy is not the rasteriser's";
+    }
+}
+
+// The pull kernel is not used where it does not pay (grid steps above 2) or for meshes that are not
+// a binding's regular grid (rasterizeMaps, the reference of raster_reference_test).
+TEST(MeshPull, OnlyBindingsOfSmallSteps) {
+    const Size size(120, 80);
+    const Multicage cage = multicage_fixtures::lotusMulticage(size, 16);
+    const std::vector<Point2f> pose = multicage_fixtures::wavePose(cage, 1.f, 0.f);
+    EXPECT_EQ(drawMaps(bind(cage, MEAN_VALUE, 2), pose, true).pulled, raster::havePullKernel());
+    EXPECT_FALSE(drawMaps(bind(cage, MEAN_VALUE, 4), pose, true).pulled);
+    const Binding b = bind(cage, MEAN_VALUE, 1);
+    RasterMesh general;
+    general.reset(b.nodes(), size);
+    Mat nodes = general.nodes();
+    b.apply(pose, nodes);
+    general.setFrame(nullptr);
+    EXPECT_FALSE(general.pulls());
+}
