@@ -68,6 +68,15 @@ MULTICAGE_PULL_TARGET inline void loadPlanes(const Point2f* p, int n, __m512& x,
                  y);
 }
 
+// Whether cross(e1, e2) is clearly positive (kSliver), per lane.
+MULTICAGE_PULL_TARGET inline __mmask16 positive(__m512 e1x, __m512 e1y, __m512 e2x, __m512 e2y) {
+    const __m512 l = _mm512_mul_ps(e1x, e2y), r = _mm512_mul_ps(e1y, e2x);
+    return _mm512_cmp_ps_mask(
+        _mm512_sub_ps(l, r),
+        _mm512_mul_ps(_mm512_set1_ps(kSliver), _mm512_add_ps(_mm512_abs_ps(l), _mm512_abs_ps(r))),
+        _CMP_GT_OQ);
+}
+
 // The triangles of cells [0, cells) of node rows p0, p1 (kCellTriangles: (a,b,c) and (b,d,c))
 // that are not clearly positive; NaN and infinite nodes count (their tests are false).
 MULTICAGE_PULL_TARGET int notPositiveInRow(const Point2f* p0, const Point2f* p1, int cells) {
@@ -75,13 +84,6 @@ MULTICAGE_PULL_TARGET int notPositiveInRow(const Point2f* p0, const Point2f* p1,
                       kCellTriangles[1][0][0] == 1 && kCellTriangles[1][1][0] == 1 &&
                       kCellTriangles[1][1][1] == 1 && kCellTriangles[1][2][1] == 1,
                   "the legs below follow kCellTriangles");
-    const __m512 sliver = _mm512_set1_ps(kSliver);
-    auto positive = [&](__m512 e1x, __m512 e1y, __m512 e2x, __m512 e2y) {
-        const __m512 l = _mm512_mul_ps(e1x, e2y), r = _mm512_mul_ps(e1y, e2x);
-        return _mm512_cmp_ps_mask(
-            _mm512_sub_ps(l, r),
-            _mm512_mul_ps(sliver, _mm512_add_ps(_mm512_abs_ps(l), _mm512_abs_ps(r))), _CMP_GT_OQ);
-    };
     int bad = 0;
     for (int k = 0; k < cells; k += 16) {
         const int n = std::min(16, cells - k);
@@ -134,6 +136,24 @@ struct NodeRun {
     }
 };
 
+// Barycentric coordinates (a, b) of the third point 1 - a - b: inside the triangle, within the
+// edge tolerance.
+MULTICAGE_PULL_TARGET inline __mmask16 inTriangle(__m512 a, __m512 b) {
+    const __m512 lo = _mm512_set1_ps(-kEdge), hi = _mm512_set1_ps(1.f + kEdge);
+    return static_cast<__mmask16>(_mm512_cmp_ps_mask(a, lo, _CMP_GE_OQ) &
+                                  _mm512_cmp_ps_mask(b, lo, _CMP_GE_OQ) &
+                                  _mm512_cmp_ps_mask(_mm512_add_ps(a, b), hi, _CMP_LE_OQ));
+}
+
+// The rest coordinate of mesh column (or row) `node` of a binding's grid of `count` nodes every
+// `step` px up to `last`: node min(max(node - 1, 0), count - 1)'s (the ring rests on its nearest).
+MULTICAGE_PULL_TARGET inline __m512 restOf(__m512i node, int count, float step, float last) {
+    const __m512i k = _mm512_min_epi32(_mm512_max_epi32(node, _mm512_setzero_si512()),
+                                       _mm512_set1_epi32(count - 1));
+    return _mm512_min_ps(_mm512_mul_ps(_mm512_cvtepi32_ps(k), _mm512_set1_ps(step)),
+                         _mm512_set1_ps(last));
+}
+
 // The frame's edges as lines n.p + c (n a unit normal pointing inside): signed distances.
 struct FrameLines {
     float nx[4], ny[4], c[4];
@@ -152,17 +172,19 @@ bool pullable(const PullMesh& m) {
         const Point2d u = q[(i + 1) % 4] - q[i], v = q[(i + 2) % 4] - q[(i + 1) % 4];
         if (!(u.x * v.y - u.y * v.x > 0)) return false;
     }
-    std::atomic<int> bad{0};
+    // Every triangle, in parallel. (Checked by each band just before it pulls, the same nodes
+    // then in cache for the pull, it was no faster at 1024x768: the check's time is the read
+    // of the nodes from memory, 0.3 ms, wherever it happens.)
+    std::atomic<bool> good{true};
     parallel_for_(
         Range(0, R - 1),
         [&](const Range& r) {
-            int local = 0;
-            for (int ey = r.start; ey < r.end && local == 0; ++ey)
-                local += notPositiveInRow(P + size_t(ey) * C, P + size_t(ey + 1) * C, C - 1);
-            bad += local;
+            for (int ey = r.start; ey < r.end && good; ++ey)
+                if (notPositiveInRow(P + size_t(ey) * C, P + size_t(ey + 1) * C, C - 1) > 0)
+                    good = false;
         },
         std::max(1.0, (R - 1) / 64.0));
-    return bad == 0;
+    return good;
 }
 
 MULTICAGE_PULL_TARGET
@@ -197,7 +219,6 @@ bool pullRows(const PullMesh& m, int y0, int y1, Mat& mapx, Mat& mapy) {
     const __m512 iota =
         _mm512_setr_ps(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
     const __m512 zero = _mm512_setzero_ps(), one = _mm512_set1_ps(1.f);
-    const __m512 edgeLo = _mm512_set1_ps(-kEdge), edgeHi = _mm512_set1_ps(1.f + kEdge);
     const __m512i cols = _mm512_set1_epi32(C);
     for (int y = y0; y < y1; ++y) {
         float* mx = mapx.ptr<float>(y);
@@ -307,13 +328,7 @@ bool pullRows(const PullMesh& m, int y0, int y1, Mat& mapx, Mat& mapy) {
                     _mm512_sub_ps(_mm512_mul_ps(rx, f2y), _mm512_mul_ps(ry, f2x)), inv1);
                 const __m512 t = _mm512_mul_ps(
                     _mm512_sub_ps(_mm512_mul_ps(f1x, ry), _mm512_mul_ps(f1y, rx)), inv1);
-                auto inside = [&](__m512 a, __m512 b) {
-                    return static_cast<__mmask16>(
-                        _mm512_cmp_ps_mask(a, edgeLo, _CMP_GE_OQ) &
-                        _mm512_cmp_ps_mask(b, edgeLo, _CMP_GE_OQ) &
-                        _mm512_cmp_ps_mask(_mm512_add_ps(a, b), edgeHi, _CMP_LE_OQ));
-                };
-                const __mmask16 in0 = inside(u, v), in1 = inside(s, t);
+                const __mmask16 in0 = inTriangle(u, v), in1 = inTriangle(s, t);
                 // Cell coordinates of p by triangle 1 where it holds p (later in drawing order, so
                 // it wins a shared edge as in the raster) or, neither holding it, where p lies on
                 // its side of the diagonal; else by triangle 0.
@@ -361,18 +376,11 @@ bool pullRows(const PullMesh& m, int y0, int y1, Mat& mapx, Mat& mapy) {
                     active &= static_cast<__mmask16>(~(leaving & outside));
                 }
             }
-            // Rest points: X0 + U (X1 - X0), Y0 + V (Y1 - Y0) of the cell each pixel lies in, the
-            // rest of node column ex being node min(max(ex - 1, 0), m - 1)'s (the ring's nearest).
-            auto rest = [&](__m512i node, int count, float last) {
-                const __m512i k = _mm512_min_epi32(_mm512_max_epi32(node, zeroI),
-                                                   _mm512_set1_epi32(count - 1));
-                return _mm512_min_ps(_mm512_mul_ps(_mm512_cvtepi32_ps(k), _mm512_set1_ps(m.step)),
-                                     _mm512_set1_ps(last));
-            };
-            const __m512 X0 = rest(_mm512_sub_epi32(cellX, oneI), m.gridSize.width, m.hi.x);
-            const __m512 X1 = rest(cellX, m.gridSize.width, m.hi.x);
-            const __m512 Y0 = rest(_mm512_sub_epi32(cellY, oneI), m.gridSize.height, m.hi.y);
-            const __m512 Y1 = rest(cellY, m.gridSize.height, m.hi.y);
+            // Rest points: X0 + U (X1 - X0), Y0 + V (Y1 - Y0) of the cell each pixel lies in.
+            const __m512 X0 = restOf(_mm512_sub_epi32(cellX, oneI), m.gridSize.width, m.step, m.hi.x);
+            const __m512 X1 = restOf(cellX, m.gridSize.width, m.step, m.hi.x);
+            const __m512 Y0 = restOf(_mm512_sub_epi32(cellY, oneI), m.gridSize.height, m.step, m.hi.y);
+            const __m512 Y1 = restOf(cellY, m.gridSize.height, m.step, m.hi.y);
             const __m512 rx = _mm512_add_ps(X0, _mm512_mul_ps(fu, _mm512_sub_ps(X1, X0)));
             const __m512 ry = _mm512_add_ps(Y0, _mm512_mul_ps(fv, _mm512_sub_ps(Y1, Y0)));
             const __m512 none = _mm512_set1_ps(kUncovered);
