@@ -3,12 +3,13 @@
 // same pixels with the same rest points, within float rounding. Where the mesh folds, a node is
 // not finite, the frame is not convex, or the frame runs through pixel centres, the rasteriser
 // decides, bit for bit.
+#include "mesh_pull.hpp"
+
 #include <cfloat>
 #include <cstring>
 #include <functional>
 
 #include "cpu_deformer.hpp"
-#include "mesh_pull.hpp"
 #include "testing.hpp"
 
 using namespace cv;
@@ -95,7 +96,8 @@ TEST(MeshPull, PulledMapsAreTheRastersWithinFloatRounding) {
         for (int step : {1, 2}) {
             const Binding b = bind(cage, MEAN_VALUE, step);
             for (float amplitude : {0.f, 1.5f, 4.f}) {
-                const std::vector<Point2f> wave = multicage_fixtures::wavePose(cage, amplitude, 0.7f);
+                const std::vector<Point2f> wave =
+                    multicage_fixtures::wavePose(cage, amplitude, 0.7f);
                 // The same wave in an image 5/4 as wide, as content-aware resizing poses it: every
                 // vertex and the frame stretched together.
                 const Size wider(size.width * 5 / 4, size.height);
@@ -112,7 +114,7 @@ TEST(MeshPull, PulledMapsAreTheRastersWithinFloatRounding) {
                                amplitude, frame.empty() ? "" : " resize frame");
                     ASSERT_FALSE(drawn.pulled) << what;
                     ASSERT_EQ(pulled.x.size(), drawn.x.size()) << what;
-                        if (!pulled.pulled) continue;  // folded: drawn (checked below)
+                    if (!pulled.pulled) continue;  // folded: drawn (checked below)
                     ++pulledCases;
                     const Agreement a = compare(pulled, drawn);
                     EXPECT_EQ(a.coverage, 0) << what << ": pixels covered by one map only";
@@ -141,13 +143,17 @@ TEST(MeshPull, FoldsBadNodesAndOddFramesAreDrawnBitForBit) {
     };
     const std::vector<Point2f> foldedFrame = {
         {-0.5f, -0.5f}, {size.width - 0.5f, -0.5f}, {20.f, 30.f}, {-0.5f, size.height - 0.5f}};
-    const std::vector<Point2f> throughCentres = {
-        {0.f, 0.f}, {size.width - 1.f, 0.f}, {size.width - 1.f, size.height - 1.f},
-        {0.f, size.height - 1.f}};
+    const std::vector<Point2f> throughCentres = {{0.f, 0.f},
+                                                 {size.width - 1.f, 0.f},
+                                                 {size.width - 1.f, size.height - 1.f},
+                                                 {0.f, size.height - 1.f}};
     const Case cases[] = {
         {"a folded pose", multicage_fixtures::wavePose(cage, 30.f, 0.3f), {}, {}, false},
-        {"one node swapped with its neighbour", smooth, {},
-         [](Mat& n) { std::swap(n.at<Point2f>(30, 40), n.at<Point2f>(30, 41)); }, false},
+        {"one node swapped with its neighbour",
+         smooth,
+         {},
+         [](Mat& n) { std::swap(n.at<Point2f>(30, 40), n.at<Point2f>(30, 41)); },
+         false},
         {"a NaN node", smooth, {}, [](Mat& n) { n.at<Point2f>(10, 10).x = NAN; }, false},
         {"an infinite node", smooth, {}, [](Mat& n) { n.at<Point2f>(12, 50).y = INFINITY; }, false},
         {"a node 1e30 px away", smooth, {}, [](Mat& n) { n.at<Point2f>(40, 5).x = 1e30f; }, false},

@@ -53,7 +53,8 @@ constexpr float kSliver = 1e-4f;
 
 // 16 points (x, y interleaved in lo, then hi) as x and y planes.
 MULTICAGE_PULL_TARGET inline void deinterleave(__m512 lo, __m512 hi, __m512& x, __m512& y) {
-    const __m512i even = _mm512_setr_epi32(0, 2, 4, 6, 8, 10, 12, 14, 16, 18, 20, 22, 24, 26, 28, 30);
+    const __m512i even =
+        _mm512_setr_epi32(0, 2, 4, 6, 8, 10, 12, 14, 16, 18, 20, 22, 24, 26, 28, 30);
     x = _mm512_permutex2var_ps(lo, even, hi);
     y = _mm512_permutex2var_ps(lo, _mm512_add_epi32(even, _mm512_set1_epi32(1)), hi);
 }
@@ -90,24 +91,22 @@ MULTICAGE_PULL_TARGET int notPositiveInRow(const Point2f* p0, const Point2f* p1,
         __m512 ax, ay, bx, by, cx, cy, dx, dy;
         loadPlanes(p0 + k, n, ax, ay), loadPlanes(p0 + k + 1, n, bx, by);
         loadPlanes(p1 + k, n, cx, cy), loadPlanes(p1 + k + 1, n, dx, dy);
-        const __mmask16 good =
-            positive(_mm512_sub_ps(bx, ax), _mm512_sub_ps(by, ay), _mm512_sub_ps(cx, ax),
-                     _mm512_sub_ps(cy, ay)) &
-            positive(_mm512_sub_ps(dx, bx), _mm512_sub_ps(dy, by), _mm512_sub_ps(cx, bx),
-                     _mm512_sub_ps(cy, by));
+        const __mmask16 good = positive(_mm512_sub_ps(bx, ax), _mm512_sub_ps(by, ay),
+                                        _mm512_sub_ps(cx, ax), _mm512_sub_ps(cy, ay)) &
+                               positive(_mm512_sub_ps(dx, bx), _mm512_sub_ps(dy, by),
+                                        _mm512_sub_ps(cx, bx), _mm512_sub_ps(cy, by));
         bad += _mm_popcnt_u32(_bzhi_u32(~unsigned(good), unsigned(n)));
     }
     return bad;
 }
 
-
-constexpr int kMaxSteps = 12;        // then the band is drawn by the raster kernel
-constexpr float kEdge = 1e-6f;       // barycentric tolerance: shared edges leave no crack
+constexpr int kMaxSteps = 12;          // then the band is drawn by the raster kernel
+constexpr float kEdge = 1e-6f;         // barycentric tolerance: shared edges leave no crack
 constexpr float kFrameMargin = 2e-3f;  // px: nearer the frame than this, the raster decides
 
 // The x and y planes of 16 nodes gathered from P at idx (lanes of `lanes`).
 MULTICAGE_PULL_TARGET inline void gatherNodes(const double* P, __m512i idx, __mmask16 lanes,
-                                             __m512& x, __m512& y) {
+                                              __m512& x, __m512& y) {
     const __m512d lo = _mm512_mask_i32gather_pd(_mm512_setzero_pd(), static_cast<__mmask8>(lanes),
                                                 _mm512_castsi512_si256(idx), P, 8);
     const __m512d hi =
@@ -216,8 +215,7 @@ bool pullRows(const PullMesh& m, int y0, int y1, Mat& mapx, Mat& mapy) {
     float* e2x = e1y + W + 16;
     float* e2y = e2x + W + 16;
 
-    const __m512 iota =
-        _mm512_setr_ps(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
+    const __m512 iota = _mm512_setr_ps(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
     const __m512 zero = _mm512_setzero_ps(), one = _mm512_set1_ps(1.f);
     const __m512i cols = _mm512_set1_epi32(C);
     for (int y = y0; y < y1; ++y) {
@@ -256,18 +254,19 @@ bool pullRows(const PullMesh& m, int y0, int y1, Mat& mapx, Mat& mapy) {
             __m512i cellX = _mm512_setzero_si512(), cellY = _mm512_setzero_si512();
             __m512 fu = zero, fv = zero;
             const __m512i zeroI = _mm512_setzero_si512(), oneI = _mm512_set1_epi32(1);
-            const __m512i lastXi = _mm512_set1_epi32(cellsX - 1), lastYi = _mm512_set1_epi32(cellsY - 1);
+            const __m512i lastXi = _mm512_set1_epi32(cellsX - 1),
+                          lastYi = _mm512_set1_epi32(cellsY - 1);
             for (int step = 0; active; ++step) {
                 if (step == kMaxSteps) return false;
                 // The cell of the guess, clamped to the mesh.
                 const __m512i cx = _mm512_min_epi32(
                     _mm512_max_epi32(_mm512_add_epi32(gcx, _mm512_cvttps_epi32(_mm512_roundscale_ps(
-                                                              gu, _MM_FROUND_TO_NEG_INF))),
+                                                               gu, _MM_FROUND_TO_NEG_INF))),
                                      zeroI),
                     lastXi);
                 const __m512i cy = _mm512_min_epi32(
                     _mm512_max_epi32(_mm512_add_epi32(gcy, _mm512_cvttps_epi32(_mm512_roundscale_ps(
-                                                              gv, _MM_FROUND_TO_NEG_INF))),
+                                                               gv, _MM_FROUND_TO_NEG_INF))),
                                      zeroI),
                     lastYi);
                 __m512 ax, ay, bx, by, cxv, cyv, dx, dy;
@@ -352,15 +351,14 @@ bool pullRows(const PullMesh& m, int y0, int y1, Mat& mapx, Mat& mapy) {
                                    _mm512_set1_ps(1.f + reach));
                 // A walk that would leave the mesh from its border cells: p is outside the frame
                 // (uncovered, done), clearly inside (it goes on along the border), or on it.
-                const __mmask16 leaving =
-                    active & ((_mm512_cmpeq_epi32_mask(cx, zeroI) &
-                               _mm512_cmp_ps_mask(gu, zero, _CMP_LT_OQ)) |
-                              (_mm512_cmpeq_epi32_mask(cx, lastXi) &
-                               _mm512_cmp_ps_mask(gu, one, _CMP_GE_OQ)) |
-                              (_mm512_cmpeq_epi32_mask(cy, zeroI) &
-                               _mm512_cmp_ps_mask(gv, zero, _CMP_LT_OQ)) |
-                              (_mm512_cmpeq_epi32_mask(cy, lastYi) &
-                               _mm512_cmp_ps_mask(gv, one, _CMP_GE_OQ)));
+                const __mmask16 leaving = active & ((_mm512_cmpeq_epi32_mask(cx, zeroI) &
+                                                     _mm512_cmp_ps_mask(gu, zero, _CMP_LT_OQ)) |
+                                                    (_mm512_cmpeq_epi32_mask(cx, lastXi) &
+                                                     _mm512_cmp_ps_mask(gu, one, _CMP_GE_OQ)) |
+                                                    (_mm512_cmpeq_epi32_mask(cy, zeroI) &
+                                                     _mm512_cmp_ps_mask(gv, zero, _CMP_LT_OQ)) |
+                                                    (_mm512_cmpeq_epi32_mask(cy, lastYi) &
+                                                     _mm512_cmp_ps_mask(gv, one, _CMP_GE_OQ)));
                 if (leaving) {
                     __mmask16 outside = 0, inside = 0xffff;
                     for (int i = 0; i < 4; ++i) {
@@ -368,8 +366,7 @@ bool pullRows(const PullMesh& m, int y0, int y1, Mat& mapx, Mat& mapy) {
                             _mm512_add_ps(_mm512_mul_ps(_mm512_set1_ps(frame.nx[i]), px),
                                           _mm512_mul_ps(_mm512_set1_ps(frame.ny[i]), py)),
                             _mm512_set1_ps(frame.c[i]));
-                        outside |=
-                            _mm512_cmp_ps_mask(d, _mm512_set1_ps(-kFrameMargin), _CMP_LT_OQ);
+                        outside |= _mm512_cmp_ps_mask(d, _mm512_set1_ps(-kFrameMargin), _CMP_LT_OQ);
                         inside &= _mm512_cmp_ps_mask(d, _mm512_set1_ps(kFrameMargin), _CMP_GT_OQ);
                     }
                     if (leaving & ~outside & ~inside) return false;  // on the frame
@@ -377,9 +374,11 @@ bool pullRows(const PullMesh& m, int y0, int y1, Mat& mapx, Mat& mapy) {
                 }
             }
             // Rest points: X0 + U (X1 - X0), Y0 + V (Y1 - Y0) of the cell each pixel lies in.
-            const __m512 X0 = restOf(_mm512_sub_epi32(cellX, oneI), m.gridSize.width, m.step, m.hi.x);
+            const __m512 X0 =
+                restOf(_mm512_sub_epi32(cellX, oneI), m.gridSize.width, m.step, m.hi.x);
             const __m512 X1 = restOf(cellX, m.gridSize.width, m.step, m.hi.x);
-            const __m512 Y0 = restOf(_mm512_sub_epi32(cellY, oneI), m.gridSize.height, m.step, m.hi.y);
+            const __m512 Y0 =
+                restOf(_mm512_sub_epi32(cellY, oneI), m.gridSize.height, m.step, m.hi.y);
             const __m512 Y1 = restOf(cellY, m.gridSize.height, m.step, m.hi.y);
             const __m512 rx = _mm512_add_ps(X0, _mm512_mul_ps(fu, _mm512_sub_ps(X1, X0)));
             const __m512 ry = _mm512_add_ps(Y0, _mm512_mul_ps(fv, _mm512_sub_ps(Y1, Y0)));
@@ -393,10 +392,10 @@ bool pullRows(const PullMesh& m, int y0, int y1, Mat& mapx, Mat& mapy) {
             _mm512_mask_storeu_ps(mx + x0, lanes, outX);
             _mm512_mask_storeu_ps(my + x0, lanes, outY);
             // Where each pixel ended, for the guesses of the next rows (uncovered: the last guess).
-            const __m512 ex = _mm512_mask_add_ps(_mm512_add_ps(_mm512_cvtepi32_ps(gcx), gu), covered,
-                                                 _mm512_cvtepi32_ps(cellX), fu);
-            const __m512 ey = _mm512_mask_add_ps(_mm512_add_ps(_mm512_cvtepi32_ps(gcy), gv), covered,
-                                                 _mm512_cvtepi32_ps(cellY), fv);
+            const __m512 ex = _mm512_mask_add_ps(_mm512_add_ps(_mm512_cvtepi32_ps(gcx), gu),
+                                                 covered, _mm512_cvtepi32_ps(cellX), fu);
+            const __m512 ey = _mm512_mask_add_ps(_mm512_add_ps(_mm512_cvtepi32_ps(gcy), gv),
+                                                 covered, _mm512_cvtepi32_ps(cellY), fv);
             _mm512_mask_storeu_ps(e2x + x0, lanes, ex);
             _mm512_mask_storeu_ps(e2y + x0, lanes, ey);
         }
@@ -406,10 +405,10 @@ bool pullRows(const PullMesh& m, int y0, int y1, Mat& mapx, Mat& mapy) {
 }
 
 bool havePullKernel() {
-    static const bool avx512 =
-        __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512vl") &&
-        __builtin_cpu_supports("avx512dq") && __builtin_cpu_supports("avx512bw") &&
-        __builtin_cpu_supports("bmi2");
+    static const bool avx512 = __builtin_cpu_supports("avx512f") &&
+                               __builtin_cpu_supports("avx512vl") &&
+                               __builtin_cpu_supports("avx512dq") &&
+                               __builtin_cpu_supports("avx512bw") && __builtin_cpu_supports("bmi2");
     return avx512;
 }
 #else

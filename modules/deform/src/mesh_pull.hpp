@@ -21,10 +21,10 @@ struct PullMesh {
 
 /** Whether every triangle of the mesh (kCellTriangles of each cell, ring included) keeps the rest
 grid's orientation by a clear margin (no fold, no sliver, every node finite), and the ring's outer
-boundary is a convex quadrilateral of that orientation. Then every pixel centre inside the frame lies
-in exactly one triangle (the boundary winds once around it, and each triangle counts +1), except on
-shared edges, where the triangles' affine maps agree: a pixel's value does not depend on the order
-triangles are drawn in, and it can be found from the pixel. */
+boundary is a convex quadrilateral of that orientation. Then every pixel centre inside the frame
+lies in exactly one triangle (the boundary winds once around it, and each triangle counts +1),
+except on shared edges, where the triangles' affine maps agree: a pixel's value does not depend on
+the order triangles are drawn in, and it can be found from the pixel. */
 bool pullable(const PullMesh& mesh);
 
 /** Rows [y0, y1) of the inverse maps of a pullable mesh, each pixel found by walking from a guess
