@@ -193,3 +193,42 @@ TEST(MeshPull, OnlyBindingsOfSmallSteps) {
     general.setFrame(nullptr);
     EXPECT_FALSE(general.pulls());
 }
+
+// Where a pixel lies on an edge two cells share, the walk settles it in whichever cell it reaches
+// first, and the two may give values a rounding apart: that choice must not depend on how the
+// rows were split into bands (4 per thread), or the bits would depend on the thread count. A pose
+// moving vertices along x only leaves every node on its row, so every pixel lies on such an edge.
+TEST(MeshPull, TheSameBitsHoweverTheRowsAreSplit) {
+    if (!raster::havePullKernel()) GTEST_SKIP() << "no AVX-512 here: every mesh is drawn";
+    const Size size(301, 203);
+    const Multicage cage = multicage_fixtures::lotusMulticage(size, 24);
+    std::vector<Point2f> pose = multicage_fixtures::wavePose(cage, 3.f, 0.4f);
+    const std::vector<Point2f> rest = cage.vertices();
+    for (size_t i = 0; i < pose.size(); ++i) pose[i].y = rest[i].y;
+    for (int step : {1, 2}) {
+        const Binding b = bind(cage, MEAN_VALUE, step);
+        Mat mesh;  // the nodes with their ring, as RasterMesh holds them
+        ASSERT_TRUE(drawMaps(b, pose, true, {}, [&](Mat& whole) { mesh = whole.clone(); }).pulled);
+        const raster::PullMesh pull{mesh.ptr<Point2f>(),
+                                    mesh.cols,
+                                    mesh.rows,
+                                    b.gridSize,
+                                    float(step),
+                                    Point2f(0, 0),
+                                    Point2f(size.width - 1.f, size.height - 1.f)};
+        auto pulled = [&](const std::vector<int>& cuts, Mat& mapx, Mat& mapy) {
+            mapx.create(size, CV_32F), mapy.create(size, CV_32F);
+            for (size_t i = 0; i + 1 < cuts.size(); ++i)
+                ASSERT_TRUE(raster::pullRows(pull, cuts[i], cuts[i + 1], mapx, mapy));
+        };
+        Mat wholeX, wholeY;
+        pulled({0, size.height}, wholeX, wholeY);
+        for (const std::vector<int>& cuts :
+             {std::vector<int>{0, 16, 64, 80, size.height}, {0, 48, 96, 192, size.height}}) {
+            Mat x, y;
+            pulled(cuts, x, y);
+            EXPECT_TRUE(sameBits(x, wholeX)) << "step " << step << ", split at " << cuts[1];
+            EXPECT_TRUE(sameBits(y, wholeY)) << "step " << step << ", split at " << cuts[1];
+        }
+    }
+}

@@ -188,6 +188,7 @@ bool pullable(const PullMesh& m) {
 
 MULTICAGE_PULL_TARGET
 bool pullRows(const PullMesh& m, int y0, int y1, Mat& mapx, Mat& mapy) {
+    CV_Assert(y0 % kPullRun == 0);
     const int W = mapx.cols, H = mapx.rows, C = m.cols;
     const int cellsX = m.cols - 1, cellsY = m.rows - 1;
     const double* P = reinterpret_cast<const double*>(m.nodes);
@@ -221,7 +222,7 @@ bool pullRows(const PullMesh& m, int y0, int y1, Mat& mapx, Mat& mapy) {
     for (int y = y0; y < y1; ++y) {
         float* mx = mapx.ptr<float>(y);
         float* my = mapy.ptr<float>(y);
-        const int seen = y - y0;  // rows of this band already pulled
+        const int seen = y % kPullRun;  // rows of this run already pulled
         const __m512 py = _mm512_set1_ps(float(y));
         for (int x0 = 0; x0 < W; x0 += 16) {
             // (at most 16: BZHI reads only the low 8 bits of its index)

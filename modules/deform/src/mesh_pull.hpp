@@ -27,11 +27,18 @@ except on shared edges, where the triangles' affine maps agree: a pixel's value 
 the order triangles are drawn in, and it can be found from the pixel. */
 bool pullable(const PullMesh& mesh);
 
+/** The rows of a pull's guesses: each run of kPullRun rows from a multiple of it starts afresh,
+the rows after extrapolating from the rows above. So a pixel's walk, and where a tie between
+triangles sharing an edge is settled, depends on the pixel alone, not on how the rows were split
+between threads: the same bits on 1 thread or 16. */
+constexpr int kPullRun = 16;
+
 /** Rows [y0, y1) of the inverse maps of a pullable mesh, each pixel found by walking from a guess
 to the triangle that holds it: the rest point (clamped to [lo, hi]) of that triangle, or kUncovered
 outside the frame. False when some pixel's walk did not settle (a frame edge through a pixel
 centre, or a mesh distorted beyond the walk's reach): the caller then draws the rows with the
-raster kernel. Float arithmetic: the values are the raster's within a few float roundings. */
+raster kernel. Float arithmetic: the values are the raster's within a few float roundings.
+y0 is a multiple of kPullRun. */
 bool pullRows(const PullMesh& mesh, int y0, int y1, Mat& mapx, Mat& mapy);
 
 /** Whether this build and CPU have the pull kernel (AVX-512). */

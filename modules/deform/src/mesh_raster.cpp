@@ -157,8 +157,8 @@ void RasterMesh::findRowExtents() {
 }
 
 raster::PullMesh RasterMesh::pullMesh() const {
-    return {P_.ptr<Point2f>(), P_.cols, P_.rows, Size(P_.cols - 2, P_.rows - 2), float(gridStep_),
-            lo_, hi_};
+    const Size grid(P_.cols - 2, P_.rows - 2);  // within the ring
+    return {P_.ptr<Point2f>(), P_.cols, P_.rows, grid, float(gridStep_), lo_, hi_};
 }
 
 bool RasterMesh::pulls() const {
@@ -195,11 +195,15 @@ void RasterMesh::draw(Mat& mapx, Mat& mapy, const std::function<void(int, int)>&
         std::unique_ptr<raster::TriangleSetup> setup(new raster::TriangleSetup);
         std::vector<Point2f> rest0, rest1;  // rest rows of a regular grid
         for (int band = range.start; band < range.end; ++band) {
-            const int y0 = outputSize.height * band / bands,
-                      y1 = outputSize.height * (band + 1) / bands;
-            if (pull && raster::pullRows(pullMesh, y0, y1, mapx, mapy)) {
-                if (bandDone) bandDone(y0, y1);
-                continue;
+            int y0 = outputSize.height * band / bands, y1 = outputSize.height * (band + 1) / bands;
+            if (pull) {  // bands of whole runs of the pull's guesses (raster::kPullRun)
+                auto runStart = [](int y) { return y / raster::kPullRun * raster::kPullRun; };
+                y0 = runStart(y0), y1 = band + 1 == bands ? outputSize.height : runStart(y1);
+                if (y0 == y1) continue;
+                if (raster::pullRows(pullMesh, y0, y1, mapx, mapy)) {
+                    if (bandDone) bandDone(y0, y1);
+                    continue;
+                }
             }
             findExtents();
             for (int y = y0; y < y1; ++y) {
