@@ -21,6 +21,7 @@
 #include "mesh_pull.hpp"
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <cmath>
 #include <opencv2/core/utility.hpp>
@@ -135,6 +136,20 @@ struct NodeRun {
     }
 };
 
+// (u, v) with p = o + u (p1 - o) + v (p2 - o), per lane: cross(p - o, p2 - o) and
+// cross(p1 - o, p - o) over cross(p1 - o, p2 - o).
+MULTICAGE_PULL_TARGET inline void barycentric(__m512 ox, __m512 oy, __m512 p1x, __m512 p1y,
+                                              __m512 p2x, __m512 p2y, __m512 px, __m512 py,
+                                              __m512& u, __m512& v) {
+    const __m512 e1x = _mm512_sub_ps(p1x, ox), e1y = _mm512_sub_ps(p1y, oy);
+    const __m512 e2x = _mm512_sub_ps(p2x, ox), e2y = _mm512_sub_ps(p2y, oy);
+    const __m512 qx = _mm512_sub_ps(px, ox), qy = _mm512_sub_ps(py, oy);
+    const __m512 inv = _mm512_div_ps(
+        _mm512_set1_ps(1.f), _mm512_sub_ps(_mm512_mul_ps(e1x, e2y), _mm512_mul_ps(e1y, e2x)));
+    u = _mm512_mul_ps(_mm512_sub_ps(_mm512_mul_ps(qx, e2y), _mm512_mul_ps(qy, e2x)), inv);
+    v = _mm512_mul_ps(_mm512_sub_ps(_mm512_mul_ps(e1x, qy), _mm512_mul_ps(e1y, qx)), inv);
+}
+
 // Barycentric coordinates (a, b) of the third point 1 - a - b: inside the triangle, within the
 // edge tolerance.
 MULTICAGE_PULL_TARGET inline __mmask16 inTriangle(__m512 a, __m512 b) {
@@ -160,13 +175,22 @@ struct FrameLines {
 
 }  // namespace
 
+namespace {
+// The ring's corner nodes TL, TR, BR, BL: the frame the mesh's outer boundary runs along.
+std::array<Point2d, 4> ringCorners(const PullMesh& m) {
+    const Point2f* P = m.nodes;
+    const size_t C = m.cols, last = size_t(m.rows - 1) * C;
+    return {Point2d(P[0]), Point2d(P[C - 1]), Point2d(P[last + C - 1]), Point2d(P[last])};
+}
+}  // namespace
+
 bool pullable(const PullMesh& m) {
     const int C = m.cols, R = m.rows;
     if (C < 2 || R < 2) return false;
     // The ring's outer boundary: the frame quadrilateral TL, TR, BR, BL, convex and turning as
     // the rest grid does (cross((1,0), (0,1)) > 0 in the y-down image).
     const Point2f* P = m.nodes;
-    const Point2d q[4] = {P[0], P[C - 1], P[size_t(R - 1) * C + C - 1], P[size_t(R - 1) * C]};
+    const std::array<Point2d, 4> q = ringCorners(m);
     for (int i = 0; i < 4; ++i) {
         const Point2d u = q[(i + 1) % 4] - q[i], v = q[(i + 2) % 4] - q[(i + 1) % 4];
         if (!(u.x * v.y - u.y * v.x > 0)) return false;
@@ -194,11 +218,9 @@ bool pullRows(const PullMesh& m, int y0, int y1, Mat& mapx, Mat& mapy) {
     const double* P = reinterpret_cast<const double*>(m.nodes);
     FrameLines frame;
     {
-        const Point2f* N = m.nodes;
-        const Point2f q[4] = {N[0], N[C - 1], N[size_t(m.rows - 1) * C + C - 1],
-                              N[size_t(m.rows - 1) * C]};
+        const std::array<Point2d, 4> q = ringCorners(m);
         for (int i = 0; i < 4; ++i) {
-            const Point2d e = Point2d(q[(i + 1) % 4]) - Point2d(q[i]);
+            const Point2d e = q[(i + 1) % 4] - q[i];
             const double len = std::sqrt(e.dot(e));
             const double nx = -e.y / len, ny = e.x / len;
             frame.nx[i] = float(nx), frame.ny[i] = float(ny);
@@ -308,26 +330,11 @@ bool pullRows(const PullMesh& m, int y0, int y1, Mat& mapx, Mat& mapy) {
                     gatherNodes(P, ic, active, cxv, cyv);
                     gatherNodes(P, _mm512_add_epi32(ic, oneI), active, dx, dy);
                 }
-                // Triangle 0 (a, b, c): p = a + u (b - a) + v (c - a).
-                const __m512 e1x_ = _mm512_sub_ps(bx, ax), e1y_ = _mm512_sub_ps(by, ay);
-                const __m512 e2x_ = _mm512_sub_ps(cxv, ax), e2y_ = _mm512_sub_ps(cyv, ay);
-                const __m512 qx = _mm512_sub_ps(px, ax), qy = _mm512_sub_ps(py, ay);
-                const __m512 inv0 = _mm512_div_ps(
-                    one, _mm512_sub_ps(_mm512_mul_ps(e1x_, e2y_), _mm512_mul_ps(e1y_, e2x_)));
-                const __m512 u = _mm512_mul_ps(
-                    _mm512_sub_ps(_mm512_mul_ps(qx, e2y_), _mm512_mul_ps(qy, e2x_)), inv0);
-                const __m512 v = _mm512_mul_ps(
-                    _mm512_sub_ps(_mm512_mul_ps(e1x_, qy), _mm512_mul_ps(e1y_, qx)), inv0);
-                // Triangle 1 (b, d, c): p = d + s (c - d) + t (b - d).
-                const __m512 f1x = _mm512_sub_ps(cxv, dx), f1y = _mm512_sub_ps(cyv, dy);
-                const __m512 f2x = _mm512_sub_ps(bx, dx), f2y = _mm512_sub_ps(by, dy);
-                const __m512 rx = _mm512_sub_ps(px, dx), ry = _mm512_sub_ps(py, dy);
-                const __m512 inv1 = _mm512_div_ps(
-                    one, _mm512_sub_ps(_mm512_mul_ps(f1x, f2y), _mm512_mul_ps(f1y, f2x)));
-                const __m512 s = _mm512_mul_ps(
-                    _mm512_sub_ps(_mm512_mul_ps(rx, f2y), _mm512_mul_ps(ry, f2x)), inv1);
-                const __m512 t = _mm512_mul_ps(
-                    _mm512_sub_ps(_mm512_mul_ps(f1x, ry), _mm512_mul_ps(f1y, rx)), inv1);
+                // Triangle 0 (a, b, c): p = a + u (b - a) + v (c - a); triangle 1 (b, d, c):
+                // p = d + s (c - d) + t (b - d).
+                __m512 u, v, s, t;
+                barycentric(ax, ay, bx, by, cxv, cyv, px, py, u, v);
+                barycentric(dx, dy, cxv, cyv, bx, by, px, py, s, t);
                 const __mmask16 in0 = inTriangle(u, v), in1 = inTriangle(s, t);
                 // Cell coordinates of p by triangle 1 where it holds p (later in drawing order, so
                 // it wins a shared edge as in the raster) or, neither holding it, where p lies on
