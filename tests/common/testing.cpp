@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -24,6 +25,13 @@ cv::Mat readSample(const std::string& name, int flags) {
 double psnr(const cv::Mat& a, const cv::Mat& b) {
     const double range = a.depth() == CV_8U ? 255.0 : a.depth() == CV_16U ? 65535.0 : 1.0;
     return cv::PSNR(a, b, range);
+}
+
+bool sameBits(const cv::Mat& a, const cv::Mat& b) {
+    if (a.size() != b.size() || a.type() != b.type()) return false;
+    for (int y = 0; y < a.rows; ++y)
+        if (std::memcmp(a.ptr(y), b.ptr(y), a.cols * a.elemSize()) != 0) return false;
+    return true;
 }
 
 std::string tempDir(const std::string& name) {

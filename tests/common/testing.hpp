@@ -17,6 +17,8 @@ std::string samplePath(const std::string& name);
 cv::Mat readSample(const std::string& name, int flags = 1 /* IMREAD_COLOR */);
 /** Peak signal-to-noise ratio in dB (cv::PSNR with the type's range). */
 double psnr(const cv::Mat& a, const cv::Mat& b);
+/** Same size, type and bytes, row by row (views included): "bit for bit". */
+bool sameBits(const cv::Mat& a, const cv::Mat& b);
 /** A fresh empty folder under the build tree's temporary area. */
 std::string tempDir(const std::string& name);
 

@@ -6,7 +6,6 @@
 #include "mesh_pull.hpp"
 
 #include <cfloat>
-#include <cstring>
 #include <functional>
 
 #include "cpu_deformer.hpp"
@@ -14,6 +13,7 @@
 
 using namespace cv;
 using namespace cv::multicage;
+using multicage_testing::sameBits;
 
 namespace {
 
@@ -52,13 +52,6 @@ Maps drawMaps(const Binding& b, const std::vector<Point2f>& pose, bool pull,
     m.y.create(mesh.outputSize(), CV_32F);
     mesh.draw(m.x, m.y);
     return m;
-}
-
-bool sameBits(const Mat& a, const Mat& b) {
-    if (a.size() != b.size() || a.type() != b.type()) return false;
-    for (int y = 0; y < a.rows; ++y)
-        if (std::memcmp(a.ptr(y), b.ptr(y), a.cols * a.elemSize()) != 0) return false;
-    return true;
 }
 
 // Pixels covered by one map and not the other, and the largest difference of a value (in units

@@ -6,12 +6,12 @@
 
 #include <cfloat>
 #include <cmath>
-#include <cstring>
 
 #include "testing.hpp"
 
 using namespace cv;
 using namespace cv::multicage;
+using multicage_testing::sameBits;
 
 // From the CPU backend's private raster_kernels.hpp (whose other contents need internal headers).
 namespace cv {
@@ -178,13 +178,6 @@ void rasterize(InputArray positionsIn, InputArray restIn, Size outputSize, Outpu
 }
 
 }  // namespace reference
-
-bool sameBits(const Mat& a, const Mat& b) {
-    if (a.size() != b.size() || a.type() != b.type()) return false;
-    for (int y = 0; y < a.rows; ++y)
-        if (std::memcmp(a.ptr(y), b.ptr(y), a.cols * a.elemSize()) != 0) return false;
-    return true;
-}
 
 // The same pixels covered (kUncovered elsewhere), and values equal within a few float roundings.
 bool sameCoverageAndNearlyTheValues(const Mat& a, const Mat& ref) {

@@ -4,7 +4,6 @@
 // tests check that claim from the outside.
 #include <epoxy/egl.h>
 
-#include <cstring>
 #include <opencv2/imgproc.hpp>
 #include <thread>
 
@@ -12,6 +11,7 @@
 
 using namespace cv;
 using namespace cv::multicage;
+using multicage_testing::sameBits;
 using multicage_testing::maxAbsDiff;
 
 namespace {
@@ -49,13 +49,6 @@ Outputs run(const Scene& s, const DeformParams& params, bool reverse) {
         d->computeMaps(s.poses[i], o.mapx[i], o.mapy[i]);
     }
     return o;
-}
-
-bool sameBits(const Mat& a, const Mat& b) {
-    if (a.size() != b.size() || a.type() != b.type()) return false;
-    for (int y = 0; y < a.rows; ++y)
-        if (std::memcmp(a.ptr(y), b.ptr(y), a.cols * a.elemSize()) != 0) return false;
-    return true;
 }
 
 void expectSame(const Outputs& got, const Outputs& want, const char* who) {
