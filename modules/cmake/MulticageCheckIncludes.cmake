@@ -3,7 +3,8 @@
 #   #include "x.hpp"                   must be the module's own file (its src/ or beside the file);
 #   #include <opencv2/multicage/x.hpp> must be a public header of the module itself or of a
 #                                      module it DEPENDS on, directly or through others;
-#   opencv2/multicage/internal/...     is core's, shared with every module (all depend on core);
+#   opencv2/multicage/internal/...     a module's internal/ (core's, or coords' applyRows), the same
+#                                      rule as its public headers: only for modules that depend on it;
 #   <opencv2/multicage.hpp>            (the umbrella) is for applications, not for modules.
 # Module names come from MULTICAGE_MODULES and each module's dependencies from the variable
 # MULTICAGE_DEPENDS_<name> (set from the targets when configuring; a test sets them by hand).

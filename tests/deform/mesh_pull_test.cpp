@@ -225,3 +225,49 @@ TEST(MeshPull, TheSameBitsHoweverTheRowsAreSplit) {
         }
     }
 }
+
+// RasterMesh::pose checks for folds while Binding::apply writes the nodes, block by block of rows
+// (applyRows), and the cell rows no block holds whole afterwards: the ring's, and those across two
+// blocks. A fold in any one cell row must be found, wherever the blocks begin. One node of the
+// binding is given a coefficient of 60 on one vertex, and that vertex moved 1 px: the node moves
+// 60 px up or down, past its neighbour row, and every triangle it shares with that row flips (the
+// ones on its other side only stretch). So each node row, moved each way, folds exactly one cell
+// row: every cell row of the mesh, ring rows included, is the only fold of some case.
+TEST(MeshPull, PoseFindsAFoldInEveryCellRow) {
+    if (!raster::havePullKernel()) GTEST_SKIP() << "no AVX-512 here: every mesh is drawn";
+    const Size size(41, 37);
+    const Multicage cage = multicage_fixtures::lotusMulticage(size, 24);
+    const Binding b = bind(cage, MEAN_VALUE, 1);
+    const int j = 0;  // the vertex moved
+    std::vector<Point2f> pose = b.completePose(cage.vertices());
+    auto posed = [&](const Binding& binding) {
+        RasterMesh mesh;
+        mesh.reset(binding);
+        mesh.pose(binding, pose);
+        return mesh;
+    };
+    // The nodes written through nodes() instead: pulls() then reads every node back.
+    auto written = [&](const Binding& binding) {
+        RasterMesh mesh;
+        mesh.reset(binding);
+        Mat nodes = mesh.nodes();
+        binding.apply(pose, nodes);
+        mesh.setFrame(&pose[pose.size() - 4]);
+        return mesh;
+    };
+    pose[j] += Point2f(0.f, 1.f);
+    ASSERT_TRUE(posed(b).pulls()) << "moving one vertex 1 px folds nothing by itself";
+    int folds = 0;
+    for (int gy = 0; gy < b.gridSize.height; ++gy)
+        for (float dy : {1.f, -1.f}) {
+            Binding boosted = b;
+            boosted.coefficients = b.coefficients.clone();
+            boosted.coefficients.at<float>(j, gy * b.gridSize.width + b.gridSize.width / 2) = 60.f;
+            pose[j] = cage.vertices()[j] + Point2f(0.f, dy);
+            const bool pulls = posed(boosted).pulls();
+            EXPECT_EQ(pulls, written(boosted).pulls()) << "node row " << gy << " moved " << dy;
+            EXPECT_FALSE(pulls) << "node row " << gy << " moved " << 60 * dy << " px";
+            folds += !pulls;
+        }
+    EXPECT_EQ(folds, 2 * b.gridSize.height);
+}

@@ -9,6 +9,7 @@
 #include <sys/mman.h>
 #endif
 
+#include <opencv2/multicage/internal/apply_rows.hpp>
 #include <opencv2/multicage/internal/backend_contract.hpp>
 #include <opencv2/multicage/internal/geometry.hpp>
 #include "harmonic.hpp"
@@ -118,19 +119,25 @@ void accumulateDisplacements(const Mat& coefficients, const int* moved, const Po
 }  // namespace
 
 void Binding::apply(InputArray poseIn, OutputArray positionsOut) const {
-    CV_Assert(!empty());
-    const std::vector<Point2f> pose = completePose(poseIn);
+    applyRows(*this, poseIn, positionsOut, {});
+}
+
+void applyRows(const Binding& binding, InputArray poseIn, OutputArray positionsOut,
+               const std::function<void(int, int)>& rowsDone) {
+    CV_Assert(!binding.empty());
+    const Binding& b = binding;
+    const std::vector<Point2f> pose = b.completePose(poseIn);
     // Displacement form p' = x + sum_j CC_j (v'_j - v_j): exact for the rest pose, and vertices
     // that did not move cost nothing.
     std::vector<int> moved;
     std::vector<Point2f> delta;
-    for (int j = 0; j < coefficientCount(); ++j) {
-        const Point2f d = pose[j] - restVertices[j];
+    for (int j = 0; j < b.coefficientCount(); ++j) {
+        const Point2f d = pose[j] - b.restVertices[j];
         if (d.x != 0.f || d.y != 0.f) moved.push_back(j), delta.push_back(d);
     }
-    positionsOut.create(gridSize, CV_32FC2);
+    positionsOut.create(b.gridSize, CV_32FC2);
     Mat positions = positionsOut.getMat();  // may be a view into a larger mesh (not continuous)
-    const int m = gridSize.width, n = gridSize.height;
+    const int m = b.gridSize.width, n = b.gridSize.height;
     // Blocks of whole rows, about 16384 nodes each (128 KB of running sums, in L2), at least two
     // per thread: each pass streams 4 coefficient planes 64 KB long, long enough for the hardware
     // prefetcher. (Blocks of 2048 nodes, sums in L1, streamed 8 KB per plane: at 1024x768 the sum
@@ -145,12 +152,12 @@ void Binding::apply(InputArray poseIn, OutputArray positionsOut) const {
             const size_t begin = static_cast<size_t>(gy0) * m;
             const int count = (gy1 - gy0) * m;
             for (int gy = gy0; gy < gy1; ++gy) {  // the rest positions, as node(gx, gy) gives them
-                const float y = nodeCoordinate(gy, gridStep, imageSize.height);
+                const float y = nodeCoordinate(gy, b.gridStep, b.imageSize.height);
                 float* qx = px.data() + (gy - gy0) * m;
                 float* qy = py.data() + (gy - gy0) * m;
-                for (int gx = 0; gx < m; ++gx) qx[gx] = nodeCoordinate(gx, gridStep, imageSize.width), qy[gx] = y;
+                for (int gx = 0; gx < m; ++gx) qx[gx] = nodeCoordinate(gx, b.gridStep, b.imageSize.width), qy[gx] = y;
             }
-            accumulateDisplacements(coefficients, moved.data(), delta.data(), static_cast<int>(moved.size()),
+            accumulateDisplacements(b.coefficients, moved.data(), delta.data(), static_cast<int>(moved.size()),
                                     begin, count, px.data(), py.data());
             for (int gy = gy0; gy < gy1; ++gy) {
                 Point2f* out = positions.ptr<Point2f>(gy);
@@ -158,6 +165,7 @@ void Binding::apply(InputArray poseIn, OutputArray positionsOut) const {
                 const float* qy = py.data() + (gy - gy0) * m;
                 for (int gx = 0; gx < m; ++gx) out[gx] = Point2f(qx[gx], qy[gx]);
             }
+            if (rowsDone) rowsDone(gy0, gy1);
         }
     });
 }

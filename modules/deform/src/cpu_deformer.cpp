@@ -114,10 +114,8 @@ class CpuDeformer final : public Deformer {
                 }
                 if (!ws) ws.reset(new Workspace(binding_));
                 for (int k = r.start; k < r.end; ++k) {
-                    Mat nodes = ws->mesh.nodes();
-                    binding_.apply(poses[k], nodes);
-                    ws->mesh.setFrame(&poses[k][poses[k].size() - 4]);
-                    ws->mesh.setOutputSize(sizes[k]);
+                    ws->mesh.pose(binding_, poses[k]);
+                    CV_DbgAssert(ws->mesh.outputSize() == sizes[k]);
                     ws->mapx.create(sizes[k], CV_32F);
                     ws->mapy.create(sizes[k], CV_32F);
                     drawAndSample(images.empty() ? image_ : images[k], out[k], ws->mesh, ws->mapx,
@@ -154,13 +152,8 @@ class CpuDeformer final : public Deformer {
     // Node positions into the mesh, the ring onto the pose's frame, and maps of the size that
     // frame asks for (frameOutputSize: the image's own, or a resize pose's new size).
     void drawMapsFor(InputArray pose) {
-        const std::vector<Point2f> vertices = binding_.completePose(pose);
-        Mat nodes = mesh_.nodes();
-        binding_.apply(vertices, nodes);
-        const Point2f* frame = &vertices[vertices.size() - 4];
-        mesh_.setFrame(frame);
-        const Size size = frameOutputSize(frame, image_.size());
-        mesh_.setOutputSize(size);
+        mesh_.pose(binding_, binding_.completePose(pose));
+        const Size size = mesh_.outputSize();
         if (mapx_.size() != size) {  // kept for the next pose of this size
             std::vector<Mat>().swap(mapOwners_);
             mapx_ = hugePageMat(size, CV_32F, mapOwners_);

@@ -184,29 +184,40 @@ std::array<Point2d, 4> ringCorners(const PullMesh& m) {
 }
 }  // namespace
 
-bool pullable(const PullMesh& m) {
-    const int C = m.cols, R = m.rows;
-    if (C < 2 || R < 2) return false;
+bool frameConvex(const PullMesh& m) {
+    if (m.cols < 2 || m.rows < 2) return false;
     // The ring's outer boundary: the frame quadrilateral TL, TR, BR, BL, convex and turning as
     // the rest grid does (cross((1,0), (0,1)) > 0 in the y-down image).
-    const Point2f* P = m.nodes;
     const std::array<Point2d, 4> q = ringCorners(m);
     for (int i = 0; i < 4; ++i) {
         const Point2d u = q[(i + 1) % 4] - q[i], v = q[(i + 2) % 4] - q[(i + 1) % 4];
         if (!(u.x * v.y - u.y * v.x > 0)) return false;
     }
-    // Every triangle, in parallel. (Checked by each band just before it pulls, the same nodes
-    // then in cache for the pull, it was no faster at 1024x768: the check's time is the read
-    // of the nodes from memory, 0.3 ms, wherever it happens.)
+    return true;
+}
+
+MULTICAGE_PULL_TARGET
+bool positiveRows(const PullMesh& m, int ey0, int ey1) {
+    const Point2f* P = m.nodes;
+    const size_t C = m.cols;
+    for (int ey = std::max(ey0, 0); ey < std::min(ey1, m.rows - 1); ++ey)
+        if (notPositiveInRow(P + size_t(ey) * C, P + size_t(ey + 1) * C, m.cols - 1) > 0)
+            return false;
+    return true;
+}
+
+bool pullable(const PullMesh& m) {
+    if (!frameConvex(m)) return false;
+    // Every triangle, in parallel. (A pose drawn by RasterMesh::pose is checked while
+    // Binding::apply writes its nodes instead, block by block of rows in cache: read back from
+    // memory, the check costs 0.3 ms at 1024x768, grid step 1.)
     std::atomic<bool> good{true};
     parallel_for_(
-        Range(0, R - 1),
+        Range(0, m.rows - 1),
         [&](const Range& r) {
-            for (int ey = r.start; ey < r.end && good; ++ey)
-                if (notPositiveInRow(P + size_t(ey) * C, P + size_t(ey + 1) * C, C - 1) > 0)
-                    good = false;
+            if (good && !positiveRows(m, r.start, r.end)) good = false;
         },
-        std::max(1.0, (R - 1) / 64.0));
+        std::max(1.0, (m.rows - 1) / 64.0));
     return good;
 }
 
@@ -420,6 +431,12 @@ bool havePullKernel() {
     return avx512;
 }
 #else
+bool frameConvex(const PullMesh&) {
+    return false;
+}
+bool positiveRows(const PullMesh&, int, int) {
+    return false;
+}
 bool pullable(const PullMesh&) {
     return false;
 }

@@ -27,6 +27,12 @@ except on shared edges, where the triangles' affine maps agree: a pixel's value 
 the order triangles are drawn in, and it can be found from the pixel. */
 bool pullable(const PullMesh& mesh);
 
+/** The two halves of pullable: the ring's outer boundary is a convex quadrilateral of the rest
+grid's orientation; every triangle of the cells between node rows ey and ey + 1, for ey in
+[ey0, ey1) (rows of the mesh, ring included), is clearly positive. False without the kernel. */
+bool frameConvex(const PullMesh& mesh);
+bool positiveRows(const PullMesh& mesh, int ey0, int ey1);
+
 /** The rows of a pull's guesses: each run of kPullRun rows from a multiple of it starts afresh,
 the rows after extrapolating from the rows above. So a pixel's walk, and where a tie between
 triangles sharing an edge is settled, depends on the pixel alone, not on how the rows were split

@@ -6,12 +6,16 @@
 #include "raster_options.hpp"
 // clang-format on
 
+#include <algorithm>
+#include <atomic>
 #include <climits>
 #include <cmath>
 #include <memory>
 #include <mutex>
 #include <opencv2/core/utility.hpp>
 #include <opencv2/multicage/deformer.hpp>
+
+#include <opencv2/multicage/internal/apply_rows.hpp>
 
 #include "cpu_deformer.hpp"
 #include "mesh_pull.hpp"
@@ -108,6 +112,7 @@ void RasterMesh::forEachRingNode(F&& f) const {
 }
 
 void RasterMesh::setFrame(const Point2f* frame) {
+    pullable_ = Pullable::unknown;
     // The mesh gets a ring of nodes on the image frame, around the node grid (whose outer nodes
     // sit on the border pixel centres, half a pixel inside the frame). A ring node follows the
     // frame as mean value coordinates do on a polygon edge (the frame corners interpolated
@@ -161,9 +166,44 @@ raster::PullMesh RasterMesh::pullMesh() const {
     return {P_.ptr<Point2f>(), P_.cols, P_.rows, grid, float(gridStep_), lo_, hi_};
 }
 
-bool RasterMesh::pulls() const {
+bool RasterMesh::mayPull() const {
     return gridStep_ > 0 && gridStep_ <= kMaxPullStep && pullPreferred_ &&
-           raster::havePullKernel() && P_.isContinuous() && raster::pullable(pullMesh());
+           raster::havePullKernel() && P_.isContinuous();
+}
+
+bool RasterMesh::pulls() const {
+    if (!mayPull()) return false;
+    if (pullable_ != Pullable::unknown) return pullable_ == Pullable::yes;
+    return raster::pullable(pullMesh());
+}
+
+void RasterMesh::pose(const Binding& binding, const std::vector<Point2f>& vertices) {
+    CV_Assert(binding.gridSize == Size(P_.cols - 2, P_.rows - 2) &&
+              vertices.size() == size_t(binding.coefficientCount()));
+    const Point2f* frame = &vertices[vertices.size() - 4];
+    // The ring follows the frame alone (not the nodes): placed first, so that the check below
+    // finds it in place.
+    setFrame(frame);
+    setOutputSize(frameOutputSize(frame, binding.imageSize));
+    Mat nodes = P_(Rect(1, 1, P_.cols - 2, P_.rows - 2));
+    if (!mayPull()) {
+        applyRows(binding, vertices, nodes, {});
+        return;
+    }
+    // Cell row ey lies between mesh rows ey and ey + 1; node row gy is mesh row gy + 1. A block
+    // of node rows [gy0, gy1) holds the cell rows [gy0 + 1, gy1) whole; the rest (the ring's, and
+    // those across blocks: 1 in 16 at 1024 px) are checked after, reading 2 rows each.
+    const raster::PullMesh mesh = pullMesh();
+    std::vector<uchar> checked(P_.rows - 1, 0);
+    std::atomic<bool> positive{raster::frameConvex(mesh)};
+    applyRows(binding, vertices, nodes, [&](int gy0, int gy1) {
+        if (!positive.load(std::memory_order_relaxed)) return;
+        if (!raster::positiveRows(mesh, gy0 + 1, gy1)) positive = false;
+        std::fill(checked.begin() + gy0 + 1, checked.begin() + std::max(gy0 + 1, gy1), uchar(1));
+    });
+    for (int ey = 0; positive && ey + 1 < P_.rows; ++ey)
+        if (!checked[ey] && !raster::positiveRows(mesh, ey, ey + 1)) positive = false;
+    pullable_ = positive ? Pullable::yes : Pullable::no;
 }
 
 void RasterMesh::draw(Mat& mapx, Mat& mapy, const std::function<void(int, int)>& bandDone) {
