@@ -271,3 +271,26 @@ TEST(MeshPull, PoseFindsAFoldInEveryCellRow) {
         }
     EXPECT_EQ(folds, 2 * b.gridSize.height);
 }
+
+// What pose() found about folds holds for that pose only: a mesh made again, or nodes written
+// through nodes(), or a new frame, is checked again when drawn.
+TEST(MeshPull, WhatPoseFoundIsForgottenWhenTheMeshChanges) {
+    if (!raster::havePullKernel()) GTEST_SKIP() << "no AVX-512 here: every mesh is drawn";
+    const Size size(64, 48);
+    const Multicage cage = multicage_fixtures::lotusMulticage(size, 24);
+    const Binding b = bind(cage, MEAN_VALUE, 1);
+    const std::vector<Point2f> smooth = b.completePose(multicage_fixtures::wavePose(cage, 1.f, 0.f));
+    RasterMesh mesh;
+    mesh.reset(b);
+    mesh.pose(b, smooth);
+    ASSERT_TRUE(mesh.pulls());
+    mesh.reset(b);  // every node at 0: nothing is pullable
+    EXPECT_FALSE(mesh.pulls());
+    mesh.pose(b, smooth);
+    mesh.nodes().at<Point2f>(10, 10) = Point2f(NAN, 0.f);
+    EXPECT_FALSE(mesh.pulls());
+    mesh.pose(b, smooth);
+    const Point2f concave[4] = {{-0.5f, -0.5f}, {63.5f, -0.5f}, {20.f, 20.f}, {-0.5f, 47.5f}};
+    mesh.setFrame(concave);
+    EXPECT_FALSE(mesh.pulls());
+}

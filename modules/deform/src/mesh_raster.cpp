@@ -52,6 +52,7 @@ void RasterMesh::resetWith(Size grid, Size outputSize, bool separable, RestNode&
     const int m = grid.width, n = grid.height;
     rest_ = out_ = outputSize;
     gridStep_ = 0;
+    pullable_ = Pullable::unknown;
     lo_ = rest(0, 0), hi_ = rest(m - 1, n - 1);
     owners_.clear();
     P_ = hugePageMat(Size(m + 2, n + 2), CV_32FC2, owners_);
