@@ -471,7 +471,8 @@ void printTableNotes() {
 // the usual elastic recipe (Simard et al. 2003: a uniform random field per axis, Gaussian-smoothed,
 // sigma 4, alpha 34, then cv::remap); (2) 2 threads, 1024x768, 68 vertices: the first deform after
 // Deformer::create (grid step 1) and a warm grid-step-4 deform against reading every
-// coefficient of the grid-step-1 binding once with the same threads.
+// coefficient of the grid-step-1 binding once with the same threads, and a plain cv::remap of
+// the image with the grid-step-4 maps beside them.
 
 // Seconds of f() per item, medians over rounds; the callables are timed in turn each round.
 std::vector<double> interleavedMs(int rounds, const std::vector<std::function<void()>>& fs) {
@@ -786,7 +787,8 @@ void addBenchCommand(CLI::App& app) {
         "--augment", o->augment,
         "Only the augmentation figures: randomPose + deform at 512x512 (1 thread, grid "
         "steps 4 and 2) against cv::remap and the elastic recipe in the same run, and the "
-        "first deform at 1024x768 (2 threads) against reading the coefficients once");
+        "first deform and a warm grid-step-4 deform at 1024x768 (2 threads) against reading "
+        "the coefficients once, with a plain cv::remap of that image beside them");
     cmd->add_flag("--no-peer", o->noPeer, "Skip the thin-plate spline peer");
     cmd->add_flag("--no-gpu", o->noGpu, "Skip the GPU columns");
     cmd->add_option(
