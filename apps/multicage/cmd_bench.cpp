@@ -693,11 +693,9 @@ void printAugmentFirstDeform(const BenchOptions& o) {
     // The warm grid-step-4 deform, interleaved with reads and with its peer: a plain cv::remap
     // of the same image with the same maps (the floor of any deform that samples through maps).
     const std::vector<double> ms = interleavedMs(
-        rounds, {readOnce, [&] { d4->deform(pose, out4); },
-                 [&] {
-                     cv::remap(image, remapped, mapx4, mapy4, cv::INTER_LINEAR,
-                               cv::BORDER_CONSTANT);
-                 }});
+        rounds,
+        {readOnce, [&] { d4->deform(pose, out4); },
+         [&] { cv::remap(image, remapped, mapx4, mapy4, cv::INTER_LINEAR, cv::BORDER_CONSTANT); }});
     // A fresh Deformer each round, its first deform timed, then a read in the same round.
     std::vector<double> firstMs, readMs;
     for (int r = 0; r < rounds; ++r) {

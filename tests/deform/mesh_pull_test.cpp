@@ -279,7 +279,8 @@ TEST(MeshPull, WhatPoseFoundIsForgottenWhenTheMeshChanges) {
     const Size size(64, 48);
     const Multicage cage = multicage_fixtures::lotusMulticage(size, 24);
     const Binding b = bind(cage, MEAN_VALUE, 1);
-    const std::vector<Point2f> smooth = b.completePose(multicage_fixtures::wavePose(cage, 1.f, 0.f));
+    const std::vector<Point2f> smooth =
+        b.completePose(multicage_fixtures::wavePose(cage, 1.f, 0.f));
     RasterMesh mesh;
     mesh.reset(b);
     mesh.pose(b, smooth);

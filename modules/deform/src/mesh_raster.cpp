@@ -14,7 +14,6 @@
 #include <mutex>
 #include <opencv2/core/utility.hpp>
 #include <opencv2/multicage/deformer.hpp>
-
 #include <opencv2/multicage/internal/apply_rows.hpp>
 
 #include "cpu_deformer.hpp"

@@ -2,9 +2,8 @@
 #ifndef MULTICAGE_INTERNAL_APPLY_ROWS_HPP
 #define MULTICAGE_INTERNAL_APPLY_ROWS_HPP
 
-#include <opencv2/multicage/coordinates.hpp>
-
 #include <functional>
+#include <opencv2/multicage/coordinates.hpp>
 
 namespace cv {
 namespace multicage {
