@@ -5,12 +5,17 @@
 // 1024x768, about as long as reading all the coefficients. Where the mesh folds nowhere a pixel
 // lies in exactly one triangle (pullable), so it can be found from the pixel instead: 16 pixels
 // in lanes, a guess extrapolated from the two rows above, and Newton's method on the piecewise
-// linear map, each step one cell's 4 nodes per pixel. 96% of the vectors settle in one step at
-// 1024x768 (bench --augment's pose). The 16 pixels' cells mostly lie in one or two rows of
-// cells within 31 columns: their nodes come from runs of 32 nodes loaded whole and looked up in
-// registers, gathers (slow) only otherwise; the rows three ahead are prefetched, since the
-// nodes were written by Binding::apply long enough ago to have left the cache. The cost is per
-// pixel whatever the cell size, so at grid steps above 2 the raster is faster (RasterMesh::draw).
+// linear map, each step one cell's 4 nodes per pixel: 1.13 steps per vector at 1024x768 (bench
+// --augment's pose). The 16 pixels' cells mostly lie in one or two rows of cells within 31
+// columns (a quarter of the vectors span two): their nodes come from runs of 32 nodes loaded
+// whole and looked up in registers, gathers (slow; 0.6% of the steps) only otherwise; the rows
+// three ahead are prefetched, since the nodes were written by Binding::apply long enough ago to
+// have left the cache. Four vectors are walked together, stage by stage: one vector's walk is a
+// chain of dependent steps about as long as the core's reorder window, so walked one at a time
+// the chains hardly overlap (together: 2.55-2.70 ms against 2.99-3.34 ms for 1024x768 on one
+// thread; 3 together were about as fast, 6 and 8 slower, their registers spilling). The cost is
+// per pixel whatever the cell size, so at grid steps above 2 the raster is faster
+// (RasterMesh::draw).
 
 // First, before any other header (clang-format would sort it among them): the rasteriser's
 // floating-point options.
@@ -102,6 +107,7 @@ MULTICAGE_PULL_TARGET int notPositiveInRow(const Point2f* p0, const Point2f* p1,
 }
 
 constexpr int kMaxSteps = 12;          // then the band is drawn by the raster kernel
+constexpr int kPair = 4;               // vectors of 16 pixels walked together (pullRows)
 constexpr float kEdge = 1e-6f;         // barycentric tolerance: shared edges leave no crack
 constexpr float kFrameMargin = 2e-3f;  // px: nearer the frame than this, the raster decides
 
@@ -242,11 +248,12 @@ bool pullRows(const PullMesh& m, int y0, int y1, Mat& mapx, Mat& mapy) {
     const float sy = H > 1 ? float(m.rows - 3) / float(H - 1) : 0.f;
     // Where each pixel of the two rows above ended, in cell coordinates (cell + barycentric).
     thread_local std::vector<float> estimates;
-    estimates.resize(4 * (size_t(W) + 16));
+    // (padded: a pair's second vector may start up to 16 pixels before the row's end)
+    estimates.resize(4 * (size_t(W) + 16 * kPair));
     float* e1x = estimates.data();
-    float* e1y = e1x + W + 16;
-    float* e2x = e1y + W + 16;
-    float* e2y = e2x + W + 16;
+    float* e1y = e1x + W + 16 * kPair;
+    float* e2x = e1y + W + 16 * kPair;
+    float* e2y = e2x + W + 16 * kPair;
 
     const __m512 iota = _mm512_setr_ps(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
     const __m512 zero = _mm512_setzero_ps(), one = _mm512_set1_ps(1.f);
@@ -256,166 +263,215 @@ bool pullRows(const PullMesh& m, int y0, int y1, Mat& mapx, Mat& mapy) {
         float* my = mapy.ptr<float>(y);
         const int seen = y % kPullRun;  // rows of this run already pulled
         const __m512 py = _mm512_set1_ps(float(y));
-        for (int x0 = 0; x0 < W; x0 += 16) {
-            // (at most 16: BZHI reads only the low 8 bits of its index)
-            const __mmask16 lanes =
-                static_cast<__mmask16>(_bzhi_u32(0xffff, unsigned(std::min(W - x0, 16))));
-            const __m512 px = _mm512_add_ps(_mm512_set1_ps(float(x0)), iota);
-            __m512 gx, gy;
-            if (seen >= 2) {  // extrapolated from the two rows above
-                const __m512 ax = _mm512_loadu_ps(e1x + x0), ay = _mm512_loadu_ps(e1y + x0);
-                gx = _mm512_sub_ps(_mm512_add_ps(ax, ax), _mm512_loadu_ps(e2x + x0));
-                gy = _mm512_sub_ps(_mm512_add_ps(ay, ay), _mm512_loadu_ps(e2y + x0));
-            } else if (seen == 1) {
-                gx = _mm512_loadu_ps(e1x + x0);
-                gy = _mm512_add_ps(_mm512_loadu_ps(e1y + x0), _mm512_set1_ps(sy));
-            } else {
-                gx = _mm512_add_ps(one, _mm512_mul_ps(px, _mm512_set1_ps(sx)));
-                gy = _mm512_set1_ps(1.f + float(y) * sy);
+        // kPair vectors of 16 pixels at a time, each stage for all of them before the next (the
+        // chains of dependent steps, cell, node loads, barycentrics with a division, then
+        // overlap). Each vector's walk is the same as alone, step for step: a vector whose walk
+        // has ended skips the stages while the others go on.
+        for (int x0 = 0; x0 < W; x0 += 16 * kPair) {
+            __mmask16 lanes[kPair], active[kPair], covered[kPair];
+            __m512 px[kPair], gu[kPair], gv[kPair], fu[kPair], fv[kPair];
+            __m512i gcx[kPair], gcy[kPair], cellX[kPair], cellY[kPair];
+            for (int v = 0; v < kPair; ++v) {
+                const int xv = x0 + 16 * v;
+                // (at most 16: BZHI reads only the low 8 bits of its index)
+                lanes[v] =
+                    xv < W
+                        ? static_cast<__mmask16>(_bzhi_u32(0xffff, unsigned(std::min(W - xv, 16))))
+                        : 0;
+                px[v] = _mm512_add_ps(_mm512_set1_ps(float(xv)), iota);
+                __m512 gx, gy;
+                if (seen >= 2) {  // extrapolated from the two rows above
+                    const __m512 ax = _mm512_loadu_ps(e1x + xv), ay = _mm512_loadu_ps(e1y + xv);
+                    gx = _mm512_sub_ps(_mm512_add_ps(ax, ax), _mm512_loadu_ps(e2x + xv));
+                    gy = _mm512_sub_ps(_mm512_add_ps(ay, ay), _mm512_loadu_ps(e2y + xv));
+                } else if (seen == 1) {
+                    gx = _mm512_loadu_ps(e1x + xv);
+                    gy = _mm512_add_ps(_mm512_loadu_ps(e1y + xv), _mm512_set1_ps(sy));
+                } else {
+                    gx = _mm512_add_ps(one, _mm512_mul_ps(px[v], _mm512_set1_ps(sx)));
+                    gy = _mm512_set1_ps(1.f + float(y) * sy);
+                }
+                // The guess as a cell and coordinates in it: a walk's step is then decided by its
+                // own cell's coordinates (a pixel 1e-6 left of a cell, whose absolute coordinate
+                // 634 - 1e-6 rounds to 634 in float, still goes left).
+                const __m512 big = _mm512_set1_ps(float(std::max(cellsX, cellsY) + 1));
+                gx = _mm512_min_ps(_mm512_max_ps(gx, _mm512_set1_ps(-1.f)), big);  // NaN: -1
+                gy = _mm512_min_ps(_mm512_max_ps(gy, _mm512_set1_ps(-1.f)), big);
+                const __m512 fx = _mm512_roundscale_ps(gx, _MM_FROUND_TO_NEG_INF);
+                const __m512 fy = _mm512_roundscale_ps(gy, _MM_FROUND_TO_NEG_INF);
+                gcx[v] = _mm512_cvttps_epi32(fx), gcy[v] = _mm512_cvttps_epi32(fy);
+                gu[v] = _mm512_sub_ps(gx, fx), gv[v] = _mm512_sub_ps(gy, fy);
+                active[v] = lanes[v], covered[v] = 0;
+                cellX[v] = cellY[v] = _mm512_setzero_si512();
+                fu[v] = fv[v] = zero;
             }
-            // The guess as a cell and coordinates in it: a walk's step is then decided by its own
-            // cell's coordinates (a pixel 1e-6 left of a cell, whose absolute coordinate 634 -
-            // 1e-6 rounds to 634 in float, still goes left).
-            const __m512 big = _mm512_set1_ps(float(std::max(cellsX, cellsY) + 1));
-            gx = _mm512_min_ps(_mm512_max_ps(gx, _mm512_set1_ps(-1.f)), big);  // NaN: -1
-            gy = _mm512_min_ps(_mm512_max_ps(gy, _mm512_set1_ps(-1.f)), big);
-            __m512 gu = _mm512_roundscale_ps(gx, _MM_FROUND_TO_NEG_INF);
-            __m512 gv = _mm512_roundscale_ps(gy, _MM_FROUND_TO_NEG_INF);
-            __m512i gcx = _mm512_cvttps_epi32(gu), gcy = _mm512_cvttps_epi32(gv);
-            gu = _mm512_sub_ps(gx, gu), gv = _mm512_sub_ps(gy, gv);
-            __mmask16 active = lanes, covered = 0;
-            __m512i cellX = _mm512_setzero_si512(), cellY = _mm512_setzero_si512();
-            __m512 fu = zero, fv = zero;
             const __m512i zeroI = _mm512_setzero_si512(), oneI = _mm512_set1_epi32(1);
             const __m512i lastXi = _mm512_set1_epi32(cellsX - 1),
                           lastYi = _mm512_set1_epi32(cellsY - 1);
-            for (int step = 0; active; ++step) {
+            auto anyActive = [&] {
+                unsigned any = 0;
+                for (int v = 0; v < kPair; ++v) any |= active[v];
+                return any != 0;
+            };
+            for (int step = 0; anyActive(); ++step) {
                 if (step == kMaxSteps) return false;
-                // The cell of the guess, clamped to the mesh.
-                const __m512i cx = _mm512_min_epi32(
-                    _mm512_max_epi32(_mm512_add_epi32(gcx, _mm512_cvttps_epi32(_mm512_roundscale_ps(
-                                                               gu, _MM_FROUND_TO_NEG_INF))),
-                                     zeroI),
-                    lastXi);
-                const __m512i cy = _mm512_min_epi32(
-                    _mm512_max_epi32(_mm512_add_epi32(gcy, _mm512_cvttps_epi32(_mm512_roundscale_ps(
-                                                               gv, _MM_FROUND_TO_NEG_INF))),
-                                     zeroI),
-                    lastYi);
-                __m512 ax, ay, bx, by, cxv, cyv, dx, dy;
-                // The cells of 16 neighbouring pixels mostly lie in one row of cells, within 31
-                // cells: their nodes are then read from two runs of 32 nodes (loads and in-register
-                // lookups), else gathered one by one.
-                const int firstX = _mm512_mask_reduce_min_epi32(active, cx);
-                const int row = _mm512_mask_reduce_min_epi32(active, cy);
-                const __m512i local = _mm512_sub_epi32(cx, _mm512_set1_epi32(firstX));
-                const __mmask16 lower = _mm512_cmpgt_epi32_mask(cy, _mm512_set1_epi32(row));
-                if (!(active & ~(_mm512_cmple_epi32_mask(cy, _mm512_set1_epi32(row + 1)) &
-                                 _mm512_cmple_epi32_mask(local, _mm512_set1_epi32(30))))) {
-                    // Cells in rows `row` and `row + 1`: node runs of rows row..row+2, the lanes of
-                    // the lower cell row taking theirs from the runs one row down.
-                    const __m512i local1 = _mm512_add_epi32(local, oneI);
-                    if (step == 0 && row + 3 < m.rows) {  // the next rows' nodes, on their way
-                        const char* ahead =
-                            reinterpret_cast<const char*>(m.nodes + size_t(row + 3) * C + firstX);
-                        for (int line = 0; line < 4; ++line)
-                            _mm_prefetch(ahead + 64 * line, _MM_HINT_T0);
+                __m512i cx[kPair], cy[kPair];
+                __m512 ax[kPair], ay[kPair], bx[kPair], by[kPair];
+                __m512 cxv[kPair], cyv[kPair], dx[kPair], dy[kPair];
+                for (int v = 0; v < kPair; ++v) {
+                    // The cell of the guess, clamped to the mesh.
+                    cx[v] = _mm512_min_epi32(
+                        _mm512_max_epi32(
+                            _mm512_add_epi32(gcx[v], _mm512_cvttps_epi32(_mm512_roundscale_ps(
+                                                         gu[v], _MM_FROUND_TO_NEG_INF))),
+                            zeroI),
+                        lastXi);
+                    cy[v] = _mm512_min_epi32(
+                        _mm512_max_epi32(
+                            _mm512_add_epi32(gcy[v], _mm512_cvttps_epi32(_mm512_roundscale_ps(
+                                                         gv[v], _MM_FROUND_TO_NEG_INF))),
+                            zeroI),
+                        lastYi);
+                }
+                for (int v = 0; v < kPair; ++v) {
+                    if (!active[v]) continue;  // walked to its end (or past the row's end)
+                    // The cells of 16 neighbouring pixels mostly lie in one row of cells, within
+                    // 31 cells: their nodes are then read from two runs of 32 nodes (loads and
+                    // in-register lookups), else gathered one by one.
+                    const int firstX = _mm512_mask_reduce_min_epi32(active[v], cx[v]);
+                    const int row = _mm512_mask_reduce_min_epi32(active[v], cy[v]);
+                    const __m512i local = _mm512_sub_epi32(cx[v], _mm512_set1_epi32(firstX));
+                    const __mmask16 lower = _mm512_cmpgt_epi32_mask(cy[v], _mm512_set1_epi32(row));
+                    if (!(active[v] & ~(_mm512_cmple_epi32_mask(cy[v], _mm512_set1_epi32(row + 1)) &
+                                        _mm512_cmple_epi32_mask(local, _mm512_set1_epi32(30))))) {
+                        // Cells in rows `row` and `row + 1`: node runs of rows row..row+2, the
+                        // lanes of the lower cell row taking theirs from the runs one row down.
+                        const __m512i local1 = _mm512_add_epi32(local, oneI);
+                        if (step == 0 && row + 3 < m.rows) {  // the next rows' nodes, on their way
+                            const char* ahead = reinterpret_cast<const char*>(
+                                m.nodes + size_t(row + 3) * C + firstX);
+                            for (int line = 0; line < 4; ++line)
+                                _mm_prefetch(ahead + 64 * line, _MM_HINT_T0);
+                        }
+                        NodeRun r0, r1;
+                        r0.load(m.nodes + size_t(row) * C + firstX, C - firstX);
+                        r1.load(m.nodes + size_t(row + 1) * C + firstX, C - firstX);
+                        r0.lookup(local, ax[v], ay[v]), r0.lookup(local1, bx[v], by[v]);
+                        r1.lookup(local, cxv[v], cyv[v]), r1.lookup(local1, dx[v], dy[v]);
+                        if (active[v] & lower) {
+                            NodeRun r2;
+                            r2.load(m.nodes + size_t(row + 2) * C + firstX, C - firstX);
+                            r1.lookupInto(local, lower, ax[v], ay[v]);
+                            r1.lookupInto(local1, lower, bx[v], by[v]);
+                            r2.lookupInto(local, lower, cxv[v], cyv[v]);
+                            r2.lookupInto(local1, lower, dx[v], dy[v]);
+                        }
+                    } else {
+                        const __m512i ia = _mm512_add_epi32(_mm512_mullo_epi32(cy[v], cols), cx[v]);
+                        const __m512i ic = _mm512_add_epi32(ia, cols);
+                        gatherNodes(P, ia, active[v], ax[v], ay[v]);
+                        gatherNodes(P, _mm512_add_epi32(ia, oneI), active[v], bx[v], by[v]);
+                        gatherNodes(P, ic, active[v], cxv[v], cyv[v]);
+                        gatherNodes(P, _mm512_add_epi32(ic, oneI), active[v], dx[v], dy[v]);
                     }
-                    NodeRun r0, r1;
-                    r0.load(m.nodes + size_t(row) * C + firstX, C - firstX);
-                    r1.load(m.nodes + size_t(row + 1) * C + firstX, C - firstX);
-                    r0.lookup(local, ax, ay), r0.lookup(local1, bx, by);
-                    r1.lookup(local, cxv, cyv), r1.lookup(local1, dx, dy);
-                    if (active & lower) {
-                        NodeRun r2;
-                        r2.load(m.nodes + size_t(row + 2) * C + firstX, C - firstX);
-                        r1.lookupInto(local, lower, ax, ay), r1.lookupInto(local1, lower, bx, by);
-                        r2.lookupInto(local, lower, cxv, cyv), r2.lookupInto(local1, lower, dx, dy);
-                    }
-                } else {
-                    const __m512i ia = _mm512_add_epi32(_mm512_mullo_epi32(cy, cols), cx);
-                    const __m512i ic = _mm512_add_epi32(ia, cols);
-                    gatherNodes(P, ia, active, ax, ay);
-                    gatherNodes(P, _mm512_add_epi32(ia, oneI), active, bx, by);
-                    gatherNodes(P, ic, active, cxv, cyv);
-                    gatherNodes(P, _mm512_add_epi32(ic, oneI), active, dx, dy);
                 }
                 // Triangle 0 (a, b, c): p = a + u (b - a) + v (c - a); triangle 1 (b, d, c):
                 // p = d + s (c - d) + t (b - d).
-                __m512 u, v, s, t;
-                barycentric(ax, ay, bx, by, cxv, cyv, px, py, u, v);
-                barycentric(dx, dy, cxv, cyv, bx, by, px, py, s, t);
-                const __mmask16 in0 = inTriangle(u, v), in1 = inTriangle(s, t);
-                // Cell coordinates of p by triangle 1 where it holds p (later in drawing order, so
-                // it wins a shared edge as in the raster) or, neither holding it, where p lies on
-                // its side of the diagonal; else by triangle 0.
-                const __mmask16 half0 = _mm512_cmp_ps_mask(_mm512_add_ps(u, v), one, _CMP_LE_OQ);
-                const __mmask16 by1 = in1 | (static_cast<__mmask16>(~in0) & ~half0);
-                const __m512 U = _mm512_mask_sub_ps(u, by1, one, s);
-                const __m512 V = _mm512_mask_sub_ps(v, by1, one, t);
-                const __mmask16 found = active & (in0 | in1);
-                cellX = _mm512_mask_mov_epi32(cellX, found, cx);
-                cellY = _mm512_mask_mov_epi32(cellY, found, cy);
-                fu = _mm512_mask_mov_ps(fu, found, U), fv = _mm512_mask_mov_ps(fv, found, V);
-                covered |= found;
-                active &= static_cast<__mmask16>(~found);
-                // Newton's step: the cell coordinates of p by this cell's affine map, at most a few
-                // cells away (then one) so that a poor guess cannot oscillate far.
-                const float reach = step < 6 ? 4.f : 1.f;
-                gcx = cx, gcy = cy;
-                gu = _mm512_min_ps(_mm512_max_ps(U, _mm512_set1_ps(-reach)),
-                                   _mm512_set1_ps(1.f + reach));
-                gv = _mm512_min_ps(_mm512_max_ps(V, _mm512_set1_ps(-reach)),
-                                   _mm512_set1_ps(1.f + reach));
-                // A walk that would leave the mesh from its border cells: p is outside the frame
-                // (uncovered, done), clearly inside (it goes on along the border), or on it.
-                const __mmask16 leaving = active & ((_mm512_cmpeq_epi32_mask(cx, zeroI) &
-                                                     _mm512_cmp_ps_mask(gu, zero, _CMP_LT_OQ)) |
-                                                    (_mm512_cmpeq_epi32_mask(cx, lastXi) &
-                                                     _mm512_cmp_ps_mask(gu, one, _CMP_GE_OQ)) |
-                                                    (_mm512_cmpeq_epi32_mask(cy, zeroI) &
-                                                     _mm512_cmp_ps_mask(gv, zero, _CMP_LT_OQ)) |
-                                                    (_mm512_cmpeq_epi32_mask(cy, lastYi) &
-                                                     _mm512_cmp_ps_mask(gv, one, _CMP_GE_OQ)));
-                if (leaving) {
+                __m512 u[kPair], w[kPair], s[kPair], t[kPair];
+                for (int v = 0; v < kPair; ++v) {
+                    if (!active[v]) continue;
+                    barycentric(ax[v], ay[v], bx[v], by[v], cxv[v], cyv[v], px[v], py, u[v], w[v]);
+                    barycentric(dx[v], dy[v], cxv[v], cyv[v], bx[v], by[v], px[v], py, s[v], t[v]);
+                }
+                __mmask16 leaving[kPair];
+                for (int v = 0; v < kPair; ++v) {
+                    leaving[v] = 0;
+                    if (!active[v]) continue;  // its walk has ended: its state stays as it ended
+                    const __mmask16 in0 = inTriangle(u[v], w[v]), in1 = inTriangle(s[v], t[v]);
+                    // Cell coordinates of p by triangle 1 where it holds p (later in drawing
+                    // order, so it wins a shared edge as in the raster) or, neither holding it,
+                    // where p lies on its side of the diagonal; else by triangle 0.
+                    const __mmask16 half0 =
+                        _mm512_cmp_ps_mask(_mm512_add_ps(u[v], w[v]), one, _CMP_LE_OQ);
+                    const __mmask16 by1 = in1 | (static_cast<__mmask16>(~in0) & ~half0);
+                    const __m512 U = _mm512_mask_sub_ps(u[v], by1, one, s[v]);
+                    const __m512 V = _mm512_mask_sub_ps(w[v], by1, one, t[v]);
+                    const __mmask16 found = active[v] & (in0 | in1);
+                    cellX[v] = _mm512_mask_mov_epi32(cellX[v], found, cx[v]);
+                    cellY[v] = _mm512_mask_mov_epi32(cellY[v], found, cy[v]);
+                    fu[v] = _mm512_mask_mov_ps(fu[v], found, U);
+                    fv[v] = _mm512_mask_mov_ps(fv[v], found, V);
+                    covered[v] |= found;
+                    active[v] &= static_cast<__mmask16>(~found);
+                    // Newton's step: the cell coordinates of p by this cell's affine map, at most
+                    // a few cells away (then one) so that a poor guess cannot oscillate far.
+                    const float reach = step < 6 ? 4.f : 1.f;
+                    gcx[v] = cx[v], gcy[v] = cy[v];
+                    gu[v] = _mm512_min_ps(_mm512_max_ps(U, _mm512_set1_ps(-reach)),
+                                          _mm512_set1_ps(1.f + reach));
+                    gv[v] = _mm512_min_ps(_mm512_max_ps(V, _mm512_set1_ps(-reach)),
+                                          _mm512_set1_ps(1.f + reach));
+                    // A walk that would leave the mesh from its border cells: p is outside the
+                    // frame (uncovered, done), clearly inside (it goes on along the border), or
+                    // on it.
+                    leaving[v] = active[v] & ((_mm512_cmpeq_epi32_mask(cx[v], zeroI) &
+                                               _mm512_cmp_ps_mask(gu[v], zero, _CMP_LT_OQ)) |
+                                              (_mm512_cmpeq_epi32_mask(cx[v], lastXi) &
+                                               _mm512_cmp_ps_mask(gu[v], one, _CMP_GE_OQ)) |
+                                              (_mm512_cmpeq_epi32_mask(cy[v], zeroI) &
+                                               _mm512_cmp_ps_mask(gv[v], zero, _CMP_LT_OQ)) |
+                                              (_mm512_cmpeq_epi32_mask(cy[v], lastYi) &
+                                               _mm512_cmp_ps_mask(gv[v], one, _CMP_GE_OQ)));
+                }
+                for (int v = 0; v < kPair; ++v) {
+                    if (!leaving[v]) continue;
                     __mmask16 outside = 0, inside = 0xffff;
                     for (int i = 0; i < 4; ++i) {
                         const __m512 d = _mm512_add_ps(
-                            _mm512_add_ps(_mm512_mul_ps(_mm512_set1_ps(frame.nx[i]), px),
+                            _mm512_add_ps(_mm512_mul_ps(_mm512_set1_ps(frame.nx[i]), px[v]),
                                           _mm512_mul_ps(_mm512_set1_ps(frame.ny[i]), py)),
                             _mm512_set1_ps(frame.c[i]));
                         outside |= _mm512_cmp_ps_mask(d, _mm512_set1_ps(-kFrameMargin), _CMP_LT_OQ);
                         inside &= _mm512_cmp_ps_mask(d, _mm512_set1_ps(kFrameMargin), _CMP_GT_OQ);
                     }
-                    if (leaving & ~outside & ~inside) return false;  // on the frame
-                    active &= static_cast<__mmask16>(~(leaving & outside));
+                    if (leaving[v] & ~outside & ~inside) return false;  // on the frame
+                    active[v] &= static_cast<__mmask16>(~(leaving[v] & outside));
                 }
             }
-            // Rest points: X0 + U (X1 - X0), Y0 + V (Y1 - Y0) of the cell each pixel lies in.
-            const __m512 X0 =
-                restOf(_mm512_sub_epi32(cellX, oneI), m.gridSize.width, m.step, m.hi.x);
-            const __m512 X1 = restOf(cellX, m.gridSize.width, m.step, m.hi.x);
-            const __m512 Y0 =
-                restOf(_mm512_sub_epi32(cellY, oneI), m.gridSize.height, m.step, m.hi.y);
-            const __m512 Y1 = restOf(cellY, m.gridSize.height, m.step, m.hi.y);
-            const __m512 rx = _mm512_add_ps(X0, _mm512_mul_ps(fu, _mm512_sub_ps(X1, X0)));
-            const __m512 ry = _mm512_add_ps(Y0, _mm512_mul_ps(fv, _mm512_sub_ps(Y1, Y0)));
-            const __m512 none = _mm512_set1_ps(kUncovered);
-            const __m512 outX = _mm512_mask_mov_ps(
-                none, covered,
-                _mm512_min_ps(_mm512_set1_ps(m.hi.x), _mm512_max_ps(_mm512_set1_ps(m.lo.x), rx)));
-            const __m512 outY = _mm512_mask_mov_ps(
-                none, covered,
-                _mm512_min_ps(_mm512_set1_ps(m.hi.y), _mm512_max_ps(_mm512_set1_ps(m.lo.y), ry)));
-            _mm512_mask_storeu_ps(mx + x0, lanes, outX);
-            _mm512_mask_storeu_ps(my + x0, lanes, outY);
-            // Where each pixel ended, for the guesses of the next rows (uncovered: the last guess).
-            const __m512 ex = _mm512_mask_add_ps(_mm512_add_ps(_mm512_cvtepi32_ps(gcx), gu),
-                                                 covered, _mm512_cvtepi32_ps(cellX), fu);
-            const __m512 ey = _mm512_mask_add_ps(_mm512_add_ps(_mm512_cvtepi32_ps(gcy), gv),
-                                                 covered, _mm512_cvtepi32_ps(cellY), fv);
-            _mm512_mask_storeu_ps(e2x + x0, lanes, ex);
-            _mm512_mask_storeu_ps(e2y + x0, lanes, ey);
+            for (int v = 0; v < kPair; ++v) {
+                if (!lanes[v]) continue;
+                const int xv = x0 + 16 * v;
+                // Rest points: X0 + U (X1 - X0), Y0 + V (Y1 - Y0) of the cell each pixel lies in.
+                const __m512 X0 =
+                    restOf(_mm512_sub_epi32(cellX[v], oneI), m.gridSize.width, m.step, m.hi.x);
+                const __m512 X1 = restOf(cellX[v], m.gridSize.width, m.step, m.hi.x);
+                const __m512 Y0 =
+                    restOf(_mm512_sub_epi32(cellY[v], oneI), m.gridSize.height, m.step, m.hi.y);
+                const __m512 Y1 = restOf(cellY[v], m.gridSize.height, m.step, m.hi.y);
+                const __m512 rx = _mm512_add_ps(X0, _mm512_mul_ps(fu[v], _mm512_sub_ps(X1, X0)));
+                const __m512 ry = _mm512_add_ps(Y0, _mm512_mul_ps(fv[v], _mm512_sub_ps(Y1, Y0)));
+                const __m512 none = _mm512_set1_ps(kUncovered);
+                const __m512 outX =
+                    _mm512_mask_mov_ps(none, covered[v],
+                                       _mm512_min_ps(_mm512_set1_ps(m.hi.x),
+                                                     _mm512_max_ps(_mm512_set1_ps(m.lo.x), rx)));
+                const __m512 outY =
+                    _mm512_mask_mov_ps(none, covered[v],
+                                       _mm512_min_ps(_mm512_set1_ps(m.hi.y),
+                                                     _mm512_max_ps(_mm512_set1_ps(m.lo.y), ry)));
+                _mm512_mask_storeu_ps(mx + xv, lanes[v], outX);
+                _mm512_mask_storeu_ps(my + xv, lanes[v], outY);
+                // Where each pixel ended, for the guesses of the next rows (uncovered: the last
+                // guess).
+                const __m512 ex =
+                    _mm512_mask_add_ps(_mm512_add_ps(_mm512_cvtepi32_ps(gcx[v]), gu[v]), covered[v],
+                                       _mm512_cvtepi32_ps(cellX[v]), fu[v]);
+                const __m512 ey =
+                    _mm512_mask_add_ps(_mm512_add_ps(_mm512_cvtepi32_ps(gcy[v]), gv[v]), covered[v],
+                                       _mm512_cvtepi32_ps(cellY[v]), fv[v]);
+                _mm512_mask_storeu_ps(e2x + xv, lanes[v], ex);
+                _mm512_mask_storeu_ps(e2y + xv, lanes[v], ey);
+            }
         }
         std::swap(e1x, e2x), std::swap(e1y, e2y);  // this row's estimates become the row above
     }
