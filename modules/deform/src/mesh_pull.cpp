@@ -308,6 +308,8 @@ bool pullRows(const PullMesh& m, int y0, int y1, Mat& mapx, Mat& mapy) {
             const __m512i zeroI = _mm512_setzero_si512(), oneI = _mm512_set1_epi32(1);
             const __m512i lastXi = _mm512_set1_epi32(cellsX - 1),
                           lastYi = _mm512_set1_epi32(cellsY - 1);
+            const __m512i edgeX = _mm512_set1_epi32(cellsX - 2),
+                          edgeY = _mm512_set1_epi32(cellsY - 2);
             auto anyActive = [&] {
                 unsigned any = 0;
                 for (int v = 0; v < kPair; ++v) any |= active[v];
@@ -414,6 +416,12 @@ bool pullRows(const PullMesh& m, int y0, int y1, Mat& mapx, Mat& mapy) {
                     // A walk that would leave the mesh from its border cells: p is outside the
                     // frame (uncovered, done), clearly inside (it goes on along the border), or
                     // on it.
+                    // (cx - 1 as unsigned: at least cellsX - 2 only for the first and last
+                    // column of cells, the same for rows)
+                    const __mmask16 edge =
+                        active[v] & (_mm512_cmpge_epu32_mask(_mm512_sub_epi32(cx[v], oneI), edgeX) |
+                                     _mm512_cmpge_epu32_mask(_mm512_sub_epi32(cy[v], oneI), edgeY));
+                    if (!edge) continue;
                     leaving[v] = active[v] & ((_mm512_cmpeq_epi32_mask(cx[v], zeroI) &
                                                _mm512_cmp_ps_mask(gu[v], zero, _CMP_LT_OQ)) |
                                               (_mm512_cmpeq_epi32_mask(cx[v], lastXi) &
