@@ -107,7 +107,7 @@ MULTICAGE_PULL_TARGET int notPositiveInRow(const Point2f* p0, const Point2f* p1,
 }
 
 constexpr int kMaxSteps = 12;          // then the band is drawn by the raster kernel
-constexpr int kPair = 4;               // vectors of 16 pixels walked together (pullRows)
+constexpr int kTogether = 4;           // vectors of 16 pixels walked together (pullRows)
 constexpr float kEdge = 1e-6f;         // barycentric tolerance: shared edges leave no crack
 constexpr float kFrameMargin = 2e-3f;  // px: nearer the frame than this, the raster decides
 
@@ -249,11 +249,11 @@ bool pullRows(const PullMesh& m, int y0, int y1, Mat& mapx, Mat& mapy) {
     // Where each pixel of the two rows above ended, in cell coordinates (cell + barycentric).
     thread_local std::vector<float> estimates;
     // (padded: a pair's second vector may start up to 16 pixels before the row's end)
-    estimates.resize(4 * (size_t(W) + 16 * kPair));
+    estimates.resize(4 * (size_t(W) + 16 * kTogether));
     float* e1x = estimates.data();
-    float* e1y = e1x + W + 16 * kPair;
-    float* e2x = e1y + W + 16 * kPair;
-    float* e2y = e2x + W + 16 * kPair;
+    float* e1y = e1x + W + 16 * kTogether;
+    float* e2x = e1y + W + 16 * kTogether;
+    float* e2y = e2x + W + 16 * kTogether;
 
     const __m512 iota = _mm512_setr_ps(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
     const __m512 zero = _mm512_setzero_ps(), one = _mm512_set1_ps(1.f);
@@ -263,15 +263,15 @@ bool pullRows(const PullMesh& m, int y0, int y1, Mat& mapx, Mat& mapy) {
         float* my = mapy.ptr<float>(y);
         const int seen = y % kPullRun;  // rows of this run already pulled
         const __m512 py = _mm512_set1_ps(float(y));
-        // kPair vectors of 16 pixels at a time, each stage for all of them before the next (the
+        // kTogether vectors of 16 pixels at a time, each stage for all of them before the next (the
         // chains of dependent steps, cell, node loads, barycentrics with a division, then
         // overlap). Each vector's walk is the same as alone, step for step: a vector whose walk
         // has ended skips the stages while the others go on.
-        for (int x0 = 0; x0 < W; x0 += 16 * kPair) {
-            __mmask16 lanes[kPair], active[kPair], covered[kPair];
-            __m512 px[kPair], gu[kPair], gv[kPair], fu[kPair], fv[kPair];
-            __m512i gcx[kPair], gcy[kPair], cellX[kPair], cellY[kPair];
-            for (int v = 0; v < kPair; ++v) {
+        for (int x0 = 0; x0 < W; x0 += 16 * kTogether) {
+            __mmask16 lanes[kTogether], active[kTogether], covered[kTogether];
+            __m512 px[kTogether], gu[kTogether], gv[kTogether], fu[kTogether], fv[kTogether];
+            __m512i gcx[kTogether], gcy[kTogether], cellX[kTogether], cellY[kTogether];
+            for (int v = 0; v < kTogether; ++v) {
                 const int xv = x0 + 16 * v;
                 // (at most 16: BZHI reads only the low 8 bits of its index)
                 lanes[v] =
@@ -312,15 +312,15 @@ bool pullRows(const PullMesh& m, int y0, int y1, Mat& mapx, Mat& mapy) {
                           edgeY = _mm512_set1_epi32(cellsY - 2);
             auto anyActive = [&] {
                 unsigned any = 0;
-                for (int v = 0; v < kPair; ++v) any |= active[v];
+                for (int v = 0; v < kTogether; ++v) any |= active[v];
                 return any != 0;
             };
             for (int step = 0; anyActive(); ++step) {
                 if (step == kMaxSteps) return false;
-                __m512i cx[kPair], cy[kPair];
-                __m512 ax[kPair], ay[kPair], bx[kPair], by[kPair];
-                __m512 cxv[kPair], cyv[kPair], dx[kPair], dy[kPair];
-                for (int v = 0; v < kPair; ++v) {
+                __m512i cx[kTogether], cy[kTogether];
+                __m512 ax[kTogether], ay[kTogether], bx[kTogether], by[kTogether];
+                __m512 cxv[kTogether], cyv[kTogether], dx[kTogether], dy[kTogether];
+                for (int v = 0; v < kTogether; ++v) {
                     // The cell of the guess, clamped to the mesh.
                     cx[v] = _mm512_min_epi32(
                         _mm512_max_epi32(
@@ -335,7 +335,7 @@ bool pullRows(const PullMesh& m, int y0, int y1, Mat& mapx, Mat& mapy) {
                             zeroI),
                         lastYi);
                 }
-                for (int v = 0; v < kPair; ++v) {
+                for (int v = 0; v < kTogether; ++v) {
                     if (!active[v]) continue;  // walked to its end (or past the row's end)
                     // The cells of 16 neighbouring pixels mostly lie in one row of cells, within
                     // 31 cells: their nodes are then read from two runs of 32 nodes (loads and
@@ -379,14 +379,14 @@ bool pullRows(const PullMesh& m, int y0, int y1, Mat& mapx, Mat& mapy) {
                 }
                 // Triangle 0 (a, b, c): p = a + u (b - a) + v (c - a); triangle 1 (b, d, c):
                 // p = d + s (c - d) + t (b - d).
-                __m512 u[kPair], w[kPair], s[kPair], t[kPair];
-                for (int v = 0; v < kPair; ++v) {
+                __m512 u[kTogether], w[kTogether], s[kTogether], t[kTogether];
+                for (int v = 0; v < kTogether; ++v) {
                     if (!active[v]) continue;
                     barycentric(ax[v], ay[v], bx[v], by[v], cxv[v], cyv[v], px[v], py, u[v], w[v]);
                     barycentric(dx[v], dy[v], cxv[v], cyv[v], bx[v], by[v], px[v], py, s[v], t[v]);
                 }
-                __mmask16 leaving[kPair];
-                for (int v = 0; v < kPair; ++v) {
+                __mmask16 leaving[kTogether];
+                for (int v = 0; v < kTogether; ++v) {
                     leaving[v] = 0;
                     if (!active[v]) continue;  // its walk has ended: its state stays as it ended
                     const __mmask16 in0 = inTriangle(u[v], w[v]), in1 = inTriangle(s[v], t[v]);
@@ -431,7 +431,7 @@ bool pullRows(const PullMesh& m, int y0, int y1, Mat& mapx, Mat& mapy) {
                                               (_mm512_cmpeq_epi32_mask(cy[v], lastYi) &
                                                _mm512_cmp_ps_mask(gv[v], one, _CMP_GE_OQ)));
                 }
-                for (int v = 0; v < kPair; ++v) {
+                for (int v = 0; v < kTogether; ++v) {
                     if (!leaving[v]) continue;
                     __mmask16 outside = 0, inside = 0xffff;
                     for (int i = 0; i < 4; ++i) {
@@ -446,7 +446,7 @@ bool pullRows(const PullMesh& m, int y0, int y1, Mat& mapx, Mat& mapy) {
                     active[v] &= static_cast<__mmask16>(~(leaving[v] & outside));
                 }
             }
-            for (int v = 0; v < kPair; ++v) {
+            for (int v = 0; v < kTogether; ++v) {
                 if (!lanes[v]) continue;
                 const int xv = x0 + 16 * v;
                 // Rest points: X0 + U (X1 - X0), Y0 + V (Y1 - Y0) of the cell each pixel lies in.
