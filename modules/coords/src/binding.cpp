@@ -122,10 +122,9 @@ void Binding::apply(InputArray poseIn, OutputArray positionsOut) const {
     applyRows(*this, poseIn, positionsOut, {});
 }
 
-void applyRows(const Binding& binding, InputArray poseIn, OutputArray positionsOut,
+void applyRows(const Binding& b, InputArray poseIn, OutputArray positionsOut,
                const std::function<void(int, int)>& rowsDone) {
-    CV_Assert(!binding.empty());
-    const Binding& b = binding;
+    CV_Assert(!b.empty());
     const std::vector<Point2f> pose = b.completePose(poseIn);
     // Displacement form p' = x + sum_j CC_j (v'_j - v_j): exact for the rest pose, and vertices
     // that did not move cost nothing.

@@ -174,14 +174,18 @@ MULTICAGE_PULL_TARGET inline __m512 restOf(__m512i node, int count, float step, 
                          _mm512_set1_ps(last));
 }
 
+// The cell (column or row) of a point at cell `cell` plus `offset` cells, clamped to [0, last].
+MULTICAGE_PULL_TARGET inline __m512i cellOf(__m512i cell, __m512 offset, __m512i last) {
+    const __m512i whole = _mm512_cvttps_epi32(_mm512_roundscale_ps(offset, _MM_FROUND_TO_NEG_INF));
+    return _mm512_min_epi32(_mm512_max_epi32(_mm512_add_epi32(cell, whole), _mm512_setzero_si512()),
+                            last);
+}
+
 // The frame's edges as lines n.p + c (n a unit normal pointing inside): signed distances.
 struct FrameLines {
     float nx[4], ny[4], c[4];
 };
 
-}  // namespace
-
-namespace {
 // The ring's corner nodes TL, TR, BR, BL: the frame the mesh's outer boundary runs along.
 std::array<Point2d, 4> ringCorners(const PullMesh& m) {
     const Point2f* P = m.nodes;
@@ -248,7 +252,8 @@ bool pullRows(const PullMesh& m, int y0, int y1, Mat& mapx, Mat& mapy) {
     const float sy = H > 1 ? float(m.rows - 3) / float(H - 1) : 0.f;
     // Where each pixel of the two rows above ended, in cell coordinates (cell + barycentric).
     thread_local std::vector<float> estimates;
-    // (padded: a pair's second vector may start up to 16 pixels before the row's end)
+    // (padded: the last vectors of a group of kTogether may start past the row's end, and each
+    // reads 16 estimates)
     estimates.resize(4 * (size_t(W) + 16 * kTogether));
     float* e1x = estimates.data();
     float* e1y = e1x + W + 16 * kTogether;
@@ -322,18 +327,8 @@ bool pullRows(const PullMesh& m, int y0, int y1, Mat& mapx, Mat& mapy) {
                 __m512 cxv[kTogether], cyv[kTogether], dx[kTogether], dy[kTogether];
                 for (int v = 0; v < kTogether; ++v) {
                     // The cell of the guess, clamped to the mesh.
-                    cx[v] = _mm512_min_epi32(
-                        _mm512_max_epi32(
-                            _mm512_add_epi32(gcx[v], _mm512_cvttps_epi32(_mm512_roundscale_ps(
-                                                         gu[v], _MM_FROUND_TO_NEG_INF))),
-                            zeroI),
-                        lastXi);
-                    cy[v] = _mm512_min_epi32(
-                        _mm512_max_epi32(
-                            _mm512_add_epi32(gcy[v], _mm512_cvttps_epi32(_mm512_roundscale_ps(
-                                                         gv[v], _MM_FROUND_TO_NEG_INF))),
-                            zeroI),
-                        lastYi);
+                    cx[v] = cellOf(gcx[v], gu[v], lastXi);
+                    cy[v] = cellOf(gcy[v], gv[v], lastYi);
                 }
                 for (int v = 0; v < kTogether; ++v) {
                     if (!active[v]) continue;  // walked to its end (or past the row's end)

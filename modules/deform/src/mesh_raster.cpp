@@ -185,7 +185,7 @@ void RasterMesh::pose(const Binding& binding, const std::vector<Point2f>& vertic
     // finds it in place.
     setFrame(frame);
     setOutputSize(frameOutputSize(frame, binding.imageSize));
-    Mat nodes = P_(Rect(1, 1, P_.cols - 2, P_.rows - 2));
+    Mat nodes = this->nodes();
     if (!mayPull()) {
         applyRows(binding, vertices, nodes, {});
         return;
