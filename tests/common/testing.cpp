@@ -1,6 +1,7 @@
 #include "testing.hpp"
 
 #include <algorithm>
+#include <cfloat>
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
@@ -32,6 +33,22 @@ bool sameBits(const cv::Mat& a, const cv::Mat& b) {
     for (int y = 0; y < a.rows; ++y)
         if (std::memcmp(a.ptr(y), b.ptr(y), a.cols * a.elemSize()) != 0) return false;
     return true;
+}
+
+MapAgreement compareMaps(const cv::Mat& a, const cv::Mat& ref, float uncovered) {
+    CV_Assert(a.size() == ref.size() && a.type() == CV_32F && ref.type() == CV_32F);
+    MapAgreement out;
+    for (int y = 0; y < ref.rows; ++y)
+        for (int x = 0; x < ref.cols; ++x) {
+            const float v = a.at<float>(y, x), r = ref.at<float>(y, x);
+            if ((v == uncovered) != (r == uncovered)) {
+                ++out.coverage;
+                continue;
+            }
+            const double ulp = FLT_EPSILON * std::max(1.f, std::abs(r));
+            out.roundings = std::max(out.roundings, std::abs(double(v) - r) / ulp);
+        }
+    return out;
 }
 
 std::string tempDir(const std::string& name) {

@@ -19,6 +19,14 @@ cv::Mat readSample(const std::string& name, int flags = 1 /* IMREAD_COLOR */);
 double psnr(const cv::Mat& a, const cv::Mat& b);
 /** Same size, type and bytes, row by row (views included): "bit for bit". */
 bool sameBits(const cv::Mat& a, const cv::Mat& b);
+/** How far an inverse map (CV_32F) is from a reference of its size: pixels `uncovered` in one
+and not the other, and the largest difference where both cover, in float roundings of the
+reference value (FLT_EPSILON times its magnitude, at least 1). */
+struct MapAgreement {
+    int coverage = 0;
+    double roundings = 0;
+};
+MapAgreement compareMaps(const cv::Mat& a, const cv::Mat& ref, float uncovered);
 /** A fresh empty folder under the build tree's temporary area. */
 std::string tempDir(const std::string& name);
 

@@ -5,7 +5,6 @@
 // decides, bit for bit.
 #include "mesh_pull.hpp"
 
-#include <cfloat>
 #include <functional>
 
 #include "cpu_deformer.hpp"
@@ -13,6 +12,8 @@
 
 using namespace cv;
 using namespace cv::multicage;
+using multicage_testing::compareMaps;
+using multicage_testing::MapAgreement;
 using multicage_testing::sameBits;
 
 namespace {
@@ -54,27 +55,12 @@ Maps drawMaps(const Binding& b, const std::vector<Point2f>& pose, bool pull,
     return m;
 }
 
-// Pixels covered by one map and not the other, and the largest difference of a value (in units
-// of a float rounding of the value) where both cover.
-struct Agreement {
-    int coverage = 0;
-    double roundings = 0;
-};
-
-Agreement compare(const Maps& a, const Maps& ref) {
-    Agreement out;
-    for (const auto& pair : {std::make_pair(&a.x, &ref.x), std::make_pair(&a.y, &ref.y)})
-        for (int y = 0; y < ref.x.rows; ++y)
-            for (int x = 0; x < ref.x.cols; ++x) {
-                const float v = pair.first->at<float>(y, x), r = pair.second->at<float>(y, x);
-                if ((v == kUncovered) != (r == kUncovered)) {
-                    ++out.coverage;
-                    continue;
-                }
-                const double ulp = FLT_EPSILON * std::max(1.f, std::abs(r));
-                out.roundings = std::max(out.roundings, std::abs(double(v) - r) / ulp);
-            }
-    return out;
+// Both maps of a pose against the rasteriser's (compareMaps): pixels covered by one only, and the
+// largest difference in float roundings.
+MapAgreement compare(const Maps& a, const Maps& ref) {
+    const MapAgreement x = compareMaps(a.x, ref.x, kUncovered);
+    const MapAgreement y = compareMaps(a.y, ref.y, kUncovered);
+    return {x.coverage + y.coverage, std::max(x.roundings, y.roundings)};
 }
 
 }  // namespace
@@ -109,7 +95,7 @@ TEST(MeshPull, PulledMapsAreTheRastersWithinFloatRounding) {
                     ASSERT_EQ(pulled.x.size(), drawn.x.size()) << what;
                     if (!pulled.pulled) continue;  // folded: drawn (checked below)
                     ++pulledCases;
-                    const Agreement a = compare(pulled, drawn);
+                    const MapAgreement a = compare(pulled, drawn);
                     EXPECT_EQ(a.coverage, 0) << what << ": pixels covered by one map only";
                     EXPECT_LE(a.roundings, 4.0) << what;
                 }
@@ -160,7 +146,7 @@ TEST(MeshPull, FoldsBadNodesAndOddFramesAreDrawnBitForBit) {
         const Maps drawn = drawMaps(b, c.pose, false, c.frame, c.edit);
         EXPECT_EQ(pulled.pulled, c.pullable) << c.what;
         if (c.pullable) {
-            const Agreement a = compare(pulled, drawn);
+            const MapAgreement a = compare(pulled, drawn);
             EXPECT_EQ(a.coverage, 0) << c.what << ": pixels covered by one map only";
             EXPECT_LE(a.roundings, 4.0) << c.what;
             continue;
