@@ -13,7 +13,8 @@
 // have left the cache. Four vectors are walked together, stage by stage: one vector's walk is a
 // chain of dependent steps about as long as the core's reorder window, so walked one at a time
 // the chains hardly overlap (together: 2.55-2.70 ms against 2.99-3.34 ms for 1024x768 on one
-// thread; 3 together were about as fast, 6 and 8 slower, their registers spilling). The cost is
+// thread, 2.4-2.5 ms with the frame test only near the border; 3 together were about as fast,
+// 6 and 8 slower, their registers spilling). The cost is
 // per pixel whatever the cell size, so at grid steps above 2 the raster is faster
 // (RasterMesh::draw).
 
