@@ -124,10 +124,13 @@ Multicage proposeProtectedMulticage(InputArray image, const ProposeParams& param
     // Faces first: a face found means a person, and the person prior seeds the segmentation
     // (person.hpp); the cascades run on a small copy (faceWorkingSize), so waiting costs less
     // than the outline a face-blind GrabCut draws.
-    const std::vector<Rect> faces =
-        wantsFaces(params) ? mergeNearFaces(detectFaces(img, params), w.margin * w.scale)
-                           : std::vector<Rect>();
-    Segmentation s = segmentForProposal(img, w, params, personSeed(faces, w));
+    // Faces too near for a polygon each share one (mergeNearFaces), but each is still a
+    // person's head: the person prior takes them as found (two heads, not one head the size of
+    // both with a body four times as wide under it).
+    const std::vector<Rect> found = wantsFaces(params) ? detectFaces(img, params)
+                                                       : std::vector<Rect>();
+    const std::vector<Rect> faces = mergeNearFaces(found, w.margin * w.scale);
+    Segmentation s = segmentForProposal(img, w, params, personSeed(found, w));
     if (facesOut) *facesOut = faces;
     ProposeParams outlineParams = params;
     if (!faces.empty())  // leave the faces a share of the budget

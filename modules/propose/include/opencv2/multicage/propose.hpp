@@ -168,9 +168,11 @@ CV_EXPORTS Multicage protectFeatures(InputArray image, const Multicage& cage, in
 /** Faces in an image, as protectFeatures() with PROTECT_FACES finds them: frontal and
 profile (both directions) detections on a copy at most params.faceWorkingSize wide or high,
 histogram-equalised; in a colour image only boxes whose middle is mostly skin-coloured
-(Haar cascades also fire on crowds and clothing); optionally confirmed by an eye
-(params.faceEyes); overlapping detections merged into their bounding box. Rectangles in input
-pixels, largest first. Throws cv::Exception (StsObjectNotFound) when the frontal cascade is not
+(Haar cascades also fire on crowds and clothing), in an image without colour only frontal boxes
+on which 5 search windows agree or in which an eye is found (patterns such as a coin's portrait
+fire the cascade too); optionally confirmed by an eye (params.faceEyes); detections of one
+face (sharing at least a quarter of the smaller box) merged into their bounding box, so the
+boxes of two faces may overlap a little. Rectangles in input pixels, largest first. Throws cv::Exception (StsObjectNotFound) when the frontal cascade is not
 installed: "... install the Debian package opencv-data, or set ProposeParams::cascadeDir". */
 CV_EXPORTS std::vector<Rect> detectFaces(InputArray image,
                                          const ProposeParams& params = ProposeParams());
