@@ -68,7 +68,8 @@ MapAgreement compare(const Maps& a, const Maps& ref) {
 // Smooth poses of the paper's lotus multicage, grid steps 1 and 2, rows of 97 and 33 px (part-
 // filled vectors of 16 pixels) and a frame moved as content-aware resizing moves it.
 TEST(MeshPull, PulledMapsAreTheRastersWithinFloatRounding) {
-    if (!raster::havePullKernel()) GTEST_SKIP() << "no AVX-512 here: every mesh is drawn";
+    if (!raster::havePullKernel())
+        GTEST_SKIP() << "no pull kernel here (AVX2 or AVX-512): every mesh is drawn";
     int pulledCases = 0;
     for (const Size size : {Size(320, 240), Size(97, 33), Size(33, 120)}) {
         const Multicage cage = multicage_fixtures::lotusMulticage(size, 24);
@@ -105,9 +106,42 @@ TEST(MeshPull, PulledMapsAreTheRastersWithinFloatRounding) {
     EXPECT_GE(pulledCases, 30) << "the pull kernel was hardly used: the test would prove nothing";
 }
 
+// Where the CPU has AVX-512, the AVX2 walk (what CPUs without it run) against the AVX-512 one on
+// the poses above: the same pixels covered, and each pixel in the same triangle, so the same
+// values, but where a pixel on an edge shared by two triangles settles in the other, or a band
+// one kernel could not pull is drawn (the guesses of pixels outside the frame differ: each
+// goes on with its own vector's walk): within the float roundings the pull keeps to the raster.
+TEST(MeshPull, TheAvx2WalkFindsWhatTheAvx512WalkFinds) {
+    if (std::string(raster::pullKernelName()) != "AVX-512")
+        GTEST_SKIP() << "no AVX-512 here: only the " << raster::pullKernelName() << " walk";
+    int cases = 0;
+    for (const Size size : {Size(320, 240), Size(97, 33)}) {
+        const Multicage cage = multicage_fixtures::lotusMulticage(size, 24);
+        for (int step : {1, 2})
+            for (float amplitude : {0.f, 1.5f, 4.f}) {
+                const Binding b = bind(cage, MEAN_VALUE, step);
+                const std::vector<Point2f> pose =
+                    multicage_fixtures::wavePose(cage, amplitude, 0.7f);
+                const Maps wide = drawMaps(b, pose, true);
+                raster::preferAvx2Pull(true);
+                const Maps narrow = drawMaps(b, pose, true);
+                raster::preferAvx2Pull(false);
+                if (!wide.pulled) continue;
+                ++cases;
+                const MapAgreement a = compare(narrow, wide);
+                const std::string what = format("%dx%d step %d amplitude %.1f", size.width,
+                                                size.height, step, amplitude);
+                EXPECT_EQ(a.coverage, 0) << what;
+                EXPECT_LE(a.roundings, 4.0) << what;
+            }
+    }
+    EXPECT_GE(cases, 6);
+}
+
 // What the pull kernel must leave to the rasteriser, and then gives the rasteriser's bits.
 TEST(MeshPull, FoldsBadNodesAndOddFramesAreDrawnBitForBit) {
-    if (!raster::havePullKernel()) GTEST_SKIP() << "no AVX-512 here: every mesh is drawn";
+    if (!raster::havePullKernel())
+        GTEST_SKIP() << "no pull kernel here (AVX2 or AVX-512): every mesh is drawn";
     const Size size(97, 64);
     const Multicage cage = multicage_fixtures::lotusMulticage(size, 24);
     const Binding b = bind(cage, MEAN_VALUE, 1);
@@ -178,7 +212,8 @@ TEST(MeshPull, OnlyBindingsOfSmallSteps) {
 // rows were split into bands (4 per thread), or the bits would depend on the thread count. A pose
 // moving vertices along x only leaves every node on its row, so every pixel lies on such an edge.
 TEST(MeshPull, TheSameBitsHoweverTheRowsAreSplit) {
-    if (!raster::havePullKernel()) GTEST_SKIP() << "no AVX-512 here: every mesh is drawn";
+    if (!raster::havePullKernel())
+        GTEST_SKIP() << "no pull kernel here (AVX2 or AVX-512): every mesh is drawn";
     const Size size(301, 203);
     const Multicage cage = multicage_fixtures::lotusMulticage(size, 24);
     std::vector<Point2f> pose = multicage_fixtures::wavePose(cage, 3.f, 0.4f);
@@ -220,7 +255,8 @@ TEST(MeshPull, TheSameBitsHoweverTheRowsAreSplit) {
 // ones on its other side only stretch). So each node row, moved each way, folds exactly one cell
 // row: every cell row of the mesh, ring rows included, is the only fold of some case.
 TEST(MeshPull, PoseFindsAFoldInEveryCellRow) {
-    if (!raster::havePullKernel()) GTEST_SKIP() << "no AVX-512 here: every mesh is drawn";
+    if (!raster::havePullKernel())
+        GTEST_SKIP() << "no pull kernel here (AVX2 or AVX-512): every mesh is drawn";
     const Size size(41, 37);
     const Multicage cage = multicage_fixtures::lotusMulticage(size, 24);
     const Binding b = bind(cage, MEAN_VALUE, 1);
@@ -261,7 +297,8 @@ TEST(MeshPull, PoseFindsAFoldInEveryCellRow) {
 // What pose() found about folds holds for that pose only: a mesh made again, or nodes written
 // through nodes(), or a new frame, is checked again when drawn.
 TEST(MeshPull, WhatPoseFoundIsForgottenWhenTheMeshChanges) {
-    if (!raster::havePullKernel()) GTEST_SKIP() << "no AVX-512 here: every mesh is drawn";
+    if (!raster::havePullKernel())
+        GTEST_SKIP() << "no pull kernel here (AVX2 or AVX-512): every mesh is drawn";
     const Size size(64, 48);
     const Multicage cage = multicage_fixtures::lotusMulticage(size, 24);
     const Binding b = bind(cage, MEAN_VALUE, 1);

@@ -44,6 +44,13 @@
 #include <immintrin.h>
 #define MULTICAGE_AVX512_PULL 1
 #define MULTICAGE_PULL_TARGET __attribute__((target("avx512f,avx512vl,avx512dq,avx512bw,bmi2")))
+// No "fma": the AVX2 walk computes each lane as the AVX-512 one does (raster_options.hpp).
+#define MULTICAGE_AVX2_TARGET __attribute__((target("avx2")))
+#if !defined(__clang__) && !defined(__SANITIZE_ADDRESS__)
+#define MULTICAGE_TARGET_CLONES_PULL __attribute__((target_clones("arch=x86-64-v3", "default")))
+#else
+#define MULTICAGE_TARGET_CLONES_PULL
+#endif
 #endif
 
 namespace cv {
@@ -193,6 +200,20 @@ std::array<Point2d, 4> ringCorners(const PullMesh& m) {
     const size_t C = m.cols, last = size_t(m.rows - 1) * C;
     return {Point2d(P[0]), Point2d(P[C - 1]), Point2d(P[last + C - 1]), Point2d(P[last])};
 }
+
+// The frame's edges (the ring's outer boundary) as lines.
+FrameLines frameLines(const PullMesh& m) {
+    FrameLines frame;
+    const std::array<Point2d, 4> q = ringCorners(m);
+    for (int i = 0; i < 4; ++i) {
+        const Point2d e = q[(i + 1) % 4] - q[i];
+        const double len = std::sqrt(e.dot(e));
+        const double nx = -e.y / len, ny = e.x / len;
+        frame.nx[i] = float(nx), frame.ny[i] = float(ny);
+        frame.c[i] = float(-(nx * q[i].x + ny * q[i].y));
+    }
+    return frame;
+}
 }  // namespace
 
 bool frameConvex(const PullMesh& m) {
@@ -208,7 +229,7 @@ bool frameConvex(const PullMesh& m) {
 }
 
 MULTICAGE_PULL_TARGET
-bool positiveRows(const PullMesh& m, int ey0, int ey1) {
+bool positiveRowsAvx512(const PullMesh& m, int ey0, int ey1) {
     const Point2f* P = m.nodes;
     const size_t C = m.cols;
     for (int ey = std::max(ey0, 0); ey < std::min(ey1, m.rows - 1); ++ey)
@@ -232,22 +253,12 @@ bool pullable(const PullMesh& m) {
 }
 
 MULTICAGE_PULL_TARGET
-bool pullRows(const PullMesh& m, int y0, int y1, Mat& mapx, Mat& mapy) {
+bool pullRowsAvx512(const PullMesh& m, int y0, int y1, Mat& mapx, Mat& mapy) {
     CV_Assert(y0 % kPullRun == 0);
     const int W = mapx.cols, H = mapx.rows, C = m.cols;
     const int cellsX = m.cols - 1, cellsY = m.rows - 1;
     const double* P = reinterpret_cast<const double*>(m.nodes);
-    FrameLines frame;
-    {
-        const std::array<Point2d, 4> q = ringCorners(m);
-        for (int i = 0; i < 4; ++i) {
-            const Point2d e = q[(i + 1) % 4] - q[i];
-            const double len = std::sqrt(e.dot(e));
-            const double nx = -e.y / len, ny = e.x / len;
-            frame.nx[i] = float(nx), frame.ny[i] = float(ny);
-            frame.c[i] = float(-(nx * q[i].x + ny * q[i].y));
-        }
-    }
+    const FrameLines frame = frameLines(m);
     // A guess for the first row: nodes 1..cols-2 rest on pixels 0..W-1 of a frame at rest.
     const float sx = W > 1 ? float(m.cols - 3) / float(W - 1) : 0.f;
     const float sy = H > 1 ? float(m.rows - 3) / float(H - 1) : 0.f;
@@ -482,12 +493,295 @@ bool pullRows(const PullMesh& m, int y0, int y1, Mat& mapx, Mat& mapy) {
     return true;
 }
 
+// ---- The AVX2 walk: the same walk, 8 pixels in lanes, one vector at a time, every node
+// gathered (AVX2 has no two-register lookups). Each lane's arithmetic is the AVX-512 kernel's,
+// operation for operation, so a pixel walks the same steps to the same triangle; only the
+// guesses of pixels outside the frame (whose last guess goes on with their vector's walk) may
+// differ, and with them, rarely, which of two triangles sharing an edge a pixel below them
+// settles in (values within a float rounding of each other).
+namespace {
+
+// 8 points (x, y interleaved in lo, then hi) as x and y planes.
+MULTICAGE_AVX2_TARGET inline void deinterleave8(__m256 lo, __m256 hi, __m256& x, __m256& y) {
+    // shuffle: x0 x1 x4 x5 | x2 x3 x6 x7; the 64-bit permute puts the pairs in order.
+    x = _mm256_castpd_ps(
+        _mm256_permute4x64_pd(_mm256_castps_pd(_mm256_shuffle_ps(lo, hi, _MM_SHUFFLE(2, 0, 2, 0))),
+                              _MM_SHUFFLE(3, 1, 2, 0)));
+    y = _mm256_castpd_ps(
+        _mm256_permute4x64_pd(_mm256_castps_pd(_mm256_shuffle_ps(lo, hi, _MM_SHUFFLE(3, 1, 3, 1))),
+                              _MM_SHUFFLE(3, 1, 2, 0)));
+}
+
+// The x and y planes of 8 nodes gathered from P at idx (lanes of `lanes`, all ones or zero).
+MULTICAGE_AVX2_TARGET inline void gather8(const double* P, __m256i idx, __m256i lanes, __m256& x,
+                                          __m256& y) {
+    const __m256d m0 = _mm256_castsi256_pd(_mm256_cvtepi32_epi64(_mm256_castsi256_si128(lanes)));
+    const __m256d m1 =
+        _mm256_castsi256_pd(_mm256_cvtepi32_epi64(_mm256_extracti128_si256(lanes, 1)));
+    const __m256d lo =
+        _mm256_mask_i32gather_pd(_mm256_setzero_pd(), P, _mm256_castsi256_si128(idx), m0, 8);
+    const __m256d hi =
+        _mm256_mask_i32gather_pd(_mm256_setzero_pd(), P, _mm256_extracti128_si256(idx, 1), m1, 8);
+    deinterleave8(_mm256_castpd_ps(lo), _mm256_castpd_ps(hi), x, y);
+}
+
+// barycentric() of the AVX-512 kernel.
+MULTICAGE_AVX2_TARGET inline void barycentric8(__m256 ox, __m256 oy, __m256 p1x, __m256 p1y,
+                                               __m256 p2x, __m256 p2y, __m256 px, __m256 py,
+                                               __m256& u, __m256& v) {
+    const __m256 e1x = _mm256_sub_ps(p1x, ox), e1y = _mm256_sub_ps(p1y, oy);
+    const __m256 e2x = _mm256_sub_ps(p2x, ox), e2y = _mm256_sub_ps(p2y, oy);
+    const __m256 qx = _mm256_sub_ps(px, ox), qy = _mm256_sub_ps(py, oy);
+    const __m256 inv = _mm256_div_ps(
+        _mm256_set1_ps(1.f), _mm256_sub_ps(_mm256_mul_ps(e1x, e2y), _mm256_mul_ps(e1y, e2x)));
+    u = _mm256_mul_ps(_mm256_sub_ps(_mm256_mul_ps(qx, e2y), _mm256_mul_ps(qy, e2x)), inv);
+    v = _mm256_mul_ps(_mm256_sub_ps(_mm256_mul_ps(e1x, qy), _mm256_mul_ps(e1y, qx)), inv);
+}
+
+// inTriangle() of the AVX-512 kernel, as a lane mask (all ones or zero).
+MULTICAGE_AVX2_TARGET inline __m256 inTriangle8(__m256 a, __m256 b) {
+    const __m256 lo = _mm256_set1_ps(-kEdge), hi = _mm256_set1_ps(1.f + kEdge);
+    return _mm256_and_ps(
+        _mm256_and_ps(_mm256_cmp_ps(a, lo, _CMP_GE_OQ), _mm256_cmp_ps(b, lo, _CMP_GE_OQ)),
+        _mm256_cmp_ps(_mm256_add_ps(a, b), hi, _CMP_LE_OQ));
+}
+
+// restOf() of the AVX-512 kernel.
+MULTICAGE_AVX2_TARGET inline __m256 restOf8(__m256i node, int count, float step, float last) {
+    const __m256i k = _mm256_min_epi32(_mm256_max_epi32(node, _mm256_setzero_si256()),
+                                       _mm256_set1_epi32(count - 1));
+    return _mm256_min_ps(_mm256_mul_ps(_mm256_cvtepi32_ps(k), _mm256_set1_ps(step)),
+                         _mm256_set1_ps(last));
+}
+
+// cellOf() of the AVX-512 kernel.
+MULTICAGE_AVX2_TARGET inline __m256i cellOf8(__m256i cell, __m256 offset, __m256i last) {
+    const __m256i whole = _mm256_cvttps_epi32(_mm256_floor_ps(offset));
+    return _mm256_min_epi32(_mm256_max_epi32(_mm256_add_epi32(cell, whole), _mm256_setzero_si256()),
+                            last);
+}
+
+MULTICAGE_AVX2_TARGET inline __m256 asMask(__m256i m) {
+    return _mm256_castsi256_ps(m);
+}
+MULTICAGE_AVX2_TARGET inline __m256i asInt(__m256 m) {
+    return _mm256_castps_si256(m);
+}
+MULTICAGE_AVX2_TARGET inline bool none(__m256 m) {
+    return _mm256_testz_ps(m, m) != 0;
+}
+
+MULTICAGE_AVX2_TARGET
+bool pullRowsAvx2(const PullMesh& m, int y0, int y1, Mat& mapx, Mat& mapy) {
+    CV_Assert(y0 % kPullRun == 0);
+    const int W = mapx.cols, H = mapx.rows, C = m.cols;
+    const int cellsX = m.cols - 1, cellsY = m.rows - 1;
+    const double* P = reinterpret_cast<const double*>(m.nodes);
+    const FrameLines frame = frameLines(m);
+    const float sx = W > 1 ? float(m.cols - 3) / float(W - 1) : 0.f;
+    const float sy = H > 1 ? float(m.rows - 3) / float(H - 1) : 0.f;
+    thread_local std::vector<float> estimates;  // as the AVX-512 kernel's, 8 floats of padding
+    estimates.resize(4 * (size_t(W) + 8));
+    float* e1x = estimates.data();
+    float* e1y = e1x + W + 8;
+    float* e2x = e1y + W + 8;
+    float* e2y = e2x + W + 8;
+
+    const __m256 iota = _mm256_setr_ps(0, 1, 2, 3, 4, 5, 6, 7);
+    const __m256i iotaI = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
+    const __m256 zero = _mm256_setzero_ps(), one = _mm256_set1_ps(1.f);
+    const __m256i cols = _mm256_set1_epi32(C), oneI = _mm256_set1_epi32(1);
+    const __m256i zeroI = _mm256_setzero_si256();
+    const __m256i lastXi = _mm256_set1_epi32(cellsX - 1), lastYi = _mm256_set1_epi32(cellsY - 1);
+    const __m256 big = _mm256_set1_ps(float(std::max(cellsX, cellsY) + 1));
+    for (int y = y0; y < y1; ++y) {
+        float* mx = mapx.ptr<float>(y);
+        float* my = mapy.ptr<float>(y);
+        const int seen = y % kPullRun;
+        const __m256 py = _mm256_set1_ps(float(y));
+        for (int xv = 0; xv < W; xv += 8) {
+            const __m256i lanesI =
+                _mm256_cmpgt_epi32(_mm256_set1_epi32(std::min(W - xv, 8)), iotaI);
+            const __m256 lanes = asMask(lanesI);
+            const __m256 px = _mm256_add_ps(_mm256_set1_ps(float(xv)), iota);
+            __m256 gx, gy;
+            if (seen >= 2) {
+                const __m256 ax = _mm256_loadu_ps(e1x + xv), ay = _mm256_loadu_ps(e1y + xv);
+                gx = _mm256_sub_ps(_mm256_add_ps(ax, ax), _mm256_loadu_ps(e2x + xv));
+                gy = _mm256_sub_ps(_mm256_add_ps(ay, ay), _mm256_loadu_ps(e2y + xv));
+            } else if (seen == 1) {
+                gx = _mm256_loadu_ps(e1x + xv);
+                gy = _mm256_add_ps(_mm256_loadu_ps(e1y + xv), _mm256_set1_ps(sy));
+            } else {
+                gx = _mm256_add_ps(one, _mm256_mul_ps(px, _mm256_set1_ps(sx)));
+                gy = _mm256_set1_ps(1.f + float(y) * sy);
+            }
+            gx = _mm256_min_ps(_mm256_max_ps(gx, _mm256_set1_ps(-1.f)), big);  // NaN: -1
+            gy = _mm256_min_ps(_mm256_max_ps(gy, _mm256_set1_ps(-1.f)), big);
+            const __m256 fx = _mm256_floor_ps(gx), fy = _mm256_floor_ps(gy);
+            __m256i gcx = _mm256_cvttps_epi32(fx), gcy = _mm256_cvttps_epi32(fy);
+            __m256 gu = _mm256_sub_ps(gx, fx), gv = _mm256_sub_ps(gy, fy);
+            __m256 active = lanes, covered = zero;
+            __m256i cellX = zeroI, cellY = zeroI;
+            __m256 fu = zero, fv = zero;
+            for (int step = 0; !none(active); ++step) {
+                if (step == kMaxSteps) return false;
+                const __m256i cx = cellOf8(gcx, gu, lastXi), cy = cellOf8(gcy, gv, lastYi);
+                const __m256i ia = _mm256_add_epi32(_mm256_mullo_epi32(cy, cols), cx);
+                const __m256i ic = _mm256_add_epi32(ia, cols);
+                __m256 ax, ay, bx, by, cxv, cyv, dx, dy;
+                gather8(P, ia, asInt(active), ax, ay);
+                gather8(P, _mm256_add_epi32(ia, oneI), asInt(active), bx, by);
+                gather8(P, ic, asInt(active), cxv, cyv);
+                gather8(P, _mm256_add_epi32(ic, oneI), asInt(active), dx, dy);
+                __m256 u, w, s, t;
+                barycentric8(ax, ay, bx, by, cxv, cyv, px, py, u, w);
+                barycentric8(dx, dy, cxv, cyv, bx, by, px, py, s, t);
+                const __m256 in0 = inTriangle8(u, w), in1 = inTriangle8(s, t);
+                const __m256 half0 = _mm256_cmp_ps(_mm256_add_ps(u, w), one, _CMP_LE_OQ);
+                const __m256 by1 = _mm256_or_ps(
+                    in1, _mm256_andnot_ps(_mm256_or_ps(in0, half0), asMask(_mm256_set1_epi32(-1))));
+                const __m256 U = _mm256_blendv_ps(u, _mm256_sub_ps(one, s), by1);
+                const __m256 V = _mm256_blendv_ps(w, _mm256_sub_ps(one, t), by1);
+                const __m256 found = _mm256_and_ps(active, _mm256_or_ps(in0, in1));
+                cellX = asInt(_mm256_blendv_ps(asMask(cellX), asMask(cx), found));
+                cellY = asInt(_mm256_blendv_ps(asMask(cellY), asMask(cy), found));
+                fu = _mm256_blendv_ps(fu, U, found);
+                fv = _mm256_blendv_ps(fv, V, found);
+                covered = _mm256_or_ps(covered, found);
+                active = _mm256_andnot_ps(found, active);
+                const float reach = step < 6 ? 4.f : 1.f;
+                gcx = cx, gcy = cy;
+                gu = _mm256_min_ps(_mm256_max_ps(U, _mm256_set1_ps(-reach)),
+                                   _mm256_set1_ps(1.f + reach));
+                gv = _mm256_min_ps(_mm256_max_ps(V, _mm256_set1_ps(-reach)),
+                                   _mm256_set1_ps(1.f + reach));
+                const __m256 leaving = _mm256_and_ps(
+                    active,
+                    _mm256_or_ps(_mm256_or_ps(_mm256_and_ps(asMask(_mm256_cmpeq_epi32(cx, zeroI)),
+                                                            _mm256_cmp_ps(gu, zero, _CMP_LT_OQ)),
+                                              _mm256_and_ps(asMask(_mm256_cmpeq_epi32(cx, lastXi)),
+                                                            _mm256_cmp_ps(gu, one, _CMP_GE_OQ))),
+                                 _mm256_or_ps(_mm256_and_ps(asMask(_mm256_cmpeq_epi32(cy, zeroI)),
+                                                            _mm256_cmp_ps(gv, zero, _CMP_LT_OQ)),
+                                              _mm256_and_ps(asMask(_mm256_cmpeq_epi32(cy, lastYi)),
+                                                            _mm256_cmp_ps(gv, one, _CMP_GE_OQ)))));
+                if (none(leaving)) continue;
+                __m256 outside = zero, inside = asMask(_mm256_set1_epi32(-1));
+                for (int i = 0; i < 4; ++i) {
+                    const __m256 d =
+                        _mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(_mm256_set1_ps(frame.nx[i]), px),
+                                                    _mm256_mul_ps(_mm256_set1_ps(frame.ny[i]), py)),
+                                      _mm256_set1_ps(frame.c[i]));
+                    outside = _mm256_or_ps(
+                        outside, _mm256_cmp_ps(d, _mm256_set1_ps(-kFrameMargin), _CMP_LT_OQ));
+                    inside = _mm256_and_ps(
+                        inside, _mm256_cmp_ps(d, _mm256_set1_ps(kFrameMargin), _CMP_GT_OQ));
+                }
+                if (!none(_mm256_andnot_ps(_mm256_or_ps(outside, inside), leaving)))
+                    return false;  // on the frame
+                active = _mm256_andnot_ps(_mm256_and_ps(leaving, outside), active);
+            }
+            const __m256 X0 =
+                restOf8(_mm256_sub_epi32(cellX, oneI), m.gridSize.width, m.step, m.hi.x);
+            const __m256 X1 = restOf8(cellX, m.gridSize.width, m.step, m.hi.x);
+            const __m256 Y0 =
+                restOf8(_mm256_sub_epi32(cellY, oneI), m.gridSize.height, m.step, m.hi.y);
+            const __m256 Y1 = restOf8(cellY, m.gridSize.height, m.step, m.hi.y);
+            const __m256 rx = _mm256_add_ps(X0, _mm256_mul_ps(fu, _mm256_sub_ps(X1, X0)));
+            const __m256 ry = _mm256_add_ps(Y0, _mm256_mul_ps(fv, _mm256_sub_ps(Y1, Y0)));
+            const __m256 noneV = _mm256_set1_ps(kUncovered);
+            const __m256 outX = _mm256_blendv_ps(
+                noneV,
+                _mm256_min_ps(_mm256_set1_ps(m.hi.x), _mm256_max_ps(_mm256_set1_ps(m.lo.x), rx)),
+                covered);
+            const __m256 outY = _mm256_blendv_ps(
+                noneV,
+                _mm256_min_ps(_mm256_set1_ps(m.hi.y), _mm256_max_ps(_mm256_set1_ps(m.lo.y), ry)),
+                covered);
+            _mm256_maskstore_ps(mx + xv, lanesI, outX);
+            _mm256_maskstore_ps(my + xv, lanesI, outY);
+            const __m256 ex =
+                _mm256_blendv_ps(_mm256_add_ps(_mm256_cvtepi32_ps(gcx), gu),
+                                 _mm256_add_ps(_mm256_cvtepi32_ps(cellX), fu), covered);
+            const __m256 ey =
+                _mm256_blendv_ps(_mm256_add_ps(_mm256_cvtepi32_ps(gcy), gv),
+                                 _mm256_add_ps(_mm256_cvtepi32_ps(cellY), fv), covered);
+            _mm256_maskstore_ps(e2x + xv, lanesI, ex);
+            _mm256_maskstore_ps(e2y + xv, lanesI, ey);
+        }
+        std::swap(e1x, e2x), std::swap(e1y, e2y);
+    }
+    return true;
+}
+
+// notPositiveInRow one cell at a time, with the same float operations: the fold check where
+// there is no AVX-512.
+inline bool clearlyPositive(float e1x, float e1y, float e2x, float e2y) {
+    const float l = e1x * e2y, r = e1y * e2x;
+    return l - r > kSliver * (std::abs(l) + std::abs(r));
+}
+
+MULTICAGE_TARGET_CLONES_PULL
+bool positiveRowsPortable(const PullMesh& m, int ey0, int ey1) {
+    const Point2f* P = m.nodes;
+    const size_t C = m.cols;
+    for (int ey = std::max(ey0, 0); ey < std::min(ey1, m.rows - 1); ++ey) {
+        const Point2f* p0 = P + size_t(ey) * C;
+        const Point2f* p1 = p0 + C;
+        bool good = true;
+        for (int k = 0; k + 1 < m.cols; ++k) {
+            const Point2f a = p0[k], b = p0[k + 1], c = p1[k], d = p1[k + 1];
+            good &= clearlyPositive(b.x - a.x, b.y - a.y, c.x - a.x, c.y - a.y) &
+                    clearlyPositive(d.x - b.x, d.y - b.y, c.x - b.x, c.y - b.y);
+        }
+        if (!good) return false;
+    }
+    return true;
+}
+
+enum class PullIsa { none, avx2, avx512 };
+std::atomic<bool> avx2Preferred{false};
+
+PullIsa pullIsa() {
+    static const PullIsa isa =
+        __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512vl") &&
+                __builtin_cpu_supports("avx512dq") && __builtin_cpu_supports("avx512bw") &&
+                __builtin_cpu_supports("bmi2")
+            ? PullIsa::avx512
+        : __builtin_cpu_supports("avx2") ? PullIsa::avx2
+                                         : PullIsa::none;
+    return isa == PullIsa::avx512 && avx2Preferred ? PullIsa::avx2 : isa;
+}
+}  // namespace
+
+bool positiveRows(const PullMesh& m, int ey0, int ey1) {
+    return pullIsa() == PullIsa::avx512 ? positiveRowsAvx512(m, ey0, ey1)
+                                        : positiveRowsPortable(m, ey0, ey1);
+}
+
+bool pullRows(const PullMesh& m, int y0, int y1, Mat& mapx, Mat& mapy) {
+    switch (pullIsa()) {
+        case PullIsa::avx512:
+            return pullRowsAvx512(m, y0, y1, mapx, mapy);
+        case PullIsa::avx2:
+            return pullRowsAvx2(m, y0, y1, mapx, mapy);
+        default:
+            return false;
+    }
+}
+
 bool havePullKernel() {
-    static const bool avx512 = __builtin_cpu_supports("avx512f") &&
-                               __builtin_cpu_supports("avx512vl") &&
-                               __builtin_cpu_supports("avx512dq") &&
-                               __builtin_cpu_supports("avx512bw") && __builtin_cpu_supports("bmi2");
-    return avx512;
+    return pullIsa() != PullIsa::none;
+}
+
+const char* pullKernelName() {
+    static const char* const names[] = {"none", "AVX2", "AVX-512"};
+    return names[int(pullIsa())];
+}
+
+void preferAvx2Pull(bool avx2) {
+    avx2Preferred = avx2;
 }
 #else
 bool frameConvex(const PullMesh&) {
@@ -505,6 +799,10 @@ bool pullRows(const PullMesh&, int, int, Mat&, Mat&) {
 bool havePullKernel() {
     return false;
 }
+const char* pullKernelName() {
+    return "none";
+}
+void preferAvx2Pull(bool) {}
 #endif
 
 }  // namespace raster

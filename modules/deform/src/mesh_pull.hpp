@@ -47,8 +47,14 @@ raster kernel. Float arithmetic: the values are the raster's within a few float 
 y0 is a multiple of kPullRun. */
 bool pullRows(const PullMesh& mesh, int y0, int y1, Mat& mapx, Mat& mapy);
 
-/** Whether this build and CPU have the pull kernel (AVX-512). */
+/** Whether this build and CPU have a pull kernel (AVX-512, or AVX2: the same walk 8 pixels at a
+time). */
 bool havePullKernel();
+/** The pull kernel pullRows runs: "AVX-512", "AVX2" or "none". */
+const char* pullKernelName();
+/** Makes pullRows and positiveRows use the AVX2 kernel even where AVX-512 is there (true), or
+choose again (false): for tests that compare the kernels. */
+void preferAvx2Pull(bool avx2);
 
 }  // namespace raster
 }  // namespace multicage
