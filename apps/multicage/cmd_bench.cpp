@@ -656,7 +656,7 @@ void printAugmentStages(const BenchOptions& o) {
     }
     std::printf(
         "  maps: the coefficient sum and the raster (computeMaps); sampling: deform less maps "
-        "(the backend's own bilinear sampler where the CPU has AVX-512, cv::remap's bits).\n");
+        "(the backend's own bilinear sampler where the CPU has AVX2 or AVX-512, cv::remap's bits).\n");
 }
 
 void printAugmentFirstDeform(const BenchOptions& o) {

@@ -16,7 +16,8 @@ using multicage_testing::sameBits;
 namespace cv {
 namespace multicage {
 namespace raster {
-void preferBaselineKernel(bool baseline);
+enum class RasterKernel { best, avx2, baseline };
+bool preferRasterKernel(RasterKernel kernel);
 }  // namespace raster
 }  // namespace multicage
 }  // namespace cv
@@ -206,13 +207,16 @@ void expectSameAsReference(const Mat& positions, const Mat& rest, Size size, Inp
                            const std::string& what) {
     Mat refx, refy;
     reference::rasterize(positions, rest, size, refx, refy, frame);
-    // Every kernel this CPU can run: the AVX-512 one where it has it, and the AVX2/baseline one.
-    for (bool baseline : {false, true}) {
+    // Every kernel this CPU can run: its own (AVX-512 where it has it), AVX2, and the baseline.
+    using raster::RasterKernel;
+    for (RasterKernel k : {RasterKernel::best, RasterKernel::avx2, RasterKernel::baseline}) {
+        if (!raster::preferRasterKernel(k)) continue;
         Mat mapx, mapy;
-        raster::preferBaselineKernel(baseline);
         rasterizeMaps(positions, rest, size, mapx, mapy, frame);
-        raster::preferBaselineKernel(false);
-        const char* kernel = baseline ? " (baseline kernel)" : " (kernel of this CPU)";
+        raster::preferRasterKernel(RasterKernel::best);
+        const char* kernel = k == RasterKernel::avx2       ? " (AVX2 kernel)"
+                             : k == RasterKernel::baseline ? " (baseline kernel)"
+                                                           : " (kernel of this CPU)";
         EXPECT_TRUE(sameBits(mapx, refx)) << what << kernel << ": mapx differs from the reference";
         EXPECT_TRUE(sameBits(mapy, refy)) << what << kernel << ": mapy differs from the reference";
     }

@@ -1,6 +1,7 @@
-// The CPU rasteriser's triangle kernels (private): the set-up of a run of triangles and the
-// span of a row, for the baseline/AVX2 kernel (raster_kernels.cpp); the AVX-512 one
-// (raster_avx512.cpp) computes the same values 8 triangles at a time, in the same order.
+// The CPU rasteriser's triangle kernels (private): the set-up of a run of triangles, the span of
+// a row and a triangle's drawing, for the baseline kernel (raster_kernels.cpp); the AVX2 and
+// AVX-512 ones (raster_avx2.cpp, raster_avx512.cpp) compute the same values 4 and 8 triangles at
+// a time, in the same order.
 #ifndef MULTICAGE_RASTER_KERNELS_HPP
 #define MULTICAGE_RASTER_KERNELS_HPP
 
@@ -153,6 +154,30 @@ inline bool rowSpan(const TriangleSetup& s, int t, int y, int xa, int xb, int& x
     return xl <= xr;
 }
 
+// Writes, for every pixel centre of rows [y0, y1) inside triangle t (deformed), the matching
+// point of its rest triangle. Inside a triangle the inverse map is affine, so each row is a
+// span [xl, xr] found from the three barycentric edge functions, filled by a straight loop.
+// Edges are inclusive with a small tolerance so that neighbouring triangles leave no crack;
+// on a shared edge both write almost the same value.
+inline void drawTriangle(const TriangleSetup& s, int t, int y0, int y1, Point2f lo, Point2f hi,
+                         Mat& mapx, Mat& mapy) {
+    int ya, yb, xa, xb;
+    if (!triangleBounds(s, t, y0, y1, mapx.cols, ya, yb, xa, xb)) return;
+    const double mxx = s.mxx[t], mxy = s.mxy[t], mx0 = s.mx0[t];
+    const double myx = s.myx[t], myy = s.myy[t], my0 = s.my0[t];
+    for (int y = ya; y <= yb; ++y) {
+        int xl, xr;
+        if (!rowSpan(s, t, y, xa, xb, xl, xr)) continue;
+        float* mx = mapx.ptr<float>(y);
+        float* my = mapy.ptr<float>(y);
+        const double bx = mxy * y + mx0, by = myy * y + my0;
+        for (int x = xl; x <= xr; ++x) {
+            mx[x] = std::min(std::max(static_cast<float>(mxx * x + bx), lo.x), hi.x);
+            my[x] = std::min(std::max(static_cast<float>(myx * x + by), lo.y), hi.y);
+        }
+    }
+}
+
 }  // namespace
 
 // Draws the cells of one row of the mesh (nodes rows p0/p1 deformed, r0/r1 rest, `cells`
@@ -162,13 +187,23 @@ using DrawCellRowFn = void (*)(const Point2f* p0, const Point2f* p1, const Point
                                const Point2f* r1, int cells, int y0, int y1, Point2f lo, Point2f hi,
                                Mat& mapx, Mat& mapy, TriangleSetup& s);
 
-/** The kernel for this CPU: AVX-512 where it has it, else the AVX2 or baseline clone (all give
-the same bits). */
+/** The kernel for this CPU: AVX-512 where it has it, else AVX2, else the baseline (all give the
+same bits). */
 DrawCellRowFn cellRowKernel();
 
-/** Makes cellRowKernel() return the AVX2/baseline kernel even where AVX-512 is there (true), or
-choose again (false): for tests that compare the kernels. */
-void preferBaselineKernel(bool baseline);
+/** The kernels, for tests that compare them: `best` is this CPU's own. */
+enum class RasterKernel { best, avx2, baseline };
+
+/** Makes cellRowKernel() return `kernel` (RasterKernel::best: choose again); false, changing
+nothing, where this CPU or build cannot run it. */
+bool preferRasterKernel(RasterKernel kernel);
+
+/** The AVX2 kernel (raster_avx2.cpp); only for CPUs with AVX2 (x86-64-v3). */
+void drawCellRowAvx2(const Point2f* p0, const Point2f* p1, const Point2f* r0, const Point2f* r1,
+                     int cells, int y0, int y1, Point2f lo, Point2f hi, Mat& mapx, Mat& mapy,
+                     TriangleSetup& s);
+/** Whether drawCellRowAvx2 exists in this build. */
+bool haveAvx2Kernel();
 
 /** The AVX-512 kernel (raster_avx512.cpp); only for CPUs with AVX-512 F, BW, DQ, VL. */
 void drawCellRowAvx512(const Point2f* p0, const Point2f* p1, const Point2f* r0, const Point2f* r1,

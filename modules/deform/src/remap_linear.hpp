@@ -9,8 +9,8 @@ namespace multicage {
 
 /** cv::remap(src, dst, mapx, mapy, INTER_LINEAR, BORDER_CONSTANT, border), bit for bit (the
 same fixed-point maps, weights and rounding), src not dst. 8-bit 3-channel images on CPUs with
-AVX-512 take a path of their own, about twice as fast as OpenCV's (whose build here dispatches
-remap to SSE2 only); any other image is cv::remap's. */
+AVX-512 or AVX2 take a path of their own, faster than OpenCV's (whose build here dispatches remap
+to SSE2 only); any other image is cv::remap's. */
 void remapLinear(const Mat& src, OutputArray dst, const Mat& mapx, const Mat& mapy,
                  const Scalar& border);
 
@@ -21,6 +21,13 @@ void remapLinearRows(const Mat& src, Mat& dst, const Mat& mapx, const Mat& mapy,
 
 /** Whether remapLinear takes its own path for images of this type on this CPU (for tests). */
 bool remapLinearOwnPath(int type);
+
+/** The paths, for tests that compare them: `best` is this CPU's own (AVX-512, else AVX2). */
+enum class RemapPath { best, avx2, opencv };
+
+/** Makes remapLinear take `path` (RemapPath::best: choose again); false, changing nothing, where
+this CPU or build cannot run it. */
+bool preferRemapPath(RemapPath path);
 
 }  // namespace multicage
 }  // namespace cv
