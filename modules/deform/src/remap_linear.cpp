@@ -46,9 +46,15 @@ inline void samplePixel3(const uchar* src, size_t step, int W, int H, float mx, 
 
 #if defined(MULTICAGE_REMAP_V4)
 #define MULTICAGE_V4 __attribute__((target("arch=x86-64-v4")))
+#define MULTICAGE_V3 __attribute__((target("arch=x86-64-v3")))
 
-MULTICAGE_V4 inline __m128i load16(const uchar* p) {
+// (AVX2 functions inline into the AVX-512 ones: x86-64-v4 holds all of x86-64-v3.)
+MULTICAGE_V3 inline __m128i load16(const uchar* p) {
     return _mm_loadu_si128(reinterpret_cast<const __m128i*>(p));
+}
+
+MULTICAGE_V3 inline __m128i load8(const uchar* p) {
+    return _mm_loadl_epi64(reinterpret_cast<const __m128i*>(p));
 }
 
 // One output row of a 3-channel image, 16 pixels at a time where at least 8 of them have all
@@ -190,16 +196,6 @@ MULTICAGE_V4 void remapRow3(const uchar* src, size_t step, int W, int H, const f
     for (; x < cols; ++x) samplePixel3(src, step, W, H, mx[x], my[x], border, d + 3 * x);
 }
 
-#define MULTICAGE_V3 __attribute__((target("arch=x86-64-v3")))
-
-MULTICAGE_V3 inline __m128i load16v3(const uchar* p) {
-    return _mm_loadu_si128(reinterpret_cast<const __m128i*>(p));
-}
-
-MULTICAGE_V3 inline __m128i load8v3(const uchar* p) {
-    return _mm_loadl_epi64(reinterpret_cast<const __m128i*>(p));
-}
-
 // remapRow3 for CPUs without AVX-512: the same arithmetic, 8 pixels at a time where at least 4
 // of them have all their samples inside the image. Each 128-bit lane holds two pixels' samples,
 // from one 16-byte load per sample row where the two sample one source row at most 3 pixels apart
@@ -297,21 +293,21 @@ MULTICAGE_V3 void remapRow3Avx2(const uchar* src, size_t step, int W, int H, con
                 const __m256i control = _mm256_add_epi8(
                     pairsAt0, _mm256_shuffle_epi8(_mm256_cvtepu32_epi64(dd), spread));
                 const __m256i w = _mm256_inserti128_si256(
-                    _mm256_castsi128_si256(load16v3(src + o[0])), load16v3(src + o[2]), 1);
+                    _mm256_castsi128_si256(load16(src + o[0])), load16(src + o[2]), 1);
                 const __m256i v =
-                    _mm256_inserti128_si256(_mm256_castsi128_si256(load16v3(src + o[0] + step)),
-                                            load16v3(src + o[2] + step), 1);
+                    _mm256_inserti128_si256(_mm256_castsi128_si256(load16(src + o[0] + step)),
+                                            load16(src + o[2] + step), 1);
                 t = _mm256_shuffle_epi8(w, control);
                 u = _mm256_shuffle_epi8(v, control);
             } else {
                 const __m256i w = _mm256_inserti128_si256(
                     _mm256_castsi128_si256(
-                        _mm_unpacklo_epi64(load8v3(src + o[0]), load8v3(src + o[1]))),
-                    _mm_unpacklo_epi64(load8v3(src + o[2]), load8v3(src + o[3])), 1);
+                        _mm_unpacklo_epi64(load8(src + o[0]), load8(src + o[1]))),
+                    _mm_unpacklo_epi64(load8(src + o[2]), load8(src + o[3])), 1);
                 const __m256i v = _mm256_inserti128_si256(
                     _mm256_castsi128_si256(
-                        _mm_unpacklo_epi64(load8v3(src + o[0] + step), load8v3(src + o[1] + step))),
-                    _mm_unpacklo_epi64(load8v3(src + o[2] + step), load8v3(src + o[3] + step)), 1);
+                        _mm_unpacklo_epi64(load8(src + o[0] + step), load8(src + o[1] + step))),
+                    _mm_unpacklo_epi64(load8(src + o[2] + step), load8(src + o[3] + step)), 1);
                 t = _mm256_shuffle_epi8(w, pairs);
                 u = _mm256_shuffle_epi8(v, pairs);
             }
