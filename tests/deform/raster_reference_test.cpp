@@ -225,11 +225,13 @@ void expectSameAsReference(const Mat& positions, const Mat& rest, Size size, Inp
 }  // namespace
 
 // Steps 1 to 16: the AVX-512 kernel draws a group of 8 cells pixel by pixel when it lies within
-// 64 columns (steps up to 7 unless stretched) and span by span otherwise; rows of 97 and 33 px
-// end in part-filled groups.
+// 64 columns (steps up to 7 unless stretched) and span by span otherwise, the AVX2 kernel 4 cells
+// within 32 columns, else a triangle at a time; rows of 97 and 33 px end in part-filled groups,
+// and the AVX2 kernel draws the last columns of a row, and every column of a row of 6 px, one by
+// one.
 TEST(RasterReference, RandomAndFoldedMeshesBitForBit) {
     RNG rng(17);
-    const Size sizes[] = {{97, 64}, {160, 120}, {33, 250}};
+    const Size sizes[] = {{97, 64}, {160, 120}, {33, 250}, {6, 9}};
     for (const Size size : sizes)
         for (int step : {1, 3, 7, 8, 16})
             for (float jitter : {0.f, 0.3f, 2.f, 12.f}) {
