@@ -39,9 +39,15 @@ bool cpuHasAvx512() {
     return yes;
 }
 
+// Everything the AVX2 kernel's x86-64-v3 code may use (AVX2, FMA, BMI1/2, LZCNT, MOVBE, F16C):
+// GCC 12 asks for the level at once; a virtual machine may hide any one of them.
 bool cpuHasAvx2() {
+#if defined(__GNUC__) && !defined(__clang__) && __GNUC__ >= 12
+    static const bool yes = __builtin_cpu_supports("x86-64-v3");
+#else
     static const bool yes = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma") &&
                             __builtin_cpu_supports("bmi2");
+#endif
     return yes;
 }
 

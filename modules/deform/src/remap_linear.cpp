@@ -345,9 +345,15 @@ MULTICAGE_V3 void remapRow3Avx2(const uchar* src, size_t step, int W, int H, con
     for (; x < cols; ++x) samplePixel3(src, step, W, H, mx[x], my[x], border, d + 3 * x);
 }
 
+// Everything x86-64-v3 code may use (AVX2, FMA, BMI1/2, LZCNT, MOVBE, F16C, POPCNT).
 bool haveV3() {
+#if __GNUC__ >= 12
+    static const bool v3 = __builtin_cpu_supports("x86-64-v3");
+#else
     static const bool v3 = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma") &&
-                           __builtin_cpu_supports("bmi2") && __builtin_cpu_supports("popcnt");
+                           __builtin_cpu_supports("bmi") && __builtin_cpu_supports("bmi2") &&
+                           __builtin_cpu_supports("popcnt");
+#endif
     return v3;
 }
 
