@@ -26,9 +26,10 @@ namespace multicage {
 
 namespace {
 
-// One pixel of a 3-channel image, each of its four samples read from the image or the border.
-inline void samplePixel3(const uchar* src, size_t step, int W, int H, float mx, float my,
-                         const uchar* border, uchar* d) {
+// One pixel of a 3-channel image, each of its four samples read from the image or the border
+// (unused where no vector path is compiled: clang builds).
+[[maybe_unused]] inline void samplePixel3(const uchar* src, size_t step, int W, int H, float mx,
+                                          float my, const uchar* border, uchar* d) {
     const int sx = cvRound(mx * 32.f), sy = cvRound(my * 32.f);
     const int X = saturate_cast<short>(sx >> 5), Y = saturate_cast<short>(sy >> 5);
     const int a = sx & 31, b = sy & 31;
