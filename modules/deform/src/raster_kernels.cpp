@@ -10,6 +10,8 @@
 
 #include <atomic>
 
+#include "cpu_level.hpp"
+
 namespace cv {
 namespace multicage {
 namespace raster {
@@ -39,21 +41,9 @@ bool cpuHasAvx512() {
     return yes;
 }
 
-// Everything the AVX2 kernel's x86-64-v3 code may use (AVX2, FMA, BMI1/2, LZCNT, MOVBE, F16C):
-// GCC 12 asks for the level at once; a virtual machine may hide any one of them.
-bool cpuHasAvx2() {
-#if defined(__GNUC__) && !defined(__clang__) && __GNUC__ >= 12
-    static const bool yes = __builtin_cpu_supports("x86-64-v3");
-#else
-    static const bool yes = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma") &&
-                            __builtin_cpu_supports("bmi2");
-#endif
-    return yes;
-}
-
 DrawCellRowFn bestKernel() {
     if (haveAvx512Kernel() && cpuHasAvx512()) return drawCellRowAvx512;
-    if (haveAvx2Kernel() && cpuHasAvx2()) return drawCellRowAvx2;
+    if (haveAvx2Kernel() && cpuHasX86_64_v3()) return drawCellRowAvx2;
     return drawCellRow;
 }
 
@@ -67,7 +57,7 @@ bool preferRasterKernel(RasterKernel kernel) {
             preferred = nullptr;
             return true;
         case RasterKernel::avx2:
-            if (!haveAvx2Kernel() || !cpuHasAvx2()) return false;
+            if (!haveAvx2Kernel() || !cpuHasX86_64_v3()) return false;
             preferred = drawCellRowAvx2;
             return true;
         case RasterKernel::baseline:

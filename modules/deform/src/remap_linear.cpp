@@ -12,6 +12,8 @@
 #include <atomic>
 #include <climits>
 #include <opencv2/imgproc.hpp>
+
+#include "cpu_level.hpp"
 #if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__)
 // GCC 12's AVX-512 headers start vectors from _mm512_undefined_*(), which -W(maybe-)uninitialized
 // reports at every use.
@@ -346,18 +348,6 @@ MULTICAGE_V3 void remapRow3Avx2(const uchar* src, size_t step, int W, int H, con
     for (; x < cols; ++x) samplePixel3(src, step, W, H, mx[x], my[x], border, d + 3 * x);
 }
 
-// Everything x86-64-v3 code may use (AVX2, FMA, BMI1/2, LZCNT, MOVBE, F16C, POPCNT).
-bool haveV3() {
-#if __GNUC__ >= 12
-    static const bool v3 = __builtin_cpu_supports("x86-64-v3");
-#else
-    static const bool v3 = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma") &&
-                           __builtin_cpu_supports("bmi") && __builtin_cpu_supports("bmi2") &&
-                           __builtin_cpu_supports("popcnt");
-#endif
-    return v3;
-}
-
 bool haveV4() {
     static const bool v4 = __builtin_cpu_supports("avx512f") &&
                            __builtin_cpu_supports("avx512bw") &&
@@ -373,18 +363,12 @@ namespace {
 // The row sampler of the own path on this CPU (AVX-512, else AVX2), or null: cv::remap's.
 using RowFn = void (*)(const uchar*, size_t, int, int, const float*, const float*, uchar*, int,
                        const uchar*);
-std::atomic<int> preferredPath{int(RemapPath::best)};
+std::atomic<RemapPath> preferredPath{RemapPath::best};
 
 RowFn rowSampler() {
 #if defined(MULTICAGE_REMAP_V4)
-    switch (RemapPath(preferredPath.load())) {
-        case RemapPath::best:
-            return haveV4() ? remapRow3 : haveV3() ? remapRow3Avx2 : nullptr;
-        case RemapPath::avx2:
-            return haveV3() ? remapRow3Avx2 : nullptr;
-        case RemapPath::opencv:
-            return nullptr;
-    }
+    if (preferredPath == RemapPath::avx2) return cpuHasX86_64_v3() ? remapRow3Avx2 : nullptr;
+    return haveV4() ? remapRow3 : cpuHasX86_64_v3() ? remapRow3Avx2 : nullptr;
 #endif
     return nullptr;
 }
@@ -397,11 +381,11 @@ bool remapLinearOwnPath(int type) {
 
 bool preferRemapPath(RemapPath path) {
 #if defined(MULTICAGE_REMAP_V4)
-    if (path == RemapPath::avx2 && !haveV3()) return false;
+    if (path == RemapPath::avx2 && !cpuHasX86_64_v3()) return false;
 #else
     if (path == RemapPath::avx2) return false;
 #endif
-    preferredPath = int(path);
+    preferredPath = path;
     return true;
 }
 

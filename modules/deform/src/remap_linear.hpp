@@ -23,7 +23,7 @@ void remapLinearRows(const Mat& src, Mat& dst, const Mat& mapx, const Mat& mapy,
 bool remapLinearOwnPath(int type);
 
 /** The paths, for tests that compare them: `best` is this CPU's own (AVX-512, else AVX2). */
-enum class RemapPath { best, avx2, opencv };
+enum class RemapPath { best, avx2 };
 
 /** Makes remapLinear take `path` (RemapPath::best: choose again); false, changing nothing, where
 this CPU or build cannot run it. */

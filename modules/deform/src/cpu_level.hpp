@@ -1,0 +1,26 @@
+// Whether this CPU runs x86-64-v3 code (private): the dispatch of the deform module's AVX2
+// kernels (raster_avx2.cpp, remap_linear.cpp's AVX2 sampler), which are compiled for that level.
+#ifndef MULTICAGE_CPU_LEVEL_HPP
+#define MULTICAGE_CPU_LEVEL_HPP
+
+namespace cv {
+namespace multicage {
+
+/** Everything x86-64-v3 code may use: AVX2, FMA, BMI1/2, LZCNT, MOVBE, F16C, POPCNT. GCC 12 asks
+for the level at once (a virtual machine may hide any one of them); elsewhere the features that
+matter are asked one by one. */
+inline bool cpuHasX86_64_v3() {
+#if defined(__GNUC__) && !defined(__clang__) && __GNUC__ >= 12
+    static const bool yes = __builtin_cpu_supports("x86-64-v3");
+#else
+    static const bool yes = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma") &&
+                            __builtin_cpu_supports("bmi") && __builtin_cpu_supports("bmi2") &&
+                            __builtin_cpu_supports("popcnt");
+#endif
+    return yes;
+}
+
+}  // namespace multicage
+}  // namespace cv
+
+#endif
