@@ -5,6 +5,7 @@
 #include <opencv2/imgproc.hpp>
 #include <opencv2/saliency.hpp>
 
+#include "grabcut.hpp"
 #include "subject.hpp"
 
 namespace cv {
@@ -149,19 +150,20 @@ void seededGrabCut(const Mat& img, Mat& labels, int iterations, int settleWithin
         SeededRng() { theRNG() = RNG(0x6d756c7469636167ULL); }
         ~SeededRng() { theRNG() = saved; }
     } seeded;
-    // The iterations in one call; when settling, the last of them and those after it one at a
-    // time (GC_EVAL goes on from the colour models the last one learnt: the labels are, to the
-    // pixel, those of one call of as many iterations), each compared with the labels before it.
+    GrabCut grabCut(img, labels);
+    // When settling, the `iterations`-th iteration and those after it are each compared with
+    // the labels before them.
     constexpr double kSettled = 0.01;  // of the pixels changing side in an iteration
     const bool settle = settleWithin > iterations;
-    int done = settle ? iterations - 1 : iterations;
-    Mat bgd, fgd, before;
-    if (done > 0) grabCut(img, labels, Rect(), bgd, fgd, done, GC_INIT_WITH_MASK);
-    for (; settle && done < settleWithin; ++done) {
-        labels.copyTo(before);
-        grabCut(img, labels, Rect(), bgd, fgd, 1, done == 0 ? GC_INIT_WITH_MASK : GC_EVAL);
+    Mat before;
+    for (int done = 1; done <= std::max(iterations, settleWithin); ++done) {
+        const bool check = settle && done >= iterations;
+        if (check) labels.copyTo(before);
+        grabCut.iterate(labels);
         // GC_FGD (1) and GC_PR_FGD (3) have bit 0 set, GC_BGD (0) and GC_PR_BGD (2) do not.
-        if (countNonZero((before ^ labels) & Scalar(1)) <= kSettled * labels.total()) break;
+        if (check && countNonZero((before ^ labels) & Scalar(1)) <= kSettled * labels.total())
+            break;
+        if (!settle && done == iterations) break;
     }
 }
 

@@ -30,11 +30,11 @@ Mat borderStrip(Size size);
 spectral residual static saliency. */
 Mat saliencyMap(const Mat& img, bool spectralResidual);
 
-/** cv::grabCut from `labels` (GC_INIT_WITH_MASK), its k-means seeded with a fixed number so
-that the result is a function of the image alone; `labels` is updated in place. It runs
-`iterations` iterations, then, when `settleWithin` is more, goes on until one moves at most 1%
-of the pixels between subject and background (the `iterations`-th included), `settleWithin` in
-all at most. */
+/** GrabCut (grabcut.hpp: cv::grabCut's labels, in less time) from `labels`, its k-means
+seeded with a fixed number so that the result is a function of the image alone; `labels` is
+updated in place. It runs `iterations` iterations, then, when `settleWithin` is more, goes on
+until one moves at most 1% of the pixels between subject and background (the `iterations`-th
+included), `settleWithin` in all at most. */
 void seededGrabCut(const Mat& img, Mat& labels, int iterations, int settleWithin = 0);
 
 /** Raw segmentation (before cleaning) of an 8-bit work image: CV_8UC1, 255 on objects.
