@@ -56,8 +56,10 @@ double surroundingDensity(const Mat& edges, const Mat& ids, int id, const Rect& 
     const Rect roi = Rect(box.x - r, box.y - r, box.width + 2 * r, box.height + 2 * r) &
                      Rect(Point(), ids.size());
     const Mat region = ids(roi) == id;
-    Mat ring;
-    dilate(region, ring, getStructuringElement(MORPH_ELLIPSE, Size(2 * r + 1, 2 * r + 1)));
+    // The pixels within r of the region: a threshold of the distance to it costs the same
+    // for every r, where a dilation by a disk of radius r costs r rows per pixel (a fifth of
+    // the proposal's time on the baboon's large fur regions).
+    Mat ring = distanceTo(~region) <= r;
     ring &= (ids(roi) == 0) & inside(roi);
     return countNonZero(ring) > 0 ? mean(edges(roi), ring)[0] : 0.0;
 }
