@@ -200,6 +200,37 @@ TEST(GrabCut, SameLabelsAsCvGrabCutIterationForIteration) {
     }
 }
 
+// A GrabCut started from another's flow on the same image (subject.cpp's second pass, from
+// the first pass's) gives the labels of one started afresh.
+TEST(GrabCut, StartingFromAnotherRunsFlowGivesTheSameLabels) {
+    for (const char* name : {"baboon", "chelsea"}) {
+        const Mat photo = multicage_testing::readSample(std::string("propose_bench/") + name + ".jpg");
+        Mat img;
+        const double s = 240.0 / std::max(photo.cols, photo.rows);
+        resize(photo, img, Size(), s, s, INTER_AREA);
+        const int b = cvRound(0.03 * 240);
+        Mat first(img.size(), CV_8U, Scalar(GC_BGD));
+        first(Rect(b, b, img.cols - 2 * b, img.rows - 2 * b)).setTo(GC_PR_FGD);
+        Mat second = first.clone();  // the top and the upper left reopened
+        second(Rect(0, 0, img.cols, b)).setTo(GC_PR_BGD);
+        second(Rect(0, 0, b, img.rows / 2)).setTo(GC_PR_BGD);
+        Mat labels = first.clone(), fresh = second.clone(), warm = second.clone();
+        theRNG() = RNG(1);
+        GrabCut one(img, labels);
+        for (int i = 0; i < 5; ++i) one.iterate(labels);
+        theRNG() = RNG(2);
+        GrabCut afresh(img, fresh);
+        theRNG() = RNG(2);
+        GrabCut started(img, warm, one.takeFlow());
+        for (int i = 1; i <= 5; ++i) {
+            afresh.iterate(fresh);
+            started.iterate(warm);
+            EXPECT_EQ(countNonZero(fresh != warm), 0) << name << ", iteration " << i;
+        }
+        EXPECT_GT(countNonZero(fresh != second), 0) << name;  // the run moved something
+    }
+}
+
 TEST(GrabCut, NeedsBothSidesToStart) {
     const Mat img(20, 20, CV_8UC3, Scalar(10, 20, 30));
     EXPECT_THROW(GrabCut(img, Mat(img.size(), CV_8U, Scalar(GC_PR_FGD))), cv::Exception);

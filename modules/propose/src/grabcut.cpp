@@ -119,7 +119,9 @@ struct GrabCut::Mixture {
     }
 };
 
-GrabCut::GrabCut(const Mat& img, const Mat& labels)
+GrabCut::GrabCut(const Mat& img, const Mat& labels) : GrabCut(img, labels, nullptr) {}
+
+GrabCut::GrabCut(const Mat& img, const Mat& labels, std::unique_ptr<GridCut> flow)
     : img_(img), background_(std::make_unique<Mixture>()), subject_(std::make_unique<Mixture>()) {
     CV_Assert(img.type() == CV_8UC3 && labels.type() == CV_8UC1 && labels.size() == img.size());
     // The colour models start from k-means++ on each side's colours.
@@ -141,6 +143,10 @@ GrabCut::GrabCut(const Mat& img, const Mat& labels)
         for (size_t i = 0; i < colours[s].size(); ++i)
             models[s]->add(ids.at<int>(static_cast<int>(i)), Vec3d(colours[s][i]));
         models[s]->endLearning();
+    }
+    if (flow && flow->size() == img.size()) {
+        graph_ = std::move(flow);
+        return;
     }
     // The pairwise capacities: gamma exp(-beta |colour difference|^2) to each of the eight
     // neighbours (divided by sqrt 2 on the diagonals), beta from the mean squared difference.

@@ -6,6 +6,7 @@
 #include <opencv2/saliency.hpp>
 
 #include "grabcut.hpp"
+#include "grid_cut.hpp"
 #include "subject.hpp"
 
 namespace cv {
@@ -141,7 +142,8 @@ Mat saliencyMap(const Mat& img, bool spectralResidual) {
     return out;
 }
 
-void seededGrabCut(const Mat& img, Mat& labels, int iterations, int settleWithin) {
+void seededGrabCut(const Mat& img, Mat& labels, int iterations, int settleWithin,
+                   std::unique_ptr<GridCut>* flow) {
     // GrabCut seeds its colour models with k-means++ from cv::theRNG(): a fixed seed makes
     // the proposal a function of the image (not of what ran before on this thread), and the
     // caller's generator is put back as it was.
@@ -150,7 +152,7 @@ void seededGrabCut(const Mat& img, Mat& labels, int iterations, int settleWithin
         SeededRng() { theRNG() = RNG(0x6d756c7469636167ULL); }
         ~SeededRng() { theRNG() = saved; }
     } seeded;
-    GrabCut grabCut(img, labels);
+    GrabCut grabCut(img, labels, flow ? std::move(*flow) : nullptr);
     // When settling, the `iterations`-th iteration and those after it are each compared with
     // the labels before them.
     constexpr double kSettled = 0.01;  // of the pixels changing side in an iteration
@@ -165,6 +167,7 @@ void seededGrabCut(const Mat& img, Mat& labels, int iterations, int settleWithin
             break;
         if (!settle && done == iterations) break;
     }
+    if (flow) *flow = grabCut.takeFlow();
 }
 
 namespace {
