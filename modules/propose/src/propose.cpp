@@ -8,6 +8,8 @@
 //                 from the frame inward, saliency)
 //   subject.cpp   the frame-inward GrabCut of a photo without faces: the frame is background
 //                 except where the subject goes on past it
+//   grabcut.cpp   GrabCut itself (cv::grabCut's colour models and energy), on
+//   grid_cut.cpp  a max-flow over the pixel grid that keeps its flow between iterations
 //   polygons.cpp  mask -> nested regions -> polygons within the budgets, simplified and
 //                 repaired until simple and disjoint
 //   features.cpp  the inner polygons: faces, then textured salient regions
