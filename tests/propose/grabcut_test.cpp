@@ -34,6 +34,23 @@ Problem randomProblem(RNG& rng, Size size) {
     return p;
 }
 
+// New terminals for the same pairwise capacities (what a GrabCut iteration changes).
+void redrawTerminals(RNG& rng, Problem& p) {
+    const Problem q = randomProblem(rng, p.size);
+    p.source = q.source;
+    p.sink = q.sink;
+}
+
+void setTerminals(GridCut& g, const Problem& p);
+
+// Solve `solve` of a sequence on one graph: the first with p's terminals, each later one
+// after they are drawn again.
+void solveAgain(GridCut& g, Problem& p, RNG& rng, int solve) {
+    if (solve > 0) redrawTerminals(rng, p);
+    setTerminals(g, p);
+    g.maxFlow();
+}
+
 bool inside(Size s, Point q) {
     return q.x >= 0 && q.y >= 0 && q.x < s.width && q.y < s.height;
 }
@@ -82,6 +99,23 @@ double leastCut(const Problem& p) {
     return least;
 }
 
+// A benchmark photo at GrabCut's working size (240 px on the longer side).
+Mat photo240(const char* name) {
+    const Mat photo = multicage_testing::readSample(std::string("propose_bench/") + name + ".jpg");
+    Mat img;
+    const double s = 240.0 / std::max(photo.cols, photo.rows);
+    resize(photo, img, Size(), s, s, INTER_AREA);
+    return img;
+}
+
+// subject.cpp's start: a strip along the frame sure background, the rest probable subject.
+constexpr int kStrip = 7;  // 3% of 240
+Mat frameStart(Size size) {
+    Mat labels(size, CV_8U, Scalar(GC_BGD));
+    labels(Rect(kStrip, kStrip, size.width - 2 * kStrip, size.height - 2 * kStrip)).setTo(GC_PR_FGD);
+    return labels;
+}
+
 std::vector<char> sidesOf(const GridCut& g) {
     std::vector<char> side;
     for (int y = 0; y < g.size().height; ++y)
@@ -119,13 +153,7 @@ TEST(GridCut, AfterTheTerminalsChangeTheCutIsTheLeastOfTheNewCapacities) {
         GridCut g(size);
         setEdges(g, p);
         for (int solve = 0; solve < 3; ++solve) {
-            if (solve > 0) {
-                const Problem q = randomProblem(rng, size);
-                p.source = q.source;
-                p.sink = q.sink;
-            }
-            setTerminals(g, p);
-            g.maxFlow();
+            solveAgain(g, p, rng, solve);
             EXPECT_NEAR(cutCapacity(p, sidesOf(g)), leastCut(p), 1e-9)
                 << "trial " << trial << ", solve " << solve;
         }
@@ -141,13 +169,7 @@ TEST(GridCut, MatchesGcGraphOnALargeGridAcrossChanges) {
     GridCut g(size);
     setEdges(g, p);
     for (int solve = 0; solve < 4; ++solve) {
-        if (solve > 0) {
-            const Problem q = randomProblem(rng, size);
-            p.source = q.source;
-            p.sink = q.sink;
-        }
-        setTerminals(g, p);
-        g.maxFlow();
+        solveAgain(g, p, rng, solve);
         detail::GCGraph<double> reference;
         reference.create(size.area(), 8 * size.area());
         for (int i = 0; i < size.area(); ++i) {
@@ -172,13 +194,9 @@ TEST(GridCut, MatchesGcGraphOnALargeGridAcrossChanges) {
 // GrabCut's working size.
 TEST(GrabCut, SameLabelsAsCvGrabCutIterationForIteration) {
     for (const char* name : {"baboon", "squirrel", "messi5"}) {
-        const Mat photo = multicage_testing::readSample(std::string("propose_bench/") + name + ".jpg");
-        Mat img;
-        const double s = 240.0 / std::max(photo.cols, photo.rows);
-        resize(photo, img, Size(), s, s, INTER_AREA);
-        const int b = cvRound(0.03 * 240);
-        Mat fromFrame(img.size(), CV_8U, Scalar(GC_BGD)), fromRect = fromFrame.clone();
-        fromFrame(Rect(b, b, img.cols - 2 * b, img.rows - 2 * b)).setTo(GC_PR_FGD);
+        const Mat img = photo240(name);
+        const Mat fromFrame = frameStart(img.size());
+        Mat fromRect(img.size(), CV_8U, Scalar(GC_BGD));
         fromRect(Rect(img.cols / 5, img.rows / 6, img.cols / 2, img.rows * 2 / 3)).setTo(GC_PR_FGD);
         for (const Mat& start : {fromFrame, fromRect}) {
             Mat theirs = start.clone(), ours = start.clone(), bgd, fgd;
@@ -204,13 +222,9 @@ TEST(GrabCut, SameLabelsAsCvGrabCutIterationForIteration) {
 // the first pass's) gives the labels of one started afresh.
 TEST(GrabCut, StartingFromAnotherRunsFlowGivesTheSameLabels) {
     for (const char* name : {"baboon", "chelsea"}) {
-        const Mat photo = multicage_testing::readSample(std::string("propose_bench/") + name + ".jpg");
-        Mat img;
-        const double s = 240.0 / std::max(photo.cols, photo.rows);
-        resize(photo, img, Size(), s, s, INTER_AREA);
-        const int b = cvRound(0.03 * 240);
-        Mat first(img.size(), CV_8U, Scalar(GC_BGD));
-        first(Rect(b, b, img.cols - 2 * b, img.rows - 2 * b)).setTo(GC_PR_FGD);
+        const Mat img = photo240(name);
+        const Mat first = frameStart(img.size());
+        const int b = kStrip;
         Mat second = first.clone();  // the top and the upper left reopened
         second(Rect(0, 0, img.cols, b)).setTo(GC_PR_BGD);
         second(Rect(0, 0, b, img.rows / 2)).setTo(GC_PR_BGD);
