@@ -245,6 +245,26 @@ TEST(GrabCut, StartingFromAnotherRunsFlowGivesTheSameLabels) {
     }
 }
 
+// A side with fewer pixels than the mixture has components (a sliver of an image, one
+// pixel of background) gets one component per pixel, and the labels are still cv::grabCut's.
+TEST(GrabCut, SidesSmallerThanTheMixtureAsCvGrabCut) {
+    RNG rng(21);
+    for (Size size : {Size(3, 3), Size(7, 2), Size(9, 6)}) {
+        Mat img(size, CV_8UC3);
+        rng.fill(img, RNG::UNIFORM, 0, 256);
+        Mat start(size, CV_8U, Scalar(GC_PR_FGD));
+        start.at<uchar>(0, 0) = GC_BGD;
+        start.at<uchar>(size.height - 1, size.width - 1) = GC_PR_BGD;
+        Mat theirs = start.clone(), ours = start.clone(), bgd, fgd;
+        theRNG() = RNG(5);
+        grabCut(img, theirs, Rect(), bgd, fgd, 3, GC_INIT_WITH_MASK);
+        theRNG() = RNG(5);
+        GrabCut grabCut(img, ours);
+        for (int i = 0; i < 3; ++i) grabCut.iterate(ours);
+        EXPECT_EQ(countNonZero(ours != theirs), 0) << size;
+    }
+}
+
 TEST(GrabCut, NeedsBothSidesToStart) {
     const Mat img(20, 20, CV_8UC3, Scalar(10, 20, 30));
     EXPECT_THROW(GrabCut(img, Mat(img.size(), CV_8U, Scalar(GC_PR_FGD))), cv::Exception);

@@ -1,6 +1,7 @@
 // GrabCut's colour models and energy (grabcut.hpp); the minimum cut is grid_cut.cpp's.
 #include "grabcut.hpp"
 
+#include <algorithm>
 #include <cfloat>
 #include <cmath>
 #include <opencv2/imgproc.hpp>
@@ -137,7 +138,10 @@ GrabCut::GrabCut(const Mat& img, const Mat& labels, std::unique_ptr<GridCut> flo
     Mixture* models[2] = {background_.get(), subject_.get()};
     for (int s = 0; s < 2; ++s) {
         Mat samples(static_cast<int>(colours[s].size()), 3, CV_32F, &colours[s][0][0]), ids;
-        kmeans(samples, kComponents, ids, TermCriteria(TermCriteria::MAX_ITER, kKMeansIterations, 0),
+        // A side of fewer pixels than components gets a component per pixel (so does
+        // cv::grabCut's; the others stay empty).
+        const int clusters = std::min(kComponents, samples.rows);
+        kmeans(samples, clusters, ids, TermCriteria(TermCriteria::MAX_ITER, kKMeansIterations, 0),
                0, KMEANS_PP_CENTERS);
         models[s]->startLearning();
         for (size_t i = 0; i < colours[s].size(); ++i)
