@@ -154,35 +154,34 @@ GrabCut::GrabCut(const Mat& img, const Mat& labels, std::unique_ptr<GridCut> flo
     }
     // The pairwise capacities: gamma exp(-beta |colour difference|^2) to each of the eight
     // neighbours (divided by sqrt 2 on the diagonals), beta from the mean squared difference.
-    const int neighbours[4][2] = {{-1, 0}, {-1, -1}, {0, -1}, {1, -1}};  // left, up-left, up, up-right
+    // Each pixel looks back at its left, up-left, up and up-right neighbours (cv::grabCut's
+    // order, which its sum keeps): the neighbour reaches the pixel in GridCut's direction
+    // 0..3 (right, down-right, down, down-left).
+    auto behind = [&img](int x, int y, int i, Point& n) {
+        n = Point(x, y) - GridCut::kStep[i];
+        return n.x >= 0 && n.y >= 0 && n.x < img.cols;
+    };
     double sum = 0;
+    Point n;
     for (int y = 0; y < img.rows; ++y)
-        for (int x = 0; x < img.cols; ++x) {
-            const Vec3d c = img.at<Vec3b>(y, x);
-            for (const auto& n : neighbours) {
-                const int nx = x + n[0], ny = y + n[1];
-                if (nx < 0 || ny < 0 || nx >= img.cols) continue;
-                const Vec3d d = c - Vec3d(img.at<Vec3b>(ny, nx));
-                sum += d.dot(d);
-            }
-        }
+        for (int x = 0; x < img.cols; ++x)
+            for (int i = 0; i < 4; ++i)
+                if (behind(x, y, i, n)) {
+                    const Vec3d d = Vec3d(img.at<Vec3b>(y, x)) - Vec3d(img.at<Vec3b>(n));
+                    sum += d.dot(d);
+                }
     const double pairs = 4.0 * img.cols * img.rows - 3.0 * img.cols - 3.0 * img.rows + 2.0;
     const double beta = sum <= DBL_EPSILON ? 0.0 : 1.0 / (2 * sum / pairs);
     graph_ = std::make_unique<GridCut>(img.size());
-    // GridCut's directions 4..7 (left, up-left, up, up-right) are set from the neighbour's side.
-    const int fromNeighbour[4] = {3, 0, 1, 2};  // right, down-right, down, down-left
     for (int y = 0; y < img.rows; ++y)
-        for (int x = 0; x < img.cols; ++x) {
-            const Vec3d c = img.at<Vec3b>(y, x);
-            for (int i = 0; i < 4; ++i) {
-                const int nx = x + neighbours[i][0], ny = y + neighbours[i][1];
-                if (nx < 0 || ny < 0 || nx >= img.cols) continue;
-                const Vec3d d = c - Vec3d(img.at<Vec3b>(ny, nx));
-                // (cv::grabCut divides by the float square root of 2.)
-                const double gamma = i % 2 == 0 ? kGamma : kGamma / std::sqrt(2.0f);
-                graph_->setEdge(Point(nx, ny), fromNeighbour[i], gamma * std::exp(-beta * d.dot(d)));
-            }
-        }
+        for (int x = 0; x < img.cols; ++x)
+            for (int i = 0; i < 4; ++i)
+                if (behind(x, y, i, n)) {
+                    const Vec3d d = Vec3d(img.at<Vec3b>(y, x)) - Vec3d(img.at<Vec3b>(n));
+                    // (cv::grabCut divides by the float square root of 2.)
+                    const double gamma = i % 2 == 0 ? kGamma : kGamma / std::sqrt(2.0f);
+                    graph_->setEdge(n, i, gamma * std::exp(-beta * d.dot(d)));
+                }
 }
 
 GrabCut::~GrabCut() = default;

@@ -2,7 +2,7 @@
 // step for step, on a graph that is built once and keeps its flow between iterations.
 //
 // The proposal runs GrabCut up to five iterations at a time and several times per photo
-// (subject.cpp); with cv::grabCut, 70-85% of that time went to max-flow and most of the rest
+// (subject.cpp); with cv::grabCut, 55-85% of that time went to max-flow and most of the rest
 // to building the graph again for every iteration (measured on the benchmark's baboon, orange,
 // squirrel and coffee at GrabCut's 240 px). Here the pairwise capacities are computed once and
 // each iteration only changes the terminal ones (grid_cut.hpp), so later iterations push only
@@ -14,7 +14,7 @@
 // energy's weights are cv::grabCut's (gamma 50, lambda 450, beta from the mean contrast,
 // 8-connected). A minimum cut can differ from cv::grabCut's only in pixels that neither
 // terminal reaches (ties, which the two max-flows break in their own order): tests compare the
-// two (GrabCutTest.*).
+// two (GrabCut.*).
 #ifndef MULTICAGE_PROPOSE_GRABCUT_HPP
 #define MULTICAGE_PROPOSE_GRABCUT_HPP
 

@@ -13,8 +13,8 @@ namespace cv {
 namespace multicage {
 namespace propose_detail {
 
-const Point GridCut::kStep[GridCut::kDirections] = {{1, 1},   {0, 1},  {-1, 1}, {1, 0},
-                                                    {-1, -1}, {0, -1}, {1, -1}, {-1, 0}};
+const Point GridCut::kStep[GridCut::kDirections] = {{1, 0},  {1, 1},   {0, 1},  {-1, 1},
+                                                    {-1, 0}, {-1, -1}, {0, -1}, {1, -1}};
 
 namespace {
 constexpr int opposite(int d) {
