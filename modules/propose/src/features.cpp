@@ -98,19 +98,23 @@ bool faceFits(const Polygon& face, const Multicage& cage, int polygon,
 }
 
 // The faces protectFeatures protects inside a polygon: those with their centre in the free
-// area. `knownFaces`: already detected (nullptr: detect here).
-std::vector<Rect> facesInside(const Mat& img, const ProposeParams& params,
-                              const std::vector<Rect>* knownFaces, const Mat& inside,
-                              const Work& w) {
-    std::vector<Rect> faces, in;
-    if (knownFaces)
-        faces = *knownFaces;
+// area, with their eyes where they were found already. `known`: already detected (nullptr:
+// detect here).
+KnownFaces facesInside(const Mat& img, const ProposeParams& params, const KnownFaces* known,
+                       const Mat& inside, const Work& w) {
+    KnownFaces faces, in;
+    if (known)
+        faces = *known;
     else if (wantsFaces(params))
-        faces = mergeNearFaces(detectFaces(img, params), w.margin * w.scale);
-    for (const Rect& f : faces) {
+        faces.boxes = mergeNearFaces(detectFaces(img, params), w.margin * w.scale);
+    for (size_t i = 0; i < faces.boxes.size(); ++i) {
+        const Rect& f = faces.boxes[i];
         const Point c(std::min(w.size.width - 1, cvFloor((f.x + 0.5 * f.width) / w.scale)),
                       std::min(w.size.height - 1, cvFloor((f.y + 0.5 * f.height) / w.scale)));
-        if (inside.at<uchar>(c)) in.push_back(f);
+        if (!inside.at<uchar>(c)) continue;
+        in.boxes.push_back(f);
+        if (i < faces.eyes.size() && in.eyes.size() + 1 == in.boxes.size())
+            in.eyes.push_back(faces.eyes[i]);
     }
     return in;
 }
@@ -136,14 +140,15 @@ bool nestsIn(const Polygon& inner, const Polygon& outer, double band) {
 // from a similarity with the four anchors, 1.18 with its eyes alone, over 1 px with its eyes
 // and the lower two anchors), so a mean value cage keeps the anchors.
 std::vector<Polygon> innerFacePolygons(const Mat& gray, const Rect& f, const Polygon& face,
-                                       const Multicage& cage, const ProposeParams& params,
-                                       const Work& w, int budget, int slots) {
+                                       const std::vector<Rect>* eyes, const Multicage& cage,
+                                       const ProposeParams& params, const Work& w, int budget,
+                                       int slots) {
     std::vector<Polygon> inner;
     if (cage.coordinates() == MEAN_VALUE && params.faceAnchors) {
         inner = faceAnchors(f);
     } else {
         const double band = std::max(1.0, w.gap * w.scale);  // input pixels
-        const std::vector<Rect> found = findEyes(gray, f, params);
+        const std::vector<Rect> found = eyes ? *eyes : findEyes(gray, f, params);
         // At a margin of 5% of the eye, else none, else 5% inside: close-set eyes get
         // thinner polygons rather than none.
         for (double margin : {0.05, 0.0, -0.05}) {
@@ -175,7 +180,7 @@ struct FacePlan {
     std::vector<Point2f> centres;   // of those faces, work pixels
 };
 
-FacePlan placeFaces(const std::vector<Rect>& faces, const Mat& gray, const Multicage& cage,
+FacePlan placeFaces(const KnownFaces& faces, const Mat& gray, const Multicage& cage,
                     int polygon, const ProposeParams& params, const Mat& insideDistance,
                     const Work& w) {
     const float faceBand = w.margin + 2 * w.gap;  // work pixels, as for blobs but thinner
@@ -185,7 +190,9 @@ FacePlan placeFaces(const std::vector<Rect>& faces, const Mat& gray, const Multi
     plan.zone = Mat::zeros(w.size, CV_8U);
     int budget = params.maxVertices - cage.vertexCount();
     int slots = params.maxPolygons - cage.polygonCount();
-    for (const Rect& f : faces) {
+    for (size_t i = 0; i < faces.boxes.size(); ++i) {
+        const Rect& f = faces.boxes[i];
+        const std::vector<Rect>* eyes = i < faces.eyes.size() ? &faces.eyes[i] : nullptr;
         const int n = std::min({kFaceVertices, params.maxPolygonVertices, budget}) / 4 * 4;
         if (n < 4 || slots < 1) break;
         Polygon placed;
@@ -202,7 +209,8 @@ FacePlan placeFaces(const std::vector<Rect>& faces, const Mat& gray, const Multi
             fillWork(plan.keepOut, facePolygon(f, faceMargin(f) + kFaceKeepOut * faceSize(f), n), w,
                      Scalar(255));
             budget -= n, --slots;
-            for (Polygon& a : innerFacePolygons(gray, f, placed, cage, params, w, budget, slots)) {
+            for (Polygon& a :
+                 innerFacePolygons(gray, f, placed, eyes, cage, params, w, budget, slots)) {
                 budget -= static_cast<int>(a.size()), --slots;
                 plan.polygons.push_back(std::move(a));
                 plan.isFace.push_back(0), plan.sizes.push_back(faceSize(f));
@@ -259,15 +267,14 @@ std::vector<Region> protectiveRegions(const Mat& objects, const FacePlan& faces,
     return found;
 }
 
-// The input as 8-bit grey, input pixels: where eyes are searched.
+}  // namespace
+
 Mat grayOf(const Mat& img) {
     Mat gray = to8Bit(img);
     if (gray.channels() == 3) cvtColor(gray, gray, COLOR_BGR2GRAY);
     if (gray.channels() == 4) cvtColor(gray, gray, COLOR_BGRA2GRAY);
     return gray;
 }
-
-}  // namespace
 
 bool wantsFaces(const ProposeParams& params) {
     const bool maskInput = params.method == PROPOSE_MASK || params.method == PROPOSE_LABELS;
@@ -277,7 +284,7 @@ bool wantsFaces(const ProposeParams& params) {
 }
 
 Multicage protectInPolygon(InputArray image, const Multicage& cage, int polygon,
-                           const ProposeParams& params, const std::vector<Rect>* knownFaces) {
+                           const ProposeParams& params, const KnownFaces* known) {
     checkParams(params);
     const Mat img = image.getMat();
     checkProtectInput(img, cage, polygon);
@@ -288,8 +295,8 @@ Multicage protectInPolygon(InputArray image, const Multicage& cage, int polygon,
     const Work w = resolve(img.size(), params);
     const Mat inside = protectableArea(cage, polygon, w);
     const Mat insideDistance = distanceTo(inside);
-    const std::vector<Rect> inFaces = facesInside(img, params, knownFaces, inside, w);
-    const FacePlan faces = placeFaces(inFaces, inFaces.empty() ? Mat() : grayOf(img), cage, polygon,
+    const KnownFaces inFaces = facesInside(img, params, known, inside, w);
+    const FacePlan faces = placeFaces(inFaces, inFaces.boxes.empty() ? Mat() : grayOf(img), cage, polygon,
                                       params, insideDistance, w);
     Multicage out = cage;  // faces first: the salient features get what is left
     for (const Polygon& p : faces.polygons) out.addPolygon(p);

@@ -15,10 +15,20 @@ protect is not PROTECT_SALIENCY, and a cascade is installed (PROTECT_ALL goes on
 salient features only; PROTECT_FACES says why not). */
 bool wantsFaces(const ProposeParams& params);
 
+/** Faces already found in the image, and what findEyes() found in each (eyes[i] for
+boxes[i]; a face past the end of `eyes` is searched when its polygon is placed). */
+struct KnownFaces {
+    std::vector<Rect> boxes;
+    std::vector<std::vector<Rect>> eyes;
+};
+
+/** The input as 8-bit grey, input pixels: where eyes are searched. */
+Mat grayOf(const Mat& img);
+
 /** protectFeatures(): protective polygons for the features inside polygon `polygon` of
-`cage`. `knownFaces`: faces already detected in the image (nullptr: detect here). */
+`cage`. `known`: the faces (and eyes) already found (nullptr: detect here). */
 Multicage protectInPolygon(InputArray image, const Multicage& cage, int polygon,
-                           const ProposeParams& params, const std::vector<Rect>* knownFaces);
+                           const ProposeParams& params, const KnownFaces* known);
 
 }  // namespace propose_detail
 }  // namespace multicage

@@ -15,9 +15,11 @@
 //   features.cpp  the inner polygons: faces, then textured salient regions
 #include <algorithm>
 #include <cmath>
+#include <opencv2/core/utility.hpp>
 #include <opencv2/imgproc.hpp>
 #include <opencv2/multicage/propose.hpp>
 
+#include "eyes.hpp"
 #include "faces.hpp"
 #include "features.hpp"
 #include "person.hpp"
@@ -132,7 +134,26 @@ Multicage proposeProtectedMulticage(InputArray image, const ProposeParams& param
     const std::vector<Rect> found = wantsFaces(params) ? detectFaces(img, params)
                                                        : std::vector<Rect>();
     const std::vector<Rect> faces = mergeNearFaces(found, w.margin * w.scale);
-    Segmentation s = segmentForProposal(img, w, params, personSeed(found, w));
+    KnownFaces known{faces, {}};
+    Segmentation s;
+    const Mat person = personSeed(found, w);
+    if (faces.empty() || params.method == PROPOSE_MASK || params.method == PROPOSE_LABELS) {
+        s = segmentForProposal(img, w, params, person);
+    } else {
+        // The eyes need the faces alone: they are searched on the second core while the
+        // person prior's GrabCut, one thread, runs on the first (a face's two eye cascades
+        // then run one after the other; each search's answer does not depend on the thread).
+        known.eyes.resize(faces.size());
+        const Mat gray = grayOf(img);
+        parallel_for_(Range(0, 2), [&](const Range& r) {
+            for (int task = r.start; task < r.end; ++task)
+                if (task == 0)
+                    s = segmentForProposal(img, w, params, person);
+                else
+                    for (size_t i = 0; i < faces.size(); ++i)
+                        known.eyes[i] = findEyes(gray, faces[i], params);
+        });
+    }
     if (facesOut) *facesOut = faces;
     ProposeParams outlineParams = params;
     if (!faces.empty())  // leave the faces a share of the budget
@@ -151,7 +172,7 @@ Multicage proposeProtectedMulticage(InputArray image, const ProposeParams& param
     cage.setCoordinates(LOCAL_MEAN_VALUE);  // before protectInPolygon: it places for them
     const int top = cage.polygonCount();    // protectFeatures appends; only the outlines get it
     for (int p = 0; p < top; ++p)
-        if (cage.depth(p) == 1) cage = protectInPolygon(img, cage, p, params, &faces);
+        if (cage.depth(p) == 1) cage = protectInPolygon(img, cage, p, params, &known);
     return cage;
 }
 
