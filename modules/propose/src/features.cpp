@@ -296,7 +296,9 @@ Multicage protectInPolygon(InputArray image, const Multicage& cage, int polygon,
     const Mat inside = protectableArea(cage, polygon, w);
     const Mat insideDistance = distanceTo(inside);
     const KnownFaces inFaces = facesInside(img, params, known, inside, w);
-    const FacePlan faces = placeFaces(inFaces, inFaces.boxes.empty() ? Mat() : grayOf(img), cage, polygon,
+    // The grey image only where an eye search is left to do here.
+    const bool searchEyes = inFaces.eyes.size() < inFaces.boxes.size();
+    const FacePlan faces = placeFaces(inFaces, searchEyes ? grayOf(img) : Mat(), cage, polygon,
                                       params, insideDistance, w);
     Multicage out = cage;  // faces first: the salient features get what is left
     for (const Polygon& p : faces.polygons) out.addPolygon(p);

@@ -137,7 +137,7 @@ Multicage proposeProtectedMulticage(InputArray image, const ProposeParams& param
     KnownFaces known{faces, {}};
     Segmentation s;
     const Mat person = personSeed(found, w);
-    if (faces.empty() || params.method == PROPOSE_MASK || params.method == PROPOSE_LABELS) {
+    if (faces.empty()) {  // (a mask or label input has none: wantsFaces)
         s = segmentForProposal(img, w, params, person);
     } else {
         // The eyes need the faces alone: they are searched on the second core while the

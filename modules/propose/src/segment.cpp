@@ -165,7 +165,6 @@ void seededGrabCut(const Mat& img, Mat& labels, int iterations, int settleWithin
         // GC_FGD (1) and GC_PR_FGD (3) have bit 0 set, GC_BGD (0) and GC_PR_BGD (2) do not.
         if (check && countNonZero((before ^ labels) & Scalar(1)) <= kSettled * labels.total())
             break;
-        if (!settle && done == iterations) break;
     }
     if (flow) *flow = grabCut.takeFlow();
 }
