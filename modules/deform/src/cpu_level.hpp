@@ -1,5 +1,7 @@
-// Whether this CPU runs x86-64-v3 code (private): the dispatch of the deform module's AVX2
-// kernels (raster_avx2.cpp, remap_linear.cpp's AVX2 sampler), which are compiled for that level.
+// Whether this CPU runs x86-64-v3 or x86-64-v4 code (private): the dispatch of the deform
+// module's AVX2 and AVX-512 kernels (raster_avx2.cpp, raster_avx512.cpp and remap_linear.cpp's
+// samplers), which are compiled for those levels. (The pull, mesh_pull.cpp, is compiled for
+// the features it names and asks for those.)
 #ifndef MULTICAGE_CPU_LEVEL_HPP
 #define MULTICAGE_CPU_LEVEL_HPP
 
@@ -16,6 +18,19 @@ inline bool cpuHasX86_64_v3() {
     static const bool yes = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma") &&
                             __builtin_cpu_supports("bmi") && __builtin_cpu_supports("bmi2") &&
                             __builtin_cpu_supports("popcnt");
+#endif
+    return yes;
+}
+
+/** Everything x86-64-v4 code may use: x86-64-v3 and AVX-512 F, BW, CD, DQ, VL. */
+inline bool cpuHasX86_64_v4() {
+#if defined(__GNUC__) && !defined(__clang__) && __GNUC__ >= 12
+    static const bool yes = __builtin_cpu_supports("x86-64-v4");
+#else
+    static const bool yes = cpuHasX86_64_v3() && __builtin_cpu_supports("avx512f") &&
+                            __builtin_cpu_supports("avx512bw") &&
+                            __builtin_cpu_supports("avx512cd") &&
+                            __builtin_cpu_supports("avx512dq") && __builtin_cpu_supports("avx512vl");
 #endif
     return yes;
 }

@@ -29,20 +29,8 @@ void drawCellRow(const Point2f* p0, const Point2f* p1, const Point2f* r0, const 
     }
 }
 
-}  // namespace
-
-namespace {
-
-bool cpuHasAvx512() {
-    static const bool yes = __builtin_cpu_supports("avx512f") &&
-                            __builtin_cpu_supports("avx512vl") &&
-                            __builtin_cpu_supports("avx512dq") &&
-                            __builtin_cpu_supports("avx512bw") && __builtin_cpu_supports("bmi2");
-    return yes;
-}
-
 DrawCellRowFn bestKernel() {
-    if (haveAvx512Kernel() && cpuHasAvx512()) return drawCellRowAvx512;
+    if (haveAvx512Kernel() && cpuHasX86_64_v4()) return drawCellRowAvx512;
     if (haveAvx2Kernel() && cpuHasX86_64_v3()) return drawCellRowAvx2;
     return drawCellRow;
 }

@@ -348,12 +348,6 @@ MULTICAGE_V3 void remapRow3Avx2(const uchar* src, size_t step, int W, int H, con
     for (; x < cols; ++x) samplePixel3(src, step, W, H, mx[x], my[x], border, d + 3 * x);
 }
 
-bool haveV4() {
-    static const bool v4 = __builtin_cpu_supports("avx512f") &&
-                           __builtin_cpu_supports("avx512bw") &&
-                           __builtin_cpu_supports("avx512vl") && __builtin_cpu_supports("avx512dq");
-    return v4;
-}
 #endif
 
 }  // namespace
@@ -368,7 +362,7 @@ std::atomic<RemapPath> preferredPath{RemapPath::best};
 RowFn rowSampler() {
 #if defined(MULTICAGE_REMAP_V4)
     if (preferredPath == RemapPath::avx2) return cpuHasX86_64_v3() ? remapRow3Avx2 : nullptr;
-    return haveV4() ? remapRow3 : cpuHasX86_64_v3() ? remapRow3Avx2 : nullptr;
+    return cpuHasX86_64_v4() ? remapRow3 : cpuHasX86_64_v3() ? remapRow3Avx2 : nullptr;
 #endif
     return nullptr;
 }
