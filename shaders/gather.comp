@@ -50,12 +50,16 @@ void main() {
     meshTriangle(t, e0, e1, e2);
     const dvec2 p2 = dvec2(meshSource(e2));
     const dvec2 d0 = dvec2(meshSource(e0)) - p2, d1 = dvec2(meshSource(e1)) - p2;
-    precise double mxx = tri.ax[0] * d0.x + tri.ax[1] * d1.x, mxy = tri.ay[0] * d0.x + tri.ay[1] * d1.x;
-    precise double mx0 = p2.x + tri.a0[0] * d0.x + tri.a0[1] * d1.x;
-    precise double myx = tri.ax[0] * d0.y + tri.ax[1] * d1.y, myy = tri.ay[0] * d0.y + tri.ay[1] * d1.y;
-    precise double my0 = p2.y + tri.a0[0] * d0.y + tri.a0[1] * d1.y;
-    precise double bx = mxy * double(px.y) + mx0, by = myy * double(px.y) + my0;
-    precise double rx = mxx * double(px.x) + bx, ry = myx * double(px.x) + by;
+    precise double mxx = tri.ax.x * d0.x + tri.ax.y * d1.x;
+    precise double mxy = tri.ay.x * d0.x + tri.ay.y * d1.x;
+    precise double mx0 = p2.x + tri.a0.x * d0.x + tri.a0.y * d1.x;
+    precise double myx = tri.ax.x * d0.y + tri.ax.y * d1.y;
+    precise double myy = tri.ay.x * d0.y + tri.ay.y * d1.y;
+    precise double my0 = p2.y + tri.a0.x * d0.y + tri.a0.y * d1.y;
+    precise double bx = mxy * double(px.y) + mx0;
+    precise double by = myy * double(px.y) + my0;
+    precise double rx = mxx * double(px.x) + bx;
+    precise double ry = myx * double(px.x) + by;
     // Clamped to the image, as the CPU clamps (interpolation can round a hair outside).
     const vec2 r = clamp(vec2(float(rx), float(ry)), vec2(0.0), vec2(IMAGE_W - 1, IMAGE_H - 1));
 #if GATHER_MAPS

@@ -6,6 +6,8 @@
 //   LAYERED            1: coefficients in a 2D texture array (layouts beyond GL_MAX_TEXTURE_SIZE)
 //   COEFFICIENTS       c, user vertices + 4 frame corners (the last four)
 
+#include "division.glsl"
+
 #if LAYERED
 layout(binding = 0) uniform sampler2DArray coefficients;
 #else
@@ -52,7 +54,7 @@ vec2 meshPosition(ivec2 e) {
         // the frame as frameCorners in backend_contract.hpp).
         const vec2 r = vec2(e.x == 0 ? -0.5 : (e.x == GRID_W + 1 ? float(IMAGE_W) - 0.5 : x.x),
                             e.y == 0 ? -0.5 : (e.y == GRID_H + 1 ? float(IMAGE_H) - 0.5 : x.y));
-        precise float u = (r.x + 0.5) / float(IMAGE_W), v = (r.y + 0.5) / float(IMAGE_H);
+        precise float u = divideRN(r.x + 0.5, float(IMAGE_W)), v = divideRN(r.y + 0.5, float(IMAGE_H));
         precise vec2 p = (1.0 - u) * (1.0 - v) * frameCorner(0) + u * (1.0 - v) * frameCorner(1) +
                          u * v * frameCorner(2) + (1.0 - u) * v * frameCorner(3);
         return p;

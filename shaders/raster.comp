@@ -21,6 +21,16 @@ layout(location = 1) uniform ivec2 outputSize;
 
 #include "mesh_triangle.glsl"
 
+// Row y's span [left, right] narrowed to where the edge function l(x) = ax x + c >= eps.
+void clipToEdge(double ax, double ay, double a0, double invAx, int y, double eps,
+                inout double left, inout double right) {
+    precise double c = a0 + ay * double(y);
+    precise double bound = (eps - c) * invAx;
+    if (ax > 0.0LF) left = max(left, bound);
+    else if (ax < 0.0LF) right = min(right, bound);
+    else if (c < eps) right = -1.0LF;
+}
+
 void main() {
     const uint i = gl_GlobalInvocationID.x;  // triangle within its row of cells
     const uint cellRow = gl_GlobalInvocationID.y / uint(RASTER_SLICES);
@@ -41,18 +51,15 @@ void main() {
     const int xb = int(floor(min(maxX, double(outputSize.x - 1))));
     if (xa > xb) return;
     if (!setUpTriangle(tri)) return;
-    double invAx[3];
-    for (int k = 0; k < 3; ++k) invAx[k] = tri.ax[k] != 0.0LF ? 1.0LF / tri.ax[k] : 0.0LF;
     const double eps = -1e-7LF;
+    const dvec3 invAx = dvec3(tri.ax.x != 0.0LF ? divideRN(1.0LF, tri.ax.x) : 0.0LF,
+                              tri.ax.y != 0.0LF ? divideRN(1.0LF, tri.ax.y) : 0.0LF,
+                              tri.ax.z != 0.0LF ? divideRN(1.0LF, tri.ax.z) : 0.0LF);
     for (int y = ya + slice; y <= yb; y += RASTER_SLICES) {
         double left = double(xa), right = double(xb);
-        for (int k = 0; k < 3; ++k) {  // l_k(x) = ax x + c >= eps
-            precise double c = tri.a0[k] + tri.ay[k] * double(y);
-            precise double bound = (eps - c) * invAx[k];
-            if (tri.ax[k] > 0.0LF) left = max(left, bound);
-            else if (tri.ax[k] < 0.0LF) right = min(right, bound);
-            else if (c < eps) right = -1.0LF;
-        }
+        clipToEdge(tri.ax.x, tri.ay.x, tri.a0.x, invAx.x, y, eps, left, right);
+        clipToEdge(tri.ax.y, tri.ay.y, tri.a0.y, invAx.y, y, eps, left, right);
+        clipToEdge(tri.ax.z, tri.ay.z, tri.a0.z, invAx.z, y, eps, left, right);
         if (!(left <= right)) continue;
         const int xl = int(ceil(left)), xr = int(floor(right));
         for (int x = xl; x <= xr; ++x) atomicMax(owner[y * outputSize.x + x], t + 1u);

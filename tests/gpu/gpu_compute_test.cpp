@@ -266,3 +266,100 @@ TEST(GpuCompute, StageTimesFromTimerQueries) {
         }
     }
 }
+
+// The mesh the compute pipeline rasterises is the CPU backend's to the bit: the nodes
+// (Binding::apply, the coefficient sum) and the ring on the frame (mesh_raster.cpp's setFrame,
+// restated here). When the maps differ, this says whether the positions or the raster differ.
+TEST(GpuCompute, MeshEqualsTheCpuMesh) {
+    MULTICAGE_REQUIRE_GPU();
+    Mat image;
+    resize(readSample("butterfly.jpg"), image, Size(161, 119), 0, 0, INTER_AREA);
+    const Multicage cage = multicage_fixtures::lotusMulticage(image.size(), 16);
+    HeadlessGLContext context;
+    HeadlessGLContext::Scope scope(context);
+    for (int step : {1, 3}) {
+        const Binding b = bind(cage, MEAN_VALUE, step);
+        GLDeformer gpu(image, b);
+        DeformParams cpuParams;
+        cpuParams.backend = BACKEND_CPU;
+        const Ptr<Deformer> cpu = Deformer::create(image, b, cpuParams);
+        for (const std::vector<Point2f>& pose :
+             {restPose(cage), multicage_fixtures::wavePose(cage, 8.f, 0.3f)}) {
+            gpu.setPose(pose);
+            gpu.renderMaps();
+            Mat mesh, nodes, gx, gy, cx, cy;
+            gpu.readMesh(mesh);
+            gpu.readMaps(gx, gy);
+            cpu->computeMaps(pose, cx, cy);
+            b.apply(pose, nodes);
+            ASSERT_EQ(mesh.size(), b.gridSize + Size(2, 2));
+            const float W = float(image.cols), H = float(image.rows);
+            const std::vector<Point2f> complete = b.completePose(pose);
+            const Point2f* c = &complete[complete.size() - 4];  // the frame corners
+            int nodesDiffer = 0, ringDiffers = 0;
+            for (int ey = 0; ey < mesh.rows; ++ey)
+                for (int ex = 0; ex < mesh.cols; ++ex) {
+                    const Point2f g = mesh.at<Point2f>(ey, ex);
+                    const bool ring =
+                        ex == 0 || ey == 0 || ex == mesh.cols - 1 || ey == mesh.rows - 1;
+                    Point2f want;
+                    if (!ring) {
+                        want = nodes.at<Point2f>(ey - 1, ex - 1);
+                    } else {
+                        const Point2f source = b.node(std::clamp(ex - 1, 0, b.gridSize.width - 1),
+                                                      std::clamp(ey - 1, 0, b.gridSize.height - 1));
+                        const float rx = ex == 0               ? -0.5f
+                                         : ex == mesh.cols - 1 ? W - 0.5f
+                                                               : source.x;
+                        const float ry = ey == 0               ? -0.5f
+                                         : ey == mesh.rows - 1 ? H - 0.5f
+                                                               : source.y;
+                        const float u = (rx + 0.5f) / W, v = (ry + 0.5f) / H;
+                        want = (1 - u) * (1 - v) * c[0] + u * (1 - v) * c[1] + u * v * c[2] +
+                               (1 - u) * v * c[3];
+                    }
+                    if (g == want) continue;
+                    if ((ring ? ringDiffers : nodesDiffer) < 3)
+                        std::printf(
+                            "  mesh vertex (%d, %d)%s: GPU (%.9g, %.9g), CPU (%.9g, %.9g)\n", ex,
+                            ey, ring ? " on the ring" : "", g.x, g.y, want.x, want.y);
+                    ++(ring ? ringDiffers : nodesDiffer);
+                }
+            int mapsDiffer = 0;
+            for (int y = 0; y < gx.rows; ++y)
+                for (int x = 0; x < gx.cols; ++x) {
+                    const Point2f g(gx.at<float>(y, x), gy.at<float>(y, x));
+                    const Point2f w(cx.at<float>(y, x), cy.at<float>(y, x));
+                    // The CPU pulls fold-free meshes at small grid steps (mesh_pull.cpp), a float
+                    // rounding apart from the raster the GPU mirrors: as in MapsEqualCpu.
+                    if (std::abs(g.x - w.x) <= 1e-3f && std::abs(g.y - w.y) <= 1e-3f) continue;
+                    if (mapsDiffer < 3)
+                        std::printf("  pixel (%d, %d): GPU map (%.9g, %.9g), CPU (%.9g, %.9g)\n", x,
+                                    y, g.x, g.y, w.x, w.y);
+                    ++mapsDiffer;
+                }
+            const bool rest = pose == restPose(cage);
+            // The rest pose's maps are the identity, up to the double rounding of a triangle's
+            // set-up (1e-13 px at the narrow last column of cells; the image is then exact).
+            int notIdentity = 0;
+            for (int y = 0; rest && y < gx.rows; ++y)
+                for (int x = 0; x < gx.cols; ++x) {
+                    if (std::abs(gx.at<float>(y, x) - x) <= 1e-9f &&
+                        std::abs(gy.at<float>(y, x) - y) <= 1e-9f)
+                        continue;
+                    if (notIdentity < 3)
+                        std::printf("  rest pose, pixel (%d, %d): GPU map (%.9g, %.9g)\n", x, y,
+                                    gx.at<float>(y, x), gy.at<float>(y, x));
+                    ++notIdentity;
+                }
+            EXPECT_EQ(notIdentity, 0);
+            std::printf(
+                "grid step %d, %s pose: %d nodes and %d ring vertices differ from the CPU's, "
+                "and %d pixels of the maps (by more than 1e-3 px)\n",
+                step, rest ? "rest" : "wave", nodesDiffer, ringDiffers, mapsDiffer);
+            EXPECT_EQ(nodesDiffer, 0);
+            EXPECT_EQ(ringDiffers, 0);
+            EXPECT_EQ(mapsDiffer, 0);
+        }
+    }
+}

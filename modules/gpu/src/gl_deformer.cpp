@@ -578,6 +578,20 @@ void GLDeformer::readMaps(OutputArray mapx, OutputArray mapy) {
     split(xy, planes);
 }
 
+void GLDeformer::readMesh(OutputArray mesh) {
+    if (!impl_->positions)
+        CV_Error(Error::StsNotImplemented,
+                 "multicage: GLDeformer::readMesh: the vertex-shader pipeline keeps no mesh");
+    mesh.create(impl_->meshSize(), CV_32FC2);
+    Mat out = mesh.getMat();
+    CV_Assert(out.isContinuous());
+    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+    glBindBuffer(GL_SHADER_STORAGE_BUFFER, impl_->positions);
+    glGetBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, GLsizeiptr(out.total() * out.elemSize()),
+                       out.data);
+    gpu::checkGl("reading the mesh back");
+}
+
 void GLDeformer::setProfiling(bool on) {
     impl_->clock.enable(on);
 }

@@ -146,6 +146,11 @@ class CV_EXPORTS GLDeformer {
     void readOutput(OutputArray dst);
     /** Reads mapsTexture() back as two CV_32F maps for cv::remap (the last renderMaps()'s size). */
     void readMaps(OutputArray mapx, OutputArray mapy);
+    /** The deformed mesh of the last render() or renderMaps() in the compute pipeline:
+    (grid height + 2) x (grid width + 2) CV_32FC2, the binding's node grid inside a ring of
+    vertices on the image frame (for overlays, and to compare with the CPU backend's mesh).
+    The vertex-shader pipeline keeps no mesh: StsNotImplemented. */
+    void readMesh(OutputArray mesh);
     /** The size the current pose renders into: the image's, or a resize pose's new size. */
     Size outputSize() const;
 
