@@ -259,6 +259,11 @@ TEST(BadInput, BadParametersAreRefused) {
     p.gridStep = 1;
     p.backend = 7;
     expectError("unknown backend", [&] { Deformer::create(image, cage, p); }, "multicage: unknown backend 7");
+    // The GPU binding's path (taken by default on a hardware GPU, here asked for) checks it too.
+    p.gpuBinding = 1;
+    expectError("unknown backend, GPU binding", [&] { Deformer::create(image, cage, p); },
+                "multicage: unknown backend 7");
+    p.gpuBinding = -1;
     p.backend = BACKEND_CPU;
     p.coordinates = 5;
     expectError("unknown coordinate type", [&] { Deformer::create(image, cage, p); }, "unknown coordinate type 5");

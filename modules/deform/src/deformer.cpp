@@ -38,8 +38,16 @@ bool autoBackendUsesGpu(std::string* description) {
     return context != nullptr;
 }
 
+// Checked before any path is chosen: with a hardware GPU a multicage is bound on the GPU before
+// the backend switch below is reached, and an unknown backend went through unrefused (an H100).
+static void checkBackend(int backend) {
+    if (backend != BACKEND_CPU && backend != BACKEND_GPU && backend != BACKEND_AUTO)
+        CV_Error_(Error::StsOutOfRange, ("multicage: unknown backend %d", backend));
+}
+
 Ptr<Deformer> Deformer::create(InputArray image, const Multicage& rest, const DeformParams& params) {
     checkImage(image);
+    checkBackend(params.backend);
     if (rest.imageSize() != image.size())
         CV_Error_(Error::StsBadSize,
                   ("multicage: the image is %dx%d but the multicage was made for %dx%d; use "
@@ -89,6 +97,7 @@ int gridStepForBudget(Size imageSize, int coefficientCount, size_t budget, int m
 
 Ptr<Deformer> Deformer::create(InputArray imageIn, const Binding& binding, const DeformParams& params) {
     checkImage(imageIn);
+    checkBackend(params.backend);
     CV_Assert(!binding.empty());
     const Mat image = imageIn.getMat();
     if (binding.imageSize != image.size())
@@ -114,7 +123,7 @@ Ptr<Deformer> Deformer::create(InputArray imageIn, const Binding& binding, const
             return createCpuDeformer(image, binding, params);
         }
         default:
-            CV_Error_(Error::StsOutOfRange, ("multicage: unknown backend %d", params.backend));
+            CV_Error(Error::StsInternal, "multicage: unreachable backend");  // checkBackend
     }
 }
 
