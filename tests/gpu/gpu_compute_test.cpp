@@ -362,4 +362,10 @@ TEST(GpuCompute, MeshEqualsTheCpuMesh) {
             EXPECT_EQ(mapsDiffer, 0);
         }
     }
+    // The paper's pipeline keeps no mesh to read: a clear error, not garbage.
+    GLDeformerParams paperParams;
+    paperParams.pipeline = GPU_PIPELINE_VERTEX_SHADER;
+    GLDeformer paper(image, bind(cage, MEAN_VALUE, 3), paperParams);
+    Mat none;
+    EXPECT_THROW(paper.readMesh(none), cv::Exception);
 }
