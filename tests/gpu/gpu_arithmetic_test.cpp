@@ -127,6 +127,58 @@ TEST(GpuArithmetic, DivisionRoundsToNearestAndPreciseSumsAreNotFused) {
     EXPECT_EQ(crossD, 0);
 }
 
+// divideRN's corrections move a quotient only where `/` is not exact, which neither llvmpipe
+// nor NVIDIA's double `/` is: here they start from quotients 1 and 2 ulps off, on every GPU.
+TEST(GpuArithmetic, DivisionStepsToTheNearestFromQuotientsUlpsOff) {
+    MULTICAGE_REQUIRE_GPU();
+    HeadlessGLContext context;
+    HeadlessGLContext::Scope scope(context);
+    RNG rng(1125);
+    std::vector<Vec4d> in;
+    std::vector<double> want;
+    for (int i = 0; i < 1 << 14; ++i) {
+        const double a = randomValue<double>(rng, -30, 30), b = randomValue<double>(rng, -30, 30);
+        const double q = a / b;
+        for (int off : {-2, -1, 1, 2}) {
+            double start = q;
+            for (int k = 0; k < std::abs(off); ++k)
+                start = std::nextafter(start, off > 0 ? INFINITY : -INFINITY);
+            in.push_back({a, b, start, 0.0});
+            want.push_back(q);
+        }
+    }
+    const char* body = R"(
+layout(local_size_x = 64) in;
+layout(std430, binding = 0) readonly buffer In { dvec4 operands[]; };
+layout(std430, binding = 1) writeonly buffer Out { double quotients[]; };
+layout(location = 0) uniform uint count;
+void main() {
+    const uint i = gl_GlobalInvocationID.x;
+    if (i >= count) return;
+    quotients[i] = divideRNFrom(operands[i].x, operands[i].y, operands[i].z);
+}
+)";
+    const std::string source = "#version 430 core\n" + gpu::shaderSource("division.glsl") + body;
+    const GLuint program = gpu::buildComputeProgramFromText("", source, "division steps test");
+    const size_t n = in.size();
+    GLuint buffers[2] = {storage(in.data(), n * sizeof(Vec4d), 0),
+                         storage(nullptr, n * sizeof(double), 1)};
+    glUseProgram(program);
+    glUniform1ui(0, GLuint(n));
+    glDispatchCompute(GLuint((n + 63) / 64), 1, 1);
+    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+    std::vector<double> got(n);
+    glBindBuffer(GL_SHADER_STORAGE_BUFFER, buffers[1]);
+    glGetBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, GLsizeiptr(n * sizeof(double)), got.data());
+    gpu::checkGl("division steps test");
+    glDeleteBuffers(2, buffers);
+    gpu::deleteProgram(program);
+    int differ = 0;
+    for (size_t i = 0; i < n; ++i) differ += got[i] != want[i];
+    std::printf("%zu quotients started 1 or 2 ulps off: %d not stepped to the nearest\n", n, differ);
+    EXPECT_EQ(differ, 0);
+}
+
 namespace {
 
 const char* kSetUpBody = R"(
