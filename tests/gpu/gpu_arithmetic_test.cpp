@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <memory>
 #include <opencv2/core.hpp>
 #include <vector>
 
@@ -19,15 +20,11 @@ using namespace cv::multicage;
 namespace {
 
 const char* kBody = R"(
-layout(local_size_x = 64) in;
 layout(std430, binding = 0) readonly buffer FloatsIn { vec4 fin[]; };
 layout(std430, binding = 1) readonly buffer DoublesIn { dvec4 din[]; };
 layout(std430, binding = 2) writeonly buffer FloatsOut { vec4 fout[]; };
 layout(std430, binding = 3) writeonly buffer DoublesOut { dvec4 dout[]; };
-layout(location = 0) uniform uint count;
-void main() {
-    const uint i = gl_GlobalInvocationID.x;
-    if (i >= count) return;
+void run(uint i) {
     const vec4 f = fin[i];
     precise float sum = f.z;  // the positions' sum, one product at a time
     sum += f.x * f.y;
@@ -48,6 +45,55 @@ GLuint storage(const void* data, size_t bytes, GLuint binding) {
     return buffer;
 }
 
+// Runs `program` once per item, n items (`count` at uniform location 0), and waits for its
+// writes to the storage buffers.
+void dispatch(GLuint program, size_t n) {
+    glUseProgram(program);
+    glUniform1ui(0, GLuint(n));
+    glDispatchCompute(GLuint((n + 63) / 64), 1, 1);
+    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+}
+
+// A compute program that runs body's `void run(uint item)` once per item (dispatch()), after
+// `includes` (shader text), with `defines` after the #version line.
+GLuint itemProgram(const std::string& defines, const std::string& includes, const char* body,
+                   const char* name) {
+    const std::string source =
+        "#version 430 core\nlayout(local_size_x = 64) in;\n"
+        "layout(location = 0) uniform uint count;\n" +
+        includes + body +
+        "void main() {\n"
+        "    if (gl_GlobalInvocationID.x < count) run(gl_GlobalInvocationID.x);\n"
+        "}\n";
+    return gpu::buildComputeProgramFromText(defines, source, name);
+}
+
+template <typename T>
+std::vector<T> readStorage(GLuint buffer, size_t n) {
+    std::vector<T> out(n);
+    glBindBuffer(GL_SHADER_STORAGE_BUFFER, buffer);
+    glGetBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, GLsizeiptr(n * sizeof(T)), out.data());
+    return out;
+}
+
+// Each test runs its own programs in a headless context of its own (skipped without a GPU).
+class GpuArithmetic : public ::testing::Test {
+  protected:
+    void SetUp() override {
+        MULTICAGE_REQUIRE_GPU();
+        context_ = std::make_unique<HeadlessGLContext>();
+        scope_ = std::make_unique<HeadlessGLContext::Scope>(*context_);
+    }
+    void TearDown() override {
+        scope_.reset();
+        context_.reset();
+    }
+
+  private:
+    std::unique_ptr<HeadlessGLContext> context_;
+    std::unique_ptr<HeadlessGLContext::Scope> scope_;
+};
+
 // a * 2^e with a in [1, 2) and a random sign: floats and doubles of every mantissa.
 template <typename T>
 T randomValue(RNG& rng, int minExp, int maxExp) {
@@ -61,10 +107,7 @@ T randomValue(RNG& rng, int minExp, int maxExp) {
 
 // Random operands over 24 binades (float) and 60 (double), and the pipeline's own divisions.
 // The plain `/` is counted for the record (GLSL lets it be inexact), not asserted.
-TEST(GpuArithmetic, DivisionRoundsToNearestAndPreciseSumsAreNotFused) {
-    MULTICAGE_REQUIRE_GPU();
-    HeadlessGLContext context;
-    HeadlessGLContext::Scope scope(context);
+TEST_F(GpuArithmetic, DivisionRoundsToNearestAndPreciseSumsAreNotFused) {
     // Random operands, then the divisions the pipeline makes: (x + 0.5) / W for ring vertices
     // and 1 / area for small integer areas.
     RNG rng(20261125);
@@ -82,21 +125,14 @@ TEST(GpuArithmetic, DivisionRoundsToNearestAndPreciseSumsAreNotFused) {
             doubles.push_back({1.0, double(w * (x + 2)), 0.0, 0.0});  // 1 / area
         }
     const size_t n = floats.size();
-    const std::string source = "#version 430 core\n" + gpu::shaderSource("division.glsl") + kBody;
-    const GLuint program = gpu::buildComputeProgramFromText("", source, "arithmetic test");
+    const GLuint program =
+        itemProgram("", gpu::shaderSource("division.glsl"), kBody, "arithmetic test");
     GLuint buffers[4] = {
         storage(floats.data(), n * sizeof(Vec4f), 0), storage(doubles.data(), n * sizeof(Vec4d), 1),
         storage(nullptr, n * sizeof(Vec4f), 2), storage(nullptr, n * sizeof(Vec4d), 3)};
-    glUseProgram(program);
-    glUniform1ui(0, GLuint(n));
-    glDispatchCompute(GLuint((n + 63) / 64), 1, 1);
-    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
-    std::vector<Vec4f> fout(n);
-    std::vector<Vec4d> dout(n);
-    glBindBuffer(GL_SHADER_STORAGE_BUFFER, buffers[2]);
-    glGetBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, GLsizeiptr(n * sizeof(Vec4f)), fout.data());
-    glBindBuffer(GL_SHADER_STORAGE_BUFFER, buffers[3]);
-    glGetBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, GLsizeiptr(n * sizeof(Vec4d)), dout.data());
+    dispatch(program, n);
+    const std::vector<Vec4f> fout = readStorage<Vec4f>(buffers[2], n);
+    const std::vector<Vec4d> dout = readStorage<Vec4d>(buffers[3], n);
     gpu::checkGl("arithmetic test");
     glDeleteBuffers(4, buffers);
     gpu::deleteProgram(program);
@@ -129,10 +165,7 @@ TEST(GpuArithmetic, DivisionRoundsToNearestAndPreciseSumsAreNotFused) {
 
 // divideRN's corrections move a quotient only where `/` is not exact, which neither llvmpipe
 // nor NVIDIA's double `/` is: here they start from quotients 1 and 2 ulps off, on every GPU.
-TEST(GpuArithmetic, DivisionStepsToTheNearestFromQuotientsUlpsOff) {
-    MULTICAGE_REQUIRE_GPU();
-    HeadlessGLContext context;
-    HeadlessGLContext::Scope scope(context);
+TEST_F(GpuArithmetic, DivisionStepsToTheNearestFromQuotientsUlpsOff) {
     RNG rng(1125);
     std::vector<Vec4d> in;
     std::vector<double> want;
@@ -148,45 +181,34 @@ TEST(GpuArithmetic, DivisionStepsToTheNearestFromQuotientsUlpsOff) {
         }
     }
     const char* body = R"(
-layout(local_size_x = 64) in;
 layout(std430, binding = 0) readonly buffer In { dvec4 operands[]; };
 layout(std430, binding = 1) writeonly buffer Out { double quotients[]; };
-layout(location = 0) uniform uint count;
-void main() {
-    const uint i = gl_GlobalInvocationID.x;
-    if (i >= count) return;
+void run(uint i) {
     quotients[i] = divideRNFrom(operands[i].x, operands[i].y, operands[i].z);
 }
 )";
-    const std::string source = "#version 430 core\n" + gpu::shaderSource("division.glsl") + body;
-    const GLuint program = gpu::buildComputeProgramFromText("", source, "division steps test");
+    const GLuint program =
+        itemProgram("", gpu::shaderSource("division.glsl"), body, "division steps test");
     const size_t n = in.size();
     GLuint buffers[2] = {storage(in.data(), n * sizeof(Vec4d), 0),
                          storage(nullptr, n * sizeof(double), 1)};
-    glUseProgram(program);
-    glUniform1ui(0, GLuint(n));
-    glDispatchCompute(GLuint((n + 63) / 64), 1, 1);
-    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
-    std::vector<double> got(n);
-    glBindBuffer(GL_SHADER_STORAGE_BUFFER, buffers[1]);
-    glGetBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, GLsizeiptr(n * sizeof(double)), got.data());
+    dispatch(program, n);
+    const std::vector<double> got = readStorage<double>(buffers[1], n);
     gpu::checkGl("division steps test");
     glDeleteBuffers(2, buffers);
     gpu::deleteProgram(program);
     int differ = 0;
     for (size_t i = 0; i < n; ++i) differ += got[i] != want[i];
-    std::printf("%zu quotients started 1 or 2 ulps off: %d not stepped to the nearest\n", n, differ);
+    std::printf("%zu quotients started 1 or 2 ulps off: %d not stepped to the nearest\n", n,
+                differ);
     EXPECT_EQ(differ, 0);
 }
 
 namespace {
 
 const char* kSetUpBody = R"(
-layout(local_size_x = 64) in;
 layout(std430, binding = 1) writeonly buffer SetUps { double setUps[]; };  // 10 per triangle
-void main() {
-    const uint t = gl_GlobalInvocationID.x;
-    if (t >= uint(2 * CELLS_W * CELLS_H)) return;
+void run(uint t) {
     Triangle tri;
     const bool ok = loadTriangle(t, tri) && setUpTriangle(tri);
     const dvec3 ax = ok ? tri.ax : dvec3(0.0LF), ay = ok ? tri.ay : dvec3(0.0LF),
@@ -219,10 +241,7 @@ void cpuSetUp(const Point2f q[3], double out[10]) {
 
 // mesh_triangle.glsl's set-up of every triangle of a real mesh (the GPU's own, read back)
 // against the CPU rasteriser's: the barycentric functions must be the same doubles.
-TEST(GpuArithmetic, TriangleSetUpIsTheCpus) {
-    MULTICAGE_REQUIRE_GPU();
-    HeadlessGLContext context;
-    HeadlessGLContext::Scope scope(context);
+TEST_F(GpuArithmetic, TriangleSetUpIsTheCpus) {
     Mat image(119, 161, CV_8UC3, Scalar(90, 120, 150));
     const Multicage cage = multicage_fixtures::lotusMulticage(image.size(), 16);
     const int step = 3;
@@ -240,20 +259,17 @@ TEST(GpuArithmetic, TriangleSetUpIsTheCpus) {
             "#define GRID_W %d\n#define GRID_H %d\n#define GRID_STEP %d\n#define IMAGE_W %d\n"
             "#define IMAGE_H %d\n",
             b.gridSize.width, b.gridSize.height, step, image.cols, image.rows);
-        const std::string source =
-            "#version 430 core\n" + gpu::shaderSource("mesh_grid.glsl") +
-            "layout(std430, binding = 0) readonly buffer Positions { vec2 positions[]; };\n" +
-            gpu::shaderSource("mesh_triangle.glsl") + kSetUpBody;
-        const GLuint program = gpu::buildComputeProgramFromText(defines, source, "set-up test");
+        const GLuint program = itemProgram(
+            defines,
+            gpu::shaderSource("mesh_grid.glsl") +
+                "layout(std430, binding = 0) readonly buffer Positions { vec2 positions[]; };\n" +
+                gpu::shaderSource("mesh_triangle.glsl"),
+            kSetUpBody, "set-up test");
         GLuint buffers[2] = {storage(mesh.ptr(), mesh.total() * sizeof(Point2f), 0),
                              storage(nullptr, size_t(triangles) * 10 * sizeof(double), 1)};
-        glUseProgram(program);
-        glDispatchCompute(GLuint((triangles + 63) / 64), 1, 1);
-        glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
-        std::vector<double> gpuSetUps(size_t(triangles) * 10);
-        glBindBuffer(GL_SHADER_STORAGE_BUFFER, buffers[1]);
-        glGetBufferSubData(GL_SHADER_STORAGE_BUFFER, 0,
-                           GLsizeiptr(gpuSetUps.size() * sizeof(double)), gpuSetUps.data());
+        dispatch(program, size_t(triangles));
+        const std::vector<double> gpuSetUps =
+            readStorage<double>(buffers[1], size_t(triangles) * 10);
         gpu::checkGl("set-up test");
         glDeleteBuffers(2, buffers);
         gpu::deleteProgram(program);
