@@ -247,9 +247,8 @@ TEST_F(GpuArithmetic, TriangleSetUpIsTheCpus) {
     const int step = 3;
     const Binding b = bind(cage, MEAN_VALUE, step);
     GLDeformer deformer(image, b);
-    std::vector<Point2f> rest = cage.vertices();
-    rest.resize(cage.vertexCount());
-    for (const std::vector<Point2f>& pose : {rest, multicage_fixtures::wavePose(cage, 8.f, 0.3f)}) {
+    for (const std::vector<Point2f>& pose :
+         {b.restVertices, multicage_fixtures::wavePose(cage, 8.f, 0.3f)}) {
         deformer.setPose(pose);
         deformer.renderMaps();
         Mat mesh;
