@@ -514,6 +514,13 @@ void elasticWarp(const cv::Mat& image, cv::Mat& out, cv::RNG& rng, const cv::Mat
     cv::remap(image, out, b.mapx, b.mapy, cv::INTER_LINEAR, cv::BORDER_REFLECT_101);
 }
 
+// The grid and map steps both augmentation tables time: each grid step with its maps found at
+// every pixel, and on a lattice of the grid step (DeformParams::mapStep, MulticageWarp's).
+struct StepPair {
+    int grid, map;
+};
+constexpr StepPair kAugmentSteps[] = {{4, 1}, {4, 4}, {2, 1}, {2, 2}};
+
 // The case both augmentation tables time: 512x512, the lotus multicage of 40 vertices, random
 // poses of amplitude 12 px, batches of 16 images, medians of at least 5 rounds, one thread.
 struct AugmentCase {
@@ -545,12 +552,14 @@ void printAugmentRates(const BenchOptions& o) {
         "medians of %d interleaved rounds, load average %.2f:\n",
         ac.size.width, ac.size.height, ac.cage.vertexCount(), ac.amplitude, ac.batch, ac.rounds,
         loadAverage());
-    std::printf("%9s %15s %15s %15s %9s %15s %9s\n", "grid step", "pose+deform/s", "cv::remap/s",
-                "pose/s", "ratio", "elastic/s", "ratio");
-    for (int step : {4, 2}) {
+    std::printf("%9s %8s %15s %15s %15s %9s %15s %9s\n", "grid step", "map step", "pose+deform/s",
+                "cv::remap/s", "pose/s", "ratio", "elastic/s", "ratio");
+    for (const StepPair sp : kAugmentSteps) {
+        const int step = sp.grid;
         DeformParams cpu;
         cpu.backend = BACKEND_CPU;
         cpu.gridStep = step;
+        cpu.mapStep = sp.map;
         cv::Ptr<Deformer> d = Deformer::create(ac.image, ac.cage, cpu);
         cv::RNG rng(7);
         cv::Mat mapx, mapy, out;
@@ -582,7 +591,7 @@ void printAugmentRates(const BenchOptions& o) {
                         }});
         const double ours = ms[0] / ac.batch, floor = ms[1] / ac.batch, pose = ms[2] / ac.batch,
                      elastic = ms[3] / ac.batch;
-        std::printf("%9d %15.1f %15.1f %15.1f %8.2fx %15.1f %8.2fx\n", step, 1e3 / ours,
+        std::printf("%9d %8d %15.1f %15.1f %15.1f %8.2fx %15.1f %8.2fx\n", step, sp.map, 1e3 / ours,
                     1e3 / floor, 1e3 / pose, ours / floor, 1e3 / elastic, ours / elastic);
         std::fflush(stdout);
     }
@@ -591,7 +600,8 @@ void printAugmentRates(const BenchOptions& o) {
         "2), "
         "and over the elastic recipe's (< 1: faster). pose/s: randomPose alone (its fold check on "
         "its own mesh of about 160 nodes along the longer side, as multicage.MulticageWarp "
-        "draws).\n");
+        "draws). map step: DeformParams::mapStep (1: the maps found at every pixel; the grid "
+        "step: found on a lattice that far apart and interpolated, as MulticageWarp deforms).\n");
 }
 
 // Thread CPU time of f() in ms (wall clock where the platform has no per-thread clock): what a
@@ -618,12 +628,14 @@ void printAugmentStages(const BenchOptions& o) {
     const AugmentCase ac(o);
     std::printf("  per image, one thread's CPU time (ms), medians of %d rounds of %d:\n", ac.rounds,
                 ac.batch);
-    std::printf("%11s %9s %9s %9s %9s %11s\n", "grid step", "pose", "maps", "deform", "sampling",
-                "cv::remap");
-    for (int step : {4, 2}) {
+    std::printf("%11s %8s %9s %9s %9s %9s %11s\n", "grid step", "map step", "pose", "maps",
+                "deform", "sampling", "cv::remap");
+    for (const StepPair sp : kAugmentSteps) {
+        const int step = sp.grid;
         DeformParams cpu;
         cpu.backend = BACKEND_CPU;
         cpu.gridStep = step;
+        cpu.mapStep = sp.map;
         cv::Ptr<Deformer> d = Deformer::create(ac.image, ac.cage, cpu);
         std::vector<std::vector<cv::Point2f>> poses(ac.batch);
         cv::Mat mapx, mapy, out;
@@ -651,12 +663,13 @@ void printAugmentStages(const BenchOptions& o) {
             deform.push_back(tDeform / ac.batch), remap.push_back(tRemap / ac.batch);
         }
         const double m = median(maps), dm = median(deform);
-        std::printf("%11d %9.3f %9.3f %9.3f %9.3f %11.3f\n", step, median(pose), m, dm, dm - m,
-                    median(remap));
+        std::printf("%11d %8d %9.3f %9.3f %9.3f %9.3f %11.3f\n", step, sp.map, median(pose), m, dm,
+                    dm - m, median(remap));
     }
     std::printf(
         "  maps: the coefficient sum and the raster (computeMaps); sampling: deform less maps "
-        "(the backend's own bilinear sampler where the CPU has AVX2 or AVX-512, cv::remap's bits).\n");
+        "(the backend's own bilinear sampler where the CPU has AVX2 or AVX-512, cv::remap's "
+        "bits).\n");
 }
 
 void printAugmentFirstDeform(const BenchOptions& o) {
@@ -686,7 +699,9 @@ void printAugmentFirstDeform(const BenchOptions& o) {
     };
     cpu.gridStep = 4;
     cv::Ptr<Deformer> d4 = Deformer::create(image, cage, cpu);
-    cpu.gridStep = 1;
+    cpu.mapStep = 4;
+    cv::Ptr<Deformer> d4lattice = Deformer::create(image, d4->binding(), cpu);
+    cpu.gridStep = 1, cpu.mapStep = 1;
     cv::Mat out4, remapped, mapx4, mapy4;
     d4->computeMaps(pose, mapx4, mapy4);
     const int rounds = std::max(5, o.repeats);
@@ -695,7 +710,8 @@ void printAugmentFirstDeform(const BenchOptions& o) {
     const std::vector<double> ms = interleavedMs(
         rounds,
         {readOnce, [&] { d4->deform(pose, out4); },
-         [&] { cv::remap(image, remapped, mapx4, mapy4, cv::INTER_LINEAR, cv::BORDER_CONSTANT); }});
+         [&] { cv::remap(image, remapped, mapx4, mapy4, cv::INTER_LINEAR, cv::BORDER_CONSTANT); },
+         [&] { d4lattice->deform(pose, out4); }});
     // A fresh Deformer each round, its first deform timed, then a read in the same round.
     std::vector<double> firstMs, readMs;
     for (int r = 0; r < rounds; ++r) {
@@ -713,10 +729,11 @@ void printAugmentFirstDeform(const BenchOptions& o) {
         "first deform, 2 threads, %dx%d, %d vertices (%.0f MB of coefficients), medians of %d "
         "interleaved rounds, load average %.2f:\n  read the coefficients once %.1f ms; first "
         "deform after create (grid step 1) %.1f ms = %.2fx the read (target 1.6x)\n  read %.1f ms; "
-        "warm grid-step-4 deform %.2f ms = %.2fx the read (target 0.35x); cv::remap of the same "
-        "image with its maps %.2f ms = %.2fx the read\n",
+        "warm grid-step-4 deform %.2f ms = %.2fx the read (target 0.35x), with map step 4 "
+        "%.2f ms = %.2fx; cv::remap of the same image with its maps %.2f ms = %.2fx the read\n",
         size.width, size.height, cage.vertexCount(), c.total() * 4.0 / 1e6, rounds, loadAverage(),
-        read, firstDeform, firstDeform / read, ms[0], ms[1], ms[1] / ms[0], ms[2], ms[2] / ms[0]);
+        read, firstDeform, firstDeform / read, ms[0], ms[1], ms[1] / ms[0], ms[3], ms[3] / ms[0],
+        ms[2], ms[2] / ms[0]);
 }
 
 void printAugment(const BenchOptions& o) {

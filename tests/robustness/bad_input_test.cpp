@@ -265,6 +265,12 @@ TEST(BadInput, BadParametersAreRefused) {
                 "multicage: unknown backend 7");
     p.gpuBinding = -1;
     p.backend = BACKEND_CPU;
+    p.mapStep = 0;
+    expectError("map step 0", [&] { Deformer::create(image, cage, p); }, "multicage: mapStep 0 is outside [1, 64]");
+    p.mapStep = 65;
+    expectError("map step 65", [&] { Deformer::create(image, bind(cage, MEAN_VALUE, 4), p); },
+                "multicage: mapStep 65 is outside [1, 64]");
+    p.mapStep = 1;
     p.coordinates = 5;
     expectError("unknown coordinate type", [&] { Deformer::create(image, cage, p); }, "unknown coordinate type 5");
     expectError("unknown coordinate type in a multicage", [&] { Multicage(cage).setCoordinates(3); },

@@ -18,13 +18,14 @@ namespace {
 class CpuDeformer final : public Deformer {
   public:
     CpuDeformer(const Mat& image, const Binding& binding, const DeformParams& params)
-        : binding_(binding), border_(params.borderValue) {
+        : binding_(binding), border_(params.borderValue), mapStep_(params.mapStep) {
         // Everything a pose writes is allocated and touched here, once, in 2 MB pages where
         // the kernel offers them: the first pose then costs what every later one does (no page
         // faults of fresh buffers, no allocations), and creation few page faults.
         image_ = hugePageMat(image.size(), image.type(), owners_);
         image.copyTo(image_);
         mesh_.reset(binding);
+        mesh_.setMapStep(mapStep_);
         mapx_ = hugePageMat(image.size(), CV_32F, mapOwners_);
         mapy_ = hugePageMat(image.size(), CV_32F, mapOwners_);
         mapx_.setTo(Scalar::all(0));
@@ -112,7 +113,7 @@ class CpuDeformer final : public Deformer {
                     std::lock_guard<std::mutex> lock(poolMutex);
                     if (!pool_.empty()) ws = std::move(pool_.back()), pool_.pop_back();
                 }
-                if (!ws) ws.reset(new Workspace(binding_));
+                if (!ws) ws.reset(new Workspace(binding_, mapStep_));
                 for (int k = r.start; k < r.end; ++k) {
                     ws->mesh.pose(binding_, poses[k]);
                     CV_DbgAssert(ws->mesh.outputSize() == sizes[k]);
@@ -131,8 +132,9 @@ class CpuDeformer final : public Deformer {
   private:
     /** What one batch worker writes: its own mesh and maps. Kept between batches. */
     struct Workspace {
-        explicit Workspace(const Binding& binding) {
+        Workspace(const Binding& binding, int mapStep) {
             mesh.reset(binding);
+            mesh.setMapStep(mapStep);
             mapx.create(binding.imageSize, CV_32F);
             mapy.create(binding.imageSize, CV_32F);
         }
@@ -168,6 +170,7 @@ class CpuDeformer final : public Deformer {
     RasterMesh mesh_;
     Mat mapx_, mapy_;  // reused between poses
     Scalar border_;
+    int mapStep_;      // DeformParams::mapStep
     Mat firstOutput_;  // touched at creation, given to the first deform() with an empty dst
     std::vector<std::unique_ptr<Workspace>> pool_;  // batch workers' meshes and maps
 };

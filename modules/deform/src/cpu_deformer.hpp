@@ -2,6 +2,7 @@
 #ifndef MULTICAGE_CPU_DEFORMER_HPP
 #define MULTICAGE_CPU_DEFORMER_HPP
 
+#include <algorithm>
 #include <functional>
 #include <opencv2/multicage/deformer.hpp>
 #include <opencv2/multicage/internal/backend_contract.hpp>
@@ -82,6 +83,15 @@ class RasterMesh {
     /** Whether draw() pulls the current nodes and frame: a binding's grid of step 1 or 2 that
     folds nowhere (raster::pullable), pulling preferred, on a CPU with the pull kernel. */
     bool pulls() const;
+    /** DeformParams::mapStep: from 2 up, draw() finds the maps of a mesh that folds nowhere on a
+    lattice of points at most this many pixels apart and interpolates them (mesh_lattice.hpp),
+    where it may pull (setPullPreferred, the pull kernel); 1 (the default): every pixel. */
+    void setMapStep(int step) {
+        mapStep_ = std::max(step, 1);
+        pullable_ = Pullable::unknown;
+    }
+    /** Whether draw() interpolates the current nodes and frame from a lattice (setMapStep). */
+    bool interpolates() const;
 
   private:
     template <typename F>
@@ -90,8 +100,13 @@ class RasterMesh {
     void resetWith(Size grid, Size outputSize, bool separable, RestNode&& rest);
     raster::PullMesh pullMesh() const;
     // Whether the current nodes and frame may be pulled but for the fold check: a binding's grid
-    // of a small step, pulling preferred, a CPU with the kernel.
+    // of a small step (or any step, onto a lattice: setMapStep), pulling preferred, a CPU with
+    // the kernel.
     bool mayPull() const;
+    // raster::pullable of the current nodes and frame (pose() may have found it), where mayPull.
+    bool foldsNowhere() const;
+    // draw() through a lattice (setMapStep); false, nothing written, where a walk did not settle.
+    bool drawInterpolated(Mat& mapx, Mat& mapy, const std::function<void(int, int)>& bandDone);
     // rowMin_ and rowMax_ for the current nodes.
     void findRowExtents();
     // The largest grid step whose meshes are pulled (draw()).
@@ -106,6 +121,8 @@ class RasterMesh {
     std::vector<float> rowMin_, rowMax_;
     int gridStep_ = 0;  // a binding's grid step (its nodes rest at multiples of it), else 0
     bool pullPreferred_ = true;
+    int mapStep_ = 1;
+    Mat latticeNodes_, latticeX_, latticeY_;  // drawInterpolated's, kept between poses
     // raster::pullable of the current nodes and frame, when pose() found it.
     enum class Pullable { unknown, yes, no } pullable_ = Pullable::unknown;
 };

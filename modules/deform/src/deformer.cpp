@@ -10,10 +10,14 @@ namespace multicage {
 
 const char* backendName(int backend) {
     switch (backend) {
-    case BACKEND_AUTO: return "auto";
-    case BACKEND_CPU: return "cpu";
-    case BACKEND_GPU: return "gpu";
-    default: return nullptr;
+        case BACKEND_AUTO:
+            return "auto";
+        case BACKEND_CPU:
+            return "cpu";
+        case BACKEND_GPU:
+            return "gpu";
+        default:
+            return nullptr;
     }
 }
 
@@ -38,16 +42,24 @@ bool autoBackendUsesGpu(std::string* description) {
     return context != nullptr;
 }
 
+// The largest DeformParams::mapStep: past it a lattice saves nothing more.
+constexpr int kMaxMapStep = 64;
+
 // Checked before any path is chosen: with a hardware GPU a multicage is bound on the GPU before
 // the backend switch below is reached, and an unknown backend went through unrefused (an H100).
-static void checkBackend(int backend) {
-    if (backend != BACKEND_CPU && backend != BACKEND_GPU && backend != BACKEND_AUTO)
-        CV_Error_(Error::StsOutOfRange, ("multicage: unknown backend %d", backend));
+static void checkParams(const DeformParams& params) {
+    if (params.backend != BACKEND_CPU && params.backend != BACKEND_GPU &&
+        params.backend != BACKEND_AUTO)
+        CV_Error_(Error::StsOutOfRange, ("multicage: unknown backend %d", params.backend));
+    if (params.mapStep < 1 || params.mapStep > kMaxMapStep)
+        CV_Error_(Error::StsOutOfRange,
+                  ("multicage: mapStep %d is outside [1, %d]", params.mapStep, kMaxMapStep));
 }
 
-Ptr<Deformer> Deformer::create(InputArray image, const Multicage& rest, const DeformParams& params) {
+Ptr<Deformer> Deformer::create(InputArray image, const Multicage& rest,
+                               const DeformParams& params) {
     checkImage(image);
-    checkBackend(params.backend);
+    checkParams(params);
     if (rest.imageSize() != image.size())
         CV_Error_(Error::StsBadSize,
                   ("multicage: the image is %dx%d but the multicage was made for %dx%d; use "
@@ -62,28 +74,31 @@ Ptr<Deformer> Deformer::create(InputArray image, const Multicage& rest, const De
         const std::string what = format(
             "a %dx%d image with %d vertices needs %s of coefficients at grid step %d, over the "
             "%s budget (DeformParams::memoryBudget); grid step %d fits (%s)",
-            image.cols(), image.rows(), rest.vertexCount(), formatBytes(need).c_str(), params.gridStep,
-            formatBytes(params.memoryBudget).c_str(), fits,
+            image.cols(), image.rows(), rest.vertexCount(), formatBytes(need).c_str(),
+            params.gridStep, formatBytes(params.memoryBudget).c_str(), fits,
             formatBytes(bindingMemory(image.size(), c, fits)).c_str());
         if (!params.autoGridStep) CV_Error(Error::StsNoMem, "multicage: " + what);
         CV_LOG_WARNING(NULL, "multicage: " << what << "; using grid step " << fits);
         chosen.gridStep = fits;
     }
-    if (chosen.gpuBinding != 0 && chosen.coordinates == MEAN_VALUE && params.backend != BACKEND_CPU) {
+    if (chosen.gpuBinding != 0 && chosen.coordinates == MEAN_VALUE &&
+        params.backend != BACKEND_CPU) {
         std::string why;
         Ptr<Deformer> gpu = createGpuDeformer(image.getMat(), rest, chosen, &why);
         if (gpu) return gpu;
         if (chosen.gpuBinding > 0) {  // asked for explicitly: say why it did not happen
             if (params.backend == BACKEND_GPU)
                 CV_Error(Error::StsNotImplemented, "multicage: BACKEND_GPU requested but " + why);
-            CV_LOG_WARNING(NULL, "multicage: no GPU for gpuBinding (" << why << "); binding on the CPU");
+            CV_LOG_WARNING(NULL,
+                           "multicage: no GPU for gpuBinding (" << why << "); binding on the CPU");
         }
     }
     return create(image, bind(rest, chosen.coordinates, chosen.gridStep, params.progress), chosen);
 }
 
 size_t bindingMemory(Size imageSize, int coefficientCount, int gridStep) {
-    return size_t(gridSizeFor(imageSize, gridStep).area()) * size_t(coefficientCount) * sizeof(float);
+    return size_t(gridSizeFor(imageSize, gridStep).area()) * size_t(coefficientCount) *
+           sizeof(float);
 }
 
 int gridStepForBudget(Size imageSize, int coefficientCount, size_t budget, int minStep) {
@@ -95,15 +110,16 @@ int gridStepForBudget(Size imageSize, int coefficientCount, size_t budget, int m
     return step;
 }
 
-Ptr<Deformer> Deformer::create(InputArray imageIn, const Binding& binding, const DeformParams& params) {
+Ptr<Deformer> Deformer::create(InputArray imageIn, const Binding& binding,
+                               const DeformParams& params) {
     checkImage(imageIn);
-    checkBackend(params.backend);
+    checkParams(params);
     CV_Assert(!binding.empty());
     const Mat image = imageIn.getMat();
     if (binding.imageSize != image.size())
-        CV_Error_(Error::StsBadSize, ("multicage: the image is %dx%d but the binding is for %dx%d",
-                                      image.cols, image.rows, binding.imageSize.width,
-                                      binding.imageSize.height));
+        CV_Error_(Error::StsBadSize,
+                  ("multicage: the image is %dx%d but the binding is for %dx%d", image.cols,
+                   image.rows, binding.imageSize.width, binding.imageSize.height));
     switch (params.backend) {
         case BACKEND_CPU:
             return createCpuDeformer(image, binding, params);
@@ -119,11 +135,12 @@ Ptr<Deformer> Deformer::create(InputArray imageIn, const Binding& binding, const
             if (gpu) return gpu;
             if (params.backend == BACKEND_GPU)
                 CV_Error(Error::StsNotImplemented, "multicage: BACKEND_GPU requested but " + why);
-            CV_LOG_WARNING(NULL, "multicage: no GPU backend (" << why << "); using the CPU backend");
+            CV_LOG_WARNING(NULL,
+                           "multicage: no GPU backend (" << why << "); using the CPU backend");
             return createCpuDeformer(image, binding, params);
         }
         default:
-            CV_Error(Error::StsInternal, "multicage: unreachable backend");  // checkBackend
+            CV_Error(Error::StsInternal, "multicage: unreachable backend");  // checkParams
     }
 }
 

@@ -17,6 +17,7 @@
 #include <opencv2/multicage/internal/apply_rows.hpp>
 
 #include "cpu_deformer.hpp"
+#include "mesh_lattice.hpp"
 #include "mesh_pull.hpp"
 #include "raster_kernels.hpp"
 #if defined(__linux__)
@@ -167,14 +168,41 @@ raster::PullMesh RasterMesh::pullMesh() const {
 }
 
 bool RasterMesh::mayPull() const {
-    return gridStep_ > 0 && gridStep_ <= kMaxPullStep && pullPreferred_ &&
+    return gridStep_ > 0 && (gridStep_ <= kMaxPullStep || mapStep_ > 1) && pullPreferred_ &&
            raster::havePullKernel() && P_.isContinuous();
 }
 
-bool RasterMesh::pulls() const {
+bool RasterMesh::foldsNowhere() const {
     if (!mayPull()) return false;
     if (pullable_ != Pullable::unknown) return pullable_ == Pullable::yes;
     return raster::pullable(pullMesh());
+}
+
+bool RasterMesh::pulls() const {
+    return gridStep_ <= kMaxPullStep && foldsNowhere();
+}
+
+bool RasterMesh::interpolates() const {
+    return mapStep_ > 1 && mayPull() && raster::latticeFits(pullMesh(), out_, mapStep_) &&
+           foldsNowhere();
+}
+
+bool RasterMesh::drawInterpolated(Mat& mapx, Mat& mapy,
+                                  const std::function<void(int, int)>& bandDone) {
+    const raster::Lattice lattice = raster::Lattice::of(out_, mapStep_);
+    if (!raster::pullLattice(pullMesh(), lattice, latticeNodes_, latticeX_, latticeY_))
+        return false;
+    // Bands of output rows as draw()'s, each sampled (bandDone) while its maps are in cache.
+    const int bands =
+        std::max(1, std::min(out_.height, std::max(getNumThreads() * 4, out_.height / 64)));
+    parallel_for_(Range(0, bands), [&](const Range& range) {
+        for (int band = range.start; band < range.end; ++band) {
+            const int y0 = out_.height * band / bands, y1 = out_.height * (band + 1) / bands;
+            raster::interpolateRows(lattice, latticeX_, latticeY_, y0, y1, mapx, mapy);
+            if (bandDone) bandDone(y0, y1);
+        }
+    });
+    return true;
 }
 
 void RasterMesh::pose(const Binding& binding, const std::vector<Point2f>& vertices) {
@@ -209,6 +237,7 @@ void RasterMesh::pose(const Binding& binding, const std::vector<Point2f>& vertic
 void RasterMesh::draw(Mat& mapx, Mat& mapy, const std::function<void(int, int)>& bandDone) {
     CV_Assert(mapx.type() == CV_32F && mapy.type() == CV_32F && mapx.size() == out_ &&
               mapy.size() == out_);
+    if (interpolates() && drawInterpolated(mapx, mapy, bandDone)) return;
     const Mat& P = P_;
     const Point2f lo = lo_, hi = hi_;
     const Size outputSize = out_;

@@ -43,6 +43,16 @@ struct CV_EXPORTS DeformParams {
     Binding. */
     int coordinates = COORDINATES_FROM_CAGE;
     int gridStep = 1;               //!< a mesh node every gridStep pixels; 1 is the paper's
+    /** CPU backend: 1 (the default) finds the inverse maps at every pixel. From 2 up (at most
+    64), where the pose folds the mesh nowhere, they are found exactly on a lattice of points at
+    most mapStep pixels apart (the first and last on the border pixels) and interpolated
+    bilinearly in between; a pose that folds is drawn at every pixel as with 1. The error is of
+    the kind a grid step makes: 12 px random poses on 512x512, mapStep 4 at grid step 4, were
+    0.0035 px from the exact maps on average (at most 0.98 px, where the deformation bends
+    sharply), where grid step 4 itself is 0.0031 px from grid step 1 (at most 0.82 px). The maps
+    then cost a fraction of the pixels' walks: for augmentation, where speed matters more than
+    the last hundredth of a pixel. The GPU backend finds every pixel whatever it says. */
+    int mapStep = 1;
     int backend = BACKEND_AUTO;     //!< Backend
     Scalar borderValue = Scalar();  //!< output pixels no deformed triangle covers
     /** GPU backend: store the packed coefficients as RGBA16F instead of RGBA32F (half the
