@@ -5,10 +5,10 @@
 #include <algorithm>
 #include <atomic>
 #include <cctype>
-#include <csignal>
-#include <cstdio>
 #include <chrono>
 #include <cmath>
+#include <csignal>
+#include <cstdio>
 #include <filesystem>
 #include <iostream>
 #include <opencv2/imgcodecs.hpp>
@@ -18,9 +18,8 @@ namespace multicage_cli {
 
 std::string reasonOf(const cv::Exception& e) {
     std::string s = e.err;
-    for (const char* prefix :
-         {"multicage: ", "proposeMulticage: ", "proposeSegmentation: ", "protectFeatures: ",
-          "resize: "})
+    for (const char* prefix : {"multicage: ", "proposeMulticage: ", "proposeSegmentation: ",
+                               "protectFeatures: ", "resize: "})
         if (s.rfind(prefix, 0) == 0) s = s.substr(std::string(prefix).size());
     return s;
 }
@@ -44,10 +43,11 @@ cv::Mat readImage(const std::string& path) {
 void checkImageOutput(const std::string& path) {
     const std::filesystem::path p(path);
     const std::filesystem::path dir = p.has_parent_path() ? p.parent_path() : ".";
-    if (!std::filesystem::is_directory(dir)) throw Failure("cannot write " + path + ": no folder " + dir.string());
+    if (!std::filesystem::is_directory(dir))
+        throw Failure("cannot write " + path + ": no folder " + dir.string());
     if (!cv::haveImageWriter(path))
-        throw Failure("cannot write " + path + ": unknown image extension '" + p.extension().string() +
-                      "' (use .png, .jpg, .tif, .exr, ...)");
+        throw Failure("cannot write " + path + ": unknown image extension '" +
+                      p.extension().string() + "' (use .png, .jpg, .tif, .exr, ...)");
 }
 
 void writeImage(const std::string& command, const std::string& path, const cv::Mat& image) {
@@ -72,12 +72,13 @@ size_t parseMemorySize(const std::string& text) {
     }
     std::string unit = text.substr(std::min(used, text.size()));
     for (char& ch : unit) ch = static_cast<char>(std::toupper(static_cast<unsigned char>(ch)));
-    if (unit.size() > 1 && unit.back() == 'B') unit.pop_back();          // GB, GiB -> G, Gi
+    if (unit.size() > 1 && unit.back() == 'B') unit.pop_back();  // GB, GiB -> G, Gi
     if (unit.size() > 1 && unit.back() == 'I') unit.pop_back();
     const std::string units = "KMGT";
     const size_t power = unit.empty() ? 0 : units.find(unit) + 1;
     if (value < 0 || used == 0 || unit.size() > 1 || (!unit.empty() && power == 0))
-        throw Failure("--memory-budget: '" + text + "' is not a size (e.g. 2G, 512M, or 0 for no limit)");
+        throw Failure("--memory-budget: '" + text +
+                      "' is not a size (e.g. 2G, 512M, or 0 for no limit)");
     return static_cast<size_t>(value * std::pow(1024.0, double(power)));
 }
 
@@ -86,20 +87,22 @@ std::string formatBytes(size_t bytes) {
     return mib >= 1024 ? cv::format("%.1f GiB", mib / 1024) : cv::format("%.0f MiB", mib);
 }
 
-int chooseGridStep(const std::string& command, cv::Size imageSize, int vertexCount, int step, bool typed,
-                   size_t budget, std::string* change) {
+int chooseGridStep(const std::string& command, cv::Size imageSize, int vertexCount, int step,
+                   bool typed, size_t budget, std::string* change) {
     using namespace cv::multicage;
     change->clear();
     const int c = vertexCount + 4;
     const size_t need = bindingMemory(imageSize, c, step);
     if (budget == 0 || need <= budget) return step;
     const int fits = gridStepForBudget(imageSize, c, budget, step);
-    *change = "raised from " + std::to_string(step) + " to fit the " + formatBytes(budget) + " memory budget";
+    *change = "raised from " + std::to_string(step) + " to fit the " + formatBytes(budget) +
+              " memory budget";
     if (typed)
-        std::cerr << "multicage " << command << ": grid step " << step << " would need " << formatBytes(need)
-                  << " of memory for this " << imageSize.width << "x" << imageSize.height << " image with "
-                  << plural(vertexCount, "vertex", "vertices") << ", more than the " << formatBytes(budget)
-                  << " budget; using grid step " << fits << " (" << formatBytes(bindingMemory(imageSize, c, fits))
+        std::cerr << "multicage " << command << ": grid step " << step << " would need "
+                  << formatBytes(need) << " of memory for this " << imageSize.width << "x"
+                  << imageSize.height << " image with " << plural(vertexCount, "vertex", "vertices")
+                  << ", more than the " << formatBytes(budget) << " budget; using grid step "
+                  << fits << " (" << formatBytes(bindingMemory(imageSize, c, fits))
                   << ") instead. To keep grid step " << step << ", add --memory-budget "
                   << (need + (size_t(1) << 30) - 1) / (size_t(1) << 30) << "G" << std::endl;
     return fits;
@@ -111,11 +114,15 @@ void probeAutoBackend(int backend) {
 
 namespace {
 std::atomic<bool> interrupted{false};
-extern "C" void onInterrupt(int) { interrupted = true; }
+extern "C" void onInterrupt(int) {
+    interrupted = true;
+}
 }  // namespace
 
 BindProgressLine::BindProgressLine(const std::string& command, bool quiet)
-    : command_(command), quiet_(quiet), tty_(::isatty(STDERR_FILENO) != 0),
+    : command_(command),
+      quiet_(quiet),
+      tty_(::isatty(STDERR_FILENO) != 0),
       start_(std::chrono::steady_clock::now()) {
     interrupted = false;
     previous_ = std::signal(SIGINT, onInterrupt);
@@ -132,8 +139,8 @@ cv::multicage::BindProgress BindProgressLine::callback() {
         if (quiet_ || msSince(start_) < 1000) return true;  // quick bindings stay silent
         const int percent = static_cast<int>(100 * fraction);
         if (tty_) {
-            std::fprintf(stderr, "\rmulticage %s: binding %3d%% (%.0f s; Ctrl-C stops)", command_.c_str(), percent,
-                         msSince(start_) / 1000);
+            std::fprintf(stderr, "\rmulticage %s: binding %3d%% (%.0f s; Ctrl-C stops)",
+                         command_.c_str(), percent, msSince(start_) / 1000);
         } else if (percent / 10 > lastDecile_) {
             lastDecile_ = percent / 10;
             std::fprintf(stderr, "multicage %s: binding %d%% (%.0f s)\n", command_.c_str(), percent,
@@ -163,7 +170,8 @@ CLI::Validator wholeNumber(int lo, int hi) {
             }
             if (used == 0 || used != text.size()) return "'" + text + "' is not a whole number";
             if (value < lo || value > hi)
-                return text + " is out of range: " + std::to_string(lo) + " to " + std::to_string(hi);
+                return text + " is out of range: " + std::to_string(lo) + " to " +
+                       std::to_string(hi);
             return std::string();
         },
         "INT in [" + std::to_string(lo) + " - " + std::to_string(hi) + "]");
@@ -209,10 +217,14 @@ int coordinatesArg(const std::string& name) {
 void addDeformOptions(CLI::App* cmd, DeformOptions& o, int defaultCoordinates) {
     o.defaultCoordinates = defaultCoordinates;
     using namespace cv::multicage;
-    std::vector<std::string> backends;  // "auto (a hardware GPU if there is one, else the CPU)", "cpu", "gpu"
+    std::vector<std::string>
+        backends;  // "auto (a hardware GPU if there is one, else the CPU)", "cpu", "gpu"
     for (const std::string& name : backendNames())
         backends.push_back(
-            name == backendName(BACKEND_AUTO) ? name + " (a hardware GPU if there is one, else the CPU: a software OpenGL is slower)" : name);
+            name == backendName(BACKEND_AUTO)
+                ? name +
+                      " (a hardware GPU if there is one, else the CPU: a software OpenGL is slower)"
+                : name);
     std::vector<std::string> coordinates;  // "mvc (mean value)", "harmonic"
     for (int t = 0; const char* name = coordinateTypeName(t); ++t) {
         const std::string words = coordinateTypeDescription(t);
@@ -221,13 +233,12 @@ void addDeformOptions(CLI::App* cmd, DeformOptions& o, int defaultCoordinates) {
     cmd->add_option("--backend", o.backend, orList(backends))
         ->capture_default_str()
         ->check(CLI::IsMember(backendNames()));
-    cmd->add_option(
-           "--coords", o.coords,
-           "Cage coordinates: " + orList(coordinates) + " (default: " +
-               (defaultCoordinates == COORDINATES_FROM_CAGE
-                    ? std::string("the cage file's choice")
-                    : std::string(coordinateTypeName(defaultCoordinates))) +
-               ")")
+    cmd->add_option("--coords", o.coords,
+                    "Cage coordinates: " + orList(coordinates) + " (default: " +
+                        (defaultCoordinates == COORDINATES_FROM_CAGE
+                             ? std::string("the cage file's choice")
+                             : std::string(coordinateTypeName(defaultCoordinates))) +
+                        ")")
         ->check(CLI::IsMember(coordinateNames()));
     o.gridStepOption =
         cmd->add_option(
@@ -236,6 +247,12 @@ void addDeformOptions(CLI::App* cmd, DeformOptions& o, int defaultCoordinates) {
                "and said, when the coefficients would not fit in --memory-budget)")
             ->capture_default_str()
             ->check(wholeNumber(1, 256));
+    cmd->add_option("--map-step", o.mapStep,
+                    "CPU: find the inverse maps on a lattice N pixels apart and interpolate them "
+                    "where the pose folds nothing (an error of a grid step's kind, a fraction of "
+                    "the time: for augmentation); 1 finds every pixel")
+        ->capture_default_str()
+        ->check(wholeNumber(1, 64));
     cmd->add_option("--memory-budget", o.memoryBudget,
                     "Most memory the binding's coefficients may take, e.g. 4G or 512M; 0: no limit "
                     "(default 1G)");
@@ -271,6 +288,7 @@ cv::multicage::DeformParams deformParams(const DeformOptions& o, const std::stri
     const bool typed = o.gridStepOption && o.gridStepOption->count() > 0;
     params.gridStep = chooseGridStep(command, imageSize, cage.vertexCount(), o.gridStep, typed,
                                      params.memoryBudget, stepChange);
+    params.mapStep = o.mapStep;
     for (size_t i = 0; i < o.border.size() && i < 4; ++i)
         params.borderValue[static_cast<int>(i)] = o.border[i];
     return params;
@@ -281,7 +299,8 @@ std::string plural(long long n, const std::string& one, const std::string& many)
 }
 
 double msSince(std::chrono::steady_clock::time_point start) {
-    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
+        .count();
 }
 
 double median(std::vector<double> samples) {

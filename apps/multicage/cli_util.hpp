@@ -42,8 +42,8 @@ std::string formatBytes(size_t bytes);
 (0: no limit) the smallest step that fits. A raised step the user typed (`typed`) is said on
 stderr in plain words, with the --memory-budget that would keep it. Returns the step and, in
 *change, what the normal output line should add ("" when unchanged). */
-int chooseGridStep(const std::string& command, cv::Size imageSize, int vertexCount, int step, bool typed,
-                   size_t budget, std::string* change);
+int chooseGridStep(const std::string& command, cv::Size imageSize, int vertexCount, int step,
+                   bool typed, size_t budget, std::string* change);
 
 /** Runs the EGL probe of BACKEND_AUTO now (once per process), so that it is not counted as
 bind time; a no-op for cpu and gpu. */
@@ -84,9 +84,10 @@ CLI::Validator wholeNumber(int lo, int hi);
 types (coordinateTypeName: mvc, harmonic, local_mvc). */
 std::vector<std::string> backendNames();
 std::vector<std::string> coordinateNames();
-// The library's names (cv::multicage::parseBackend, parseCoordinateType), as a Failure when unknown.
-int backendArg(const std::string& name);       // auto | cpu | gpu
-int coordinatesArg(const std::string& name);   // mvc | harmonic | local_mvc
+// The library's names (cv::multicage::parseBackend, parseCoordinateType), as a Failure when
+// unknown.
+int backendArg(const std::string& name);      // auto | cpu | gpu
+int coordinatesArg(const std::string& name);  // mvc | harmonic | local_mvc
 
 /** The options of a deformation that deform, animate and demo share, as typed. */
 struct DeformOptions {
@@ -94,20 +95,22 @@ struct DeformOptions {
     std::string coords;            //!< --coords: a coordinateNames() entry; "": the cage's choice
     std::string memoryBudget;      //!< --memory-budget: parseMemorySize() text; "": the default
     int gridStep = 1;              //!< --grid-step
+    int mapStep = 1;               //!< --map-step
     std::vector<double> border;    //!< --border: 1 to 4 channel values; empty: 0
     const CLI::Option* gridStepOption = nullptr;  //!< set by addDeformOptions: typed or not
     /** The coordinates without --coords: COORDINATES_FROM_CAGE (the cage's own) or a type the
     command prefers (resize: local mean value, so what an outline holds keeps its shape). */
     int defaultCoordinates = cv::multicage::COORDINATES_FROM_CAGE;
 };
-/** Adds --backend, --coords, --grid-step, --memory-budget and --border to cmd, stored in o
-(which must live as long as cmd). The valid names are the library's; defaultCoordinates is
-what no --coords means (and what the help says). */
+/** Adds --backend, --coords, --grid-step, --map-step, --memory-budget and --border to cmd, stored
+in o (which must live as long as cmd). The valid names are the library's; defaultCoordinates is what
+no --coords means (and what the help says). */
 void addDeformOptions(CLI::App* cmd, DeformOptions& o,
                       int defaultCoordinates = cv::multicage::COORDINATES_FROM_CAGE);
 /** The DeformParams the options ask for on this image and cage: backend and coordinates
-parsed (no --coords: o.defaultCoordinates, the cage's own by default), memory budget and border, and the grid step
-chooseGridStep() picks (`command` and *stepChange as there). Throws a Failure for a bad
+parsed (no --coords: o.defaultCoordinates, the cage's own by default), memory budget and border, and
+the grid step chooseGridStep() picks (`command` and *stepChange as there). Throws a Failure for a
+bad
 --memory-budget. */
 cv::multicage::DeformParams deformParams(const DeformOptions& o, const std::string& command,
                                          cv::Size imageSize, const cv::multicage::Multicage& cage,

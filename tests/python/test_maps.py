@@ -71,3 +71,22 @@ def test_maps_of_rest_pose_are_identity(butterfly, butterfly_cage):
     y, x = np.mgrid[0:h, 0:w].astype(np.float32)
     assert np.abs(mapx - x).max() < 0.02 and np.abs(mapy - y).max() < 0.02
     assert np.array_equal(deformer.deform(butterfly_cage.vertices()), butterfly)
+
+
+def test_map_step_interpolates_and_travels(butterfly_cage):
+    """map_step=4: the maps found on a lattice 4 px apart and interpolated, a few thousandths
+    of a pixel from those found at every pixel; the keyword pickles with the deformer, and
+    values outside [1, 64] are refused."""
+    import pickle
+    image = PALETTE[label_image(butterfly_cage.image_size)]
+    pose = mc.random_pose(butterfly_cage, 8, seed=4)
+    exact = mc.Deformer(image, butterfly_cage, backend="cpu", grid_step=4)
+    lattice = mc.Deformer(image, butterfly_cage, backend="cpu", grid_step=4, map_step=4)
+    (ex, ey), (lx, ly) = exact.compute_maps(pose), lattice.compute_maps(pose)
+    offset = np.hypot(lx - ex, ly - ey)
+    assert 0 < offset.mean() < 0.01 and np.percentile(offset, 99) < 0.1
+    again = pickle.loads(pickle.dumps(lattice))
+    np.testing.assert_array_equal(again.deform(pose), lattice.deform(pose))
+    for bad in (0, 65):
+        with pytest.raises(ValueError, match="map_step"):
+            mc.Deformer(image, butterfly_cage, backend="cpu", map_step=bad)

@@ -49,8 +49,12 @@ def test_call_returns_the_same_keys_moved_by_one_deformation(butterfly, cage):
     assert params["applied"] and params["cage_key"] == "given"
     pose = params["pose"]
     assert not np.array_equal(pose, cage.rest_pose()), "a pose of amplitude 15 moves the cage"
-    d = mc.Deformer(butterfly, cage, backend="cpu", grid_step=4)
+    assert warp.map_step == 4, "map_step None: the grid step"
+    d = mc.Deformer(butterfly, cage, backend="cpu", grid_step=4, map_step=4)
     mapx, mapy = d.compute_maps(pose)
+    exact = mc.Deformer(butterfly, cage, backend="cpu", grid_step=4).compute_maps(pose)
+    offset = np.hypot(mapx - exact[0], mapy - exact[1])
+    assert 0 < offset.mean() < 0.01, "the maps of a lattice 4 px apart: off by the grid step's kind of error"
     assert out["image"].shape == butterfly.shape and out["image"].dtype == butterfly.dtype
     np.testing.assert_array_equal(out["image"], d.deform(pose))
     np.testing.assert_array_equal(out["mask"], cv2.remap(labels, mapx, mapy, cv2.INTER_NEAREST))

@@ -114,7 +114,7 @@ def _image_key(image):
 class MulticageWarp:
     """A random multicage deformation of an image and its annotations (albumentations-style).
 
-    MulticageWarp(amplitude=10, grid_step=4, *, p=1.0, seed=None, coordinates=None,
+    MulticageWarp(amplitude=10, grid_step=4, *, map_step=None, p=1.0, seed=None, coordinates=None,
                   cage=None, cages=None, cage_dir=None, propose=True, protect=True,
                   propose_options=None, no_subject='default', border_mode='constant',
                   border_value=0, mask_value=0, remove_invisible=False, backend='cpu',
@@ -123,6 +123,9 @@ class MulticageWarp:
     amplitude       most pixels a cage vertex moves (multicage.random_pose)
     grid_step       a mesh node every grid_step pixels (1: the paper's per-pixel method;
                     4: what augmentation needs, much faster)
+    map_step        the inverse maps found on a lattice at most map_step pixels apart and
+                    interpolated where a pose folds nothing (Deformer's map_step; None: the
+                    grid step, an error of the grid step's own kind; 1: at every pixel)
     p               probability of applying it (drawn from the sample's seed)
     seed            base seed: with index=i a call draws from sample_seed(seed, i)
     coordinates     'mvc' or 'harmonic' (None: the cage's own)
@@ -153,7 +156,7 @@ class MulticageWarp:
     The transform pickles (without its caches) for workers.
     """
 
-    def __init__(self, amplitude=10.0, grid_step=4, *, p=1.0, seed=None, coordinates=None, cage=None,
+    def __init__(self, amplitude=10.0, grid_step=4, *, map_step=None, p=1.0, seed=None, coordinates=None, cage=None,
                  cages=None, cage_dir=None, propose=True, protect=True, propose_options=None,
                  no_subject="default", border_mode="constant", border_value=0, mask_value=0,
                  remove_invisible=False, backend="cpu", pose_options=None, fold_check="coarse",
@@ -162,6 +165,9 @@ class MulticageWarp:
             raise ValueError(f"amplitude: must be >= 0, got {amplitude!r}")
         if int(grid_step) < 1:
             raise ValueError(f"grid_step: must be >= 1, got {grid_step!r}")
+        map_step = int(grid_step) if map_step is None else int(map_step)
+        if not 1 <= map_step <= 64:
+            raise ValueError(f"map_step: must be in [1, 64] (or None: the grid step), got {map_step!r}")
         if not (0.0 <= float(p) <= 1.0):
             raise ValueError(f"p: a probability in [0, 1], got {p!r}")
         if fold_check not in ("coarse", "exact"):
@@ -174,6 +180,7 @@ class MulticageWarp:
             border_mode = _BORDER_MODES[border_mode]
         self.amplitude = float(amplitude)
         self.grid_step = int(grid_step)
+        self.map_step = map_step
         self.p = float(p)
         self.seed = None if seed is None else int(seed)
         self.coordinates = coordinates
@@ -211,10 +218,12 @@ class MulticageWarp:
 
     def __setstate__(self, state):
         self.__dict__.update(state)
+        self.__dict__.setdefault("map_step", 1)  # pickled before map_step: every pixel, as then
         self._init_caches()
 
     def __repr__(self):
-        return (f"MulticageWarp(amplitude={self.amplitude}, grid_step={self.grid_step}, p={self.p}, "
+        return (f"MulticageWarp(amplitude={self.amplitude}, grid_step={self.grid_step}, "
+                f"map_step={self.map_step}, p={self.p}, "
                 f"seed={self.seed})")
 
     # --- where the cage comes from -----------------------------------------------------------
@@ -296,7 +305,8 @@ class MulticageWarp:
         if d is None:
             size = (image.shape[1], image.shape[0])
             _, binding = self._binding(key, cage, size)
-            d = _mc.Deformer(image, binding, backend=self.backend, border_value=self._border_tuple())
+            d = _mc.Deformer(image, binding, backend=self.backend, border_value=self._border_tuple(),
+                             map_step=self.map_step)
             with self._lock:
                 self._deformers[dkey] = d
                 while len(self._deformers) > self.cache_size:
@@ -343,7 +353,7 @@ class MulticageWarp:
         applied, call_seed = self._draw(index, seed)
         params = {"applied": False, "seed": call_seed, "pose": None, "cage_key": None, "cage": None,
                   "image_size": (image.shape[1], image.shape[0]), "grid_step": self.grid_step,
-                  "amplitude": self.amplitude}
+                  "map_step": self.map_step, "amplitude": self.amplitude}
         if applied:
             key, cage = self._cage_for(image, name)
             if cage is not None:
@@ -367,6 +377,9 @@ class MulticageWarp:
         if params.get("grid_step", self.grid_step) != self.grid_step:
             raise ValueError("MulticageWarp.replay: the parameters were made with grid_step="
                              f"{params['grid_step']}, this transform has {self.grid_step}")
+        if params.get("map_step", self.map_step) != self.map_step:
+            raise ValueError("MulticageWarp.replay: the parameters were made with map_step="
+                             f"{params['map_step']}, this transform has {self.map_step}")
         return self._apply(dict(params), image, mask, masks, keypoints, bboxes, other, return_params)
 
     def _apply(self, params, image, mask, masks, keypoints, bboxes, other, return_params):

@@ -97,7 +97,8 @@ int enumFromObject(const py::handle& obj, const char* what,
 // The names are the library's (backendName, coordinateTypeName), as in the CLI.
 int parseBackend(const py::handle& obj) {
     std::vector<std::pair<std::string, int>> names;
-    for (int b : {BACKEND_AUTO, BACKEND_CPU, BACKEND_GPU}) names.emplace_back(cv::multicage::backendName(b), b);
+    for (int b : {BACKEND_AUTO, BACKEND_CPU, BACKEND_GPU})
+        names.emplace_back(cv::multicage::backendName(b), b);
     return enumFromObject(obj, "backend", names, 3);
 }
 
@@ -119,12 +120,16 @@ const char* coordinatesName(int c) {
 DeformParams deformParams(const py::object& coordinates, const py::object& gridStep,
                           const py::object& backend, const py::object& borderValue,
                           const py::object& halfFloat, const py::object& gpuBinding,
-                          const py::object& memoryBudget, int cageCoordinates) {
+                          const py::object& memoryBudget, const py::object& mapStep,
+                          int cageCoordinates) {
     DeformParams p;
     p.coordinates = coordinates.is_none() ? cageCoordinates : parseCoordinates(coordinates);
     p.gridStep = intArg(gridStep, "grid_step");
     if (p.gridStep < 1)
         throw py::value_error("grid_step: must be >= 1, got " + std::to_string(p.gridStep));
+    p.mapStep = intArg(mapStep, "map_step");
+    if (p.mapStep < 1 || p.mapStep > 64)
+        throw py::value_error("map_step: must be in [1, 64], got " + std::to_string(p.mapStep));
     p.backend = parseBackend(backend);
     p.borderValue = scalarFromObject(borderValue, "border_value");
     p.halfFloat = boolArg(halfFloat, "half_float");

@@ -4,15 +4,15 @@
 #ifndef MULTICAGE_PYTHON_COMMON_HPP
 #define MULTICAGE_PYTHON_COMMON_HPP
 
-#include "convert.hpp"
-
-#include <opencv2/multicage.hpp>
 #include <pybind11/stl.h>  // in every binding file, as pybind11 asks: one set of STL casters
 
 #include <functional>
+#include <opencv2/multicage.hpp>
 #include <string>
 #include <utility>
 #include <vector>
+
+#include "convert.hpp"
 
 namespace multicage_py {
 
@@ -55,7 +55,8 @@ choice (the cage file's `coordinates:`), as `multicage deform` does without --co
 cv::multicage::DeformParams deformParams(const py::object& coordinates, const py::object& gridStep,
                                          const py::object& backend, const py::object& borderValue,
                                          const py::object& halfFloat, const py::object& gpuBinding,
-                                         const py::object& memoryBudget, int cageCoordinates);
+                                         const py::object& memoryBudget, const py::object& mapStep,
+                                         int cageCoordinates);
 
 /** A Multicage argument, with a TypeError in Python's words for anything else. */
 const cv::multicage::Multicage& multicageArg(const py::handle& obj, const char* what);

@@ -84,14 +84,15 @@ std::unique_ptr<PyDeformer> makeDeformer(const py::handle& imageObj, const py::h
                                          const py::object& coordinates, const py::object& gridStep,
                                          const py::object& backend, const py::object& borderValue,
                                          const py::object& halfFloat, const py::object& gpuBinding,
-                                         const py::object& memoryBudget) {
+                                         const py::object& memoryBudget,
+                                         const py::object& mapStep) {
     auto d = std::make_unique<PyDeformer>();
     cv::Mat image;
     d->image = ownImage(imageObj, image);
     if (py::isinstance<Multicage>(rest)) {
         const Multicage& cage = rest.cast<const Multicage&>();
         d->params = deformParams(coordinates, gridStep, backend, borderValue, halfFloat, gpuBinding,
-                                 memoryBudget, cage.coordinates());
+                                 memoryBudget, mapStep, cage.coordinates());
         const Multicage scaled = restForImage(cage, image.size());
         d->cageSize = cage.imageSize();
         d->vertexCount = cage.vertexCount();
@@ -101,7 +102,7 @@ std::unique_ptr<PyDeformer> makeDeformer(const py::handle& imageObj, const py::h
     } else if (py::isinstance<Binding>(rest)) {
         const Binding& binding = rest.cast<const Binding&>();
         d->params = deformParams(coordinates, gridStep, backend, borderValue, halfFloat, gpuBinding,
-                                 memoryBudget, binding.coordinates);
+                                 memoryBudget, mapStep, binding.coordinates);
         if (d->params.coordinates != binding.coordinates)
             throw py::value_error(std::string("coordinates: the binding holds ") +
                                   coordinatesName(binding.coordinates) + " coordinates, not " +
@@ -213,6 +214,7 @@ py::tuple deformerState(PyDeformer& d) {
     params["gpu_binding"] =
         p.gpuBinding < 0 ? py::object(py::none()) : py::object(py::bool_(p.gpuBinding > 0));
     params["memory_budget"] = p.memoryBudget;
+    params["map_step"] = p.mapStep;
     return py::make_tuple(kPickleVersion, d.image, py::cast(std::move(binding)), params,
                           sizeTuple(d.cageSize));
 }
@@ -225,7 +227,9 @@ std::unique_ptr<PyDeformer> deformerFromState(const py::tuple& state) {
     try {
         d = makeDeformer(state[1], binding, params["coordinates"], params["grid_step"],
                          params["backend"], params["border_value"], params["half_float"],
-                         params["gpu_binding"], params["memory_budget"]);
+                         params["gpu_binding"], params["memory_budget"],
+                         // (pickles of before map_step: 1, as they deformed)
+                         params.contains("map_step") ? params["map_step"] : py::int_(1));
     } catch (const cv::Exception& e) {
         // Say what failed and why: the usual case is a GPU deformer sent to a process
         // or machine without a GPU.
@@ -260,7 +264,7 @@ const char* kDeformerDoc =
     R"doc(Binds an image to a multicage once, then deforms it for any number of poses.
 
 Deformer(image, rest, *, coordinates=None, grid_step=1, backend='auto', border_value=None,
-         half_float=False, gpu_binding=None, memory_budget=None)
+         half_float=False, gpu_binding=None, memory_budget=None, map_step=1)
 
 image         numpy array as cv2 gives it: uint8, uint16 or float32; HxW, HxWx3 or HxWx4
 rest          a Multicage, or a Binding made by multicage.bind() for an image of this size.
@@ -281,6 +285,10 @@ gpu_binding   GPU: compute the mean value binding in a compute shader (None: whe
               is a hardware one; True: always with the GPU backend; False: never)
 memory_budget most bytes the coefficients may take (None: the library's 1 GiB; 0: no limit);
               above it the grid step is raised (deformer.grid_step says the step used)
+map_step      CPU: 1 finds the inverse maps at every pixel; from 2 up, where a pose folds
+              nothing, they are found on a lattice at most map_step pixels apart and
+              interpolated (about a grid step's own error, a fraction of the time: for
+              augmentation; MulticageWarp uses its grid step)                  [--map-step]
 [--name]: the `multicage deform` option that sets the same thing.
 
 A pose is an Nx2 array of vertex_count points (or vertex_count + 4 with the frame corners
@@ -444,11 +452,11 @@ void defineDeformImage(py::module_& m) {
         [](const py::object& image, const py::object& restObj, const py::object& pose,
            const py::object& coordinates, const py::object& gridStep, const py::object& backend,
            const py::object& borderValue, const py::object& halfFloat, const py::object& gpuBinding,
-           const py::object& memoryBudget) {
+           const py::object& memoryBudget, const py::object& mapStep) {
             const Multicage& rest = multicageArg(restObj, "rest");
             const DeformParams params =
                 deformParams(coordinates, gridStep, backend, borderValue, halfFloat, gpuBinding,
-                             memoryBudget, rest.coordinates());
+                             memoryBudget, mapStep, rest.coordinates());
             py::object keep;
             const cv::Mat src = imageFromArray(image, "image", keep);
             const Multicage scaled = restForImage(rest, src.size());
@@ -465,6 +473,7 @@ void defineDeformImage(py::module_& m) {
         py::arg("coordinates") = py::none(), py::arg("grid_step") = 1, py::arg("backend") = "auto",
         py::arg("border_value") = py::none(), py::arg("half_float") = false,
         py::arg("gpu_binding") = py::none(), py::arg("memory_budget") = py::none(),
+        py::arg("map_step") = 1,
         "One shot: binds, deforms once, returns the image. Same keywords and scaling as Deformer; "
         "prefer a Deformer for several poses.");
 }
@@ -478,21 +487,23 @@ void defineDeformer(py::module_& m) {
     auto create = [](const py::object& image, const py::object& rest, const py::object& coordinates,
                      const py::object& gridStep, const py::object& backend,
                      const py::object& borderValue, const py::object& halfFloat,
-                     const py::object& gpuBinding, const py::object& memoryBudget) {
+                     const py::object& gpuBinding, const py::object& memoryBudget,
+                     const py::object& mapStep) {
         return makeDeformer(image, rest, coordinates, gridStep, backend, borderValue, halfFloat,
-                            gpuBinding, memoryBudget);
+                            gpuBinding, memoryBudget, mapStep);
     };
     DeformerClass cls(m, "Deformer", kDeformerDoc);
     cls.def(py::init(create), py::arg("image"), py::arg("rest"), py::kw_only(),
             py::arg("coordinates") = py::none(), py::arg("grid_step") = 1,
             py::arg("backend") = "auto", py::arg("border_value") = py::none(),
             py::arg("half_float") = false, py::arg("gpu_binding") = py::none(),
-            py::arg("memory_budget") = py::none())
+            py::arg("memory_budget") = py::none(), py::arg("map_step") = 1)
         .def_static("create", create, py::arg("image"), py::arg("rest"), py::kw_only(),
                     py::arg("coordinates") = py::none(), py::arg("grid_step") = 1,
                     py::arg("backend") = "auto", py::arg("border_value") = py::none(),
                     py::arg("half_float") = false, py::arg("gpu_binding") = py::none(),
-                    py::arg("memory_budget") = py::none(), "Same as Deformer(...).");
+                    py::arg("memory_budget") = py::none(), py::arg("map_step") = 1,
+                    "Same as Deformer(...).");
     defineDeformerCalls(cls);
     defineDeformerProperties(cls);
     cls.def(py::pickle([](PyDeformer& d) { return deformerState(d); },
