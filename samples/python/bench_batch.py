@@ -74,10 +74,11 @@ def augment_rates(args, images):
     load = os.getloadavg()[0] if hasattr(os, "getloadavg") else float("nan")
     print(f"{cpu_model()}, OpenCV threads 1, load average {load:.2f}; {size}x{size}, amplitude "
           f"{args.amplitude:g} px, medians of {args.repeats} interleaved rounds of {args.count} images")
+    print(f"map step: {'the grid step' if args.map_step is None else args.map_step}")
     print(f"{'grid step':>9} | {'MulticageWarp image':>19} | {'+ mask + 8 boxes':>16} | {'cv2.remap':>10} | "
           f"{'ratio':>6} | {'elastic':>8} | ratio")
     for step in (int(s) for s in args.grid_steps.split(",")):
-        warp = mc.MulticageWarp(amplitude=args.amplitude, grid_step=step, seed=0)
+        warp = mc.MulticageWarp(amplitude=args.amplitude, grid_step=step, map_step=args.map_step, seed=0)
         warp(image=image, name="photo", index=0)  # proposes and binds once, as a loader's first batch
         mx, my = mc.Deformer(image, warp._cage_for(image, "photo")[1], backend="cpu",
                              grid_step=step).compute_maps(mc.random_pose(warp._cage_for(image, "photo")[1], 8, seed=1))
@@ -123,6 +124,8 @@ def main(argv=None):
     p.add_argument("--amplitude", type=float, default=12, help="random pose amplitude, px (default: %(default)s)")
     p.add_argument("--repeats", type=int, default=3, help="runs per figure, the median is shown (default: %(default)s)")
     p.add_argument("--threads", type=int, default=None, help="cv2.setNumThreads (default: all cores)")
+    p.add_argument("--map-step", type=int, default=None,
+                   help="--augment: MulticageWarp's map_step (default: the grid step; 1: every pixel)")
     p.add_argument("--augment", action="store_true",
                    help="MulticageWarp (one thread) against cv2.remap and the elastic recipe instead")
     args = p.parse_args(argv)
