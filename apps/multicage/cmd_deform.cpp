@@ -61,6 +61,9 @@ void runDeform(const DeformCommandOptions& o) {
               << (params.backend == BACKEND_AUTO ? " (auto)" : "") << ", "
               << coordinateTypeDescription(binding.coordinates) << " coordinates, grid step "
               << binding.gridStep << (stepChange.empty() ? "" : " (" + stepChange + ")")
+              << (params.mapStep > 1 && deformer->backend() == BACKEND_CPU
+                      ? ", map step " + std::to_string(params.mapStep)
+                      : std::string())
               << ", bind " << cvRound(bindMs) << " ms, deform " << cvRound(deformMs)
               << " ms, total " << cvRound(msSince(t0)) << " ms)" << std::endl;
 }
