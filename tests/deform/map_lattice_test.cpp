@@ -10,7 +10,6 @@
 using namespace cv;
 using namespace cv::multicage;
 using multicage_testing::compareMaps;
-using multicage_testing::MapAgreement;
 using multicage_testing::sameBits;
 
 namespace {
@@ -69,8 +68,8 @@ TEST(MapLattice, AnAffinePoseIsInterpolatedExactly) {
                 const Maps lattice = mapsOf(*cpuDeformer(image, b, step), pose);
                 const std::string what =
                     format("%dx%d grid step %d map step %d", size.width, size.height, grid, step);
-                const MapAgreement ax = compareMaps(lattice.x, exact.x, kUncovered);
-                const MapAgreement ay = compareMaps(lattice.y, exact.y, kUncovered);
+                const auto ax = compareMaps(lattice.x, exact.x, kUncovered);
+                const auto ay = compareMaps(lattice.y, exact.y, kUncovered);
                 EXPECT_EQ(ax.coverage + ay.coverage, 0) << what << ": pixels covered by one only";
                 double worst = 0;
                 minMaxLoc(distances(lattice, exact), nullptr, &worst);
