@@ -167,6 +167,15 @@ raster::PullMesh RasterMesh::pullMesh() const {
     return {P_.ptr<Point2f>(), P_.cols, P_.rows, grid, float(gridStep_), lo_, hi_};
 }
 
+namespace {
+// Bands of output rows drawn in parallel: 4 per thread, or of 64 rows (two maps of 512 px: 256 KB,
+// in cache while drawn) where there are more. The cell rows across a band's edge are set up by
+// both bands, so narrower ones repeat more work.
+int bandCount(int rows) {
+    return std::max(1, std::min(rows, std::max(getNumThreads() * 4, rows / 64)));
+}
+}  // namespace
+
 bool RasterMesh::mayPull() const {
     return gridStep_ > 0 && (gridStep_ <= kMaxPullStep || mapStep_ > 1) && pullPreferred_ &&
            raster::havePullKernel() && P_.isContinuous();
@@ -193,8 +202,7 @@ bool RasterMesh::drawInterpolated(Mat& mapx, Mat& mapy,
     if (!raster::pullLattice(pullMesh(), lattice, latticeNodes_, latticeX_, latticeY_))
         return false;
     // Bands of output rows as draw()'s, each sampled (bandDone) while its maps are in cache.
-    const int bands =
-        std::max(1, std::min(out_.height, std::max(getNumThreads() * 4, out_.height / 64)));
+    const int bands = bandCount(out_.height);
     parallel_for_(Range(0, bands), [&](const Range& range) {
         for (int band = range.start; band < range.end; ++band) {
             const int y0 = out_.height * band / bands, y1 = out_.height * (band + 1) / bands;
@@ -241,12 +249,10 @@ void RasterMesh::draw(Mat& mapx, Mat& mapy, const std::function<void(int, int)>&
     const Mat& P = P_;
     const Point2f lo = lo_, hi = hi_;
     const Size outputSize = out_;
-    // Bands of output rows in parallel; each clears its rows, then walks the cells in the same
-    // order, so where the mesh folds over, the later triangle wins exactly as in a GPU draw call.
-    // Bands of 64 rows (two maps of 512 px: 256 KB, in cache while drawn) or more: the cell
-    // rows across a band's edge are set up by both bands, so narrower ones repeat more work.
-    const int bands = std::max(
-        1, std::min(outputSize.height, std::max(getNumThreads() * 4, outputSize.height / 64)));
+    // Bands of output rows in parallel (bandCount); each clears its rows, then walks the cells in
+    // the same order, so where the mesh folds over, the later triangle wins exactly as in a GPU
+    // draw call.
+    const int bands = bandCount(outputSize.height);
     const raster::DrawCellRowFn kernel = raster::cellRowKernel();
     // A regular grid of small cells that folds nowhere is pulled pixel by pixel (mesh_pull.cpp),
     // band by band, where this CPU can: per pixel it costs about what a raster costs per
