@@ -318,3 +318,59 @@ TEST(MeshPull, WhatPoseFoundIsForgottenWhenTheMeshChanges) {
     mesh.setFrame(concave);
     EXPECT_FALSE(mesh.pulls());
 }
+
+// The fold check (raster::positiveRows) against its rule restated here: a triangle is clearly
+// positive when cross(e1, e2) > 1e-4 (|e1.x e2.y| + |e1.y e2.x|) in float. Meshes of 2 rows and
+// 2 to 40 cells (every lane of a vector of 8 or 16 cells, and the scalar tail), each with one
+// cell made a sliver, folded or NaN, or none: the AVX2 kernel (and AVX-512 where there is one)
+// gives the rule's answer.
+TEST(MeshPull, TheFoldCheckFollowsItsRuleOnEveryKernel) {
+    if (!raster::havePullKernel()) GTEST_SKIP() << "no pull kernel here: no fold check is asked";
+    auto clearlyPositive = [](float e1x, float e1y, float e2x, float e2y) {
+        const float l = e1x * e2y, r = e1y * e2x;
+        return l - r > 1e-4f * (std::abs(l) + std::abs(r));
+    };
+    RNG rng(17);
+    int cases = 0, folded = 0;
+    for (bool avx2 : {false, true}) {
+        raster::preferAvx2Pull(avx2);
+        for (int cells = 1; cells <= 40; ++cells)
+            for (int bad = -1; bad < cells; ++bad)
+                for (int kind = 0; kind < 3; ++kind) {
+                    Mat nodes(2, cells + 1, CV_32FC2);
+                    for (int y = 0; y < 2; ++y)
+                        for (int x = 0; x <= cells; ++x)
+                            nodes.at<Point2f>(y, x) =
+                                Point2f(x + rng.uniform(-0.2f, 0.2f), y + rng.uniform(-0.2f, 0.2f));
+                    if (bad >= 0) {
+                        Point2f& b = nodes.at<Point2f>(0, bad + 1);
+                        const Point2f a = nodes.at<Point2f>(0, bad), c = nodes.at<Point2f>(1, bad);
+                        if (kind == 0) b = a + (c - a) * 0.5f + Point2f(1e-6f, 0.f);  // a sliver
+                        if (kind == 1) b.x = a.x - 0.5f;                              // folded
+                        if (kind == 2) b.y = NAN;
+                    }
+                    bool expected = true;
+                    for (int k = 0; k < cells; ++k) {
+                        const Point2f a = nodes.at<Point2f>(0, k), b = nodes.at<Point2f>(0, k + 1),
+                                      c = nodes.at<Point2f>(1, k), d = nodes.at<Point2f>(1, k + 1);
+                        expected = expected &&
+                                   clearlyPositive(b.x - a.x, b.y - a.y, c.x - a.x, c.y - a.y) &&
+                                   clearlyPositive(d.x - b.x, d.y - b.y, c.x - b.x, c.y - b.y);
+                    }
+                    const raster::PullMesh mesh{nodes.ptr<Point2f>(),
+                                                cells + 1,
+                                                2,
+                                                Size(cells - 1, 0),
+                                                1.f,
+                                                Point2f(),
+                                                Point2f()};
+                    EXPECT_EQ(raster::positiveRows(mesh, 0, 1), expected)
+                        << raster::pullKernelName() << ": " << cells << " cells, cell " << bad
+                        << " kind " << kind;
+                    ++cases, folded += !expected;
+                }
+    }
+    raster::preferAvx2Pull(false);
+    EXPECT_GT(folded, cases / 2) << "most cases should have a bad cell";
+    EXPECT_LT(folded, cases) << "and some none";
+}
