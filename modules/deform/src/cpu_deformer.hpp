@@ -89,6 +89,7 @@ class RasterMesh {
     void setMapStep(int step) {
         mapStep_ = std::max(step, 1);
         pullable_ = Pullable::unknown;
+        reserveLattice();
     }
     /** Whether draw() interpolates the current nodes and frame from a lattice (setMapStep). */
     bool interpolates() const;
@@ -105,6 +106,8 @@ class RasterMesh {
     bool mayPull() const;
     // raster::pullable of the current nodes and frame (pose() may have found it), where mayPull.
     bool foldsNowhere() const;
+    // The lattice's maps for the output size and map step, allocated and touched.
+    void reserveLattice();
     // draw() through a lattice (setMapStep); false, nothing written, where a walk did not settle.
     bool drawInterpolated(Mat& mapx, Mat& mapy, const std::function<void(int, int)>& bandDone);
     // rowMin_ and rowMax_ for the current nodes.
@@ -122,7 +125,8 @@ class RasterMesh {
     int gridStep_ = 0;  // a binding's grid step (its nodes rest at multiples of it), else 0
     bool pullPreferred_ = true;
     int mapStep_ = 1;
-    Mat latticeNodes_, latticeX_, latticeY_;  // drawInterpolated's, kept between poses
+    std::vector<Mat> latticeOwners_;  // the memory of latticeX_, latticeY_
+    Mat latticeX_, latticeY_;         // drawInterpolated's lattice maps, kept between poses
     // raster::pullable of the current nodes and frame, when pose() found it.
     enum class Pullable { unknown, yes, no } pullable_ = Pullable::unknown;
 };

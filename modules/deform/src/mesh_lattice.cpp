@@ -56,19 +56,11 @@ bool latticeFits(const PullMesh& mesh, Size size, int step) {
     return true;
 }
 
-bool pullLattice(const PullMesh& mesh, const Lattice& lattice, Mat& scaled, Mat& lx, Mat& ly) {
-    // The mesh in lattice units: lattice point (i, j) is then pixel (i, j) of the pull, and the
-    // triangle holding it (and its barycentrics, which scaling keeps) the one holding the output
-    // point (i spacing.x, j spacing.y). The rest points the pull returns are the binding's.
-    scaled.create(mesh.rows, mesh.cols, CV_32FC2);
-    CV_Assert(scaled.isContinuous());
-    const float kx = float(1.0 / lattice.spacing.x), ky = float(1.0 / lattice.spacing.y);
-    const size_t n = size_t(mesh.rows) * mesh.cols;
-    const Point2f* src = mesh.nodes;
-    Point2f* dst = scaled.ptr<Point2f>();
-    for (size_t k = 0; k < n; ++k) dst[k] = Point2f(src[k].x * kx, src[k].y * ky);
+bool pullLattice(const PullMesh& mesh, const Lattice& lattice, Mat& lx, Mat& ly) {
+    // Lattice point (i, j) is pixel (i, j) of the pull, at (i spacing.x, j spacing.y) in the
+    // output: the pull walks to the triangle holding it and returns its rest point.
     PullMesh m = mesh;
-    m.nodes = dst;
+    m.spacing = Point2f(float(lattice.spacing.x), float(lattice.spacing.y));
     lx.create(lattice.points, CV_32F);
     ly.create(lattice.points, CV_32F);
     const int runs = (lattice.points.height + kPullRun - 1) / kPullRun;

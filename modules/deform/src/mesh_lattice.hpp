@@ -2,7 +2,7 @@
 //
 // Where the mesh folds nowhere, its inverse is a continuous piecewise linear map, so the maps
 // can be found exactly on a lattice of output points every mapStep pixels or less (the pull
-// kernel, mesh_pull.hpp, on the mesh scaled down by the lattice's spacing) and interpolated
+// kernel, mesh_pull.hpp, walking to the lattice's points instead of pixels) and interpolated
 // bilinearly in between: exact wherever a lattice cell lies inside one triangle, off by the
 // bend of the map across the triangles' edges elsewhere. That is the same kind of error a grid
 // step makes, on the other side of the map: with random poses of 12 px on 512x512, mapStep 4 at
@@ -34,11 +34,11 @@ centre with room to spare, so that every lattice point and every pixel between t
 (a frame moved inwards leaves pixels no triangle covers, which interpolation would blur). */
 bool latticeFits(const PullMesh& mesh, Size size, int step);
 
-/** The inverse maps at the lattice's points (lx, ly: lattice.points CV_32F, made here) for a
-pullable mesh (raster::pullable), in parallel: the pull kernel on the mesh's nodes scaled by
-1 / spacing (written to `scaled`, reused between calls). False where a point's walk did not
-settle (the caller then draws the maps whole). */
-bool pullLattice(const PullMesh& mesh, const Lattice& lattice, Mat& scaled, Mat& lx, Mat& ly);
+/** The inverse maps at the lattice's points (lx, ly: lattice.points CV_32F, made here unless
+they are already) for a pullable mesh (raster::pullable), in parallel: the pull kernel with the
+lattice's spacing (PullMesh::spacing). False where a point's walk did not settle (the caller then
+draws the maps whole). */
+bool pullLattice(const PullMesh& mesh, const Lattice& lattice, Mat& lx, Mat& ly);
 
 /** Rows [y0, y1) of the maps (CV_32F, the output's size) interpolated bilinearly from the
 lattice's (pullLattice). */

@@ -280,7 +280,7 @@ bool pullRowsAvx512(const PullMesh& m, int y0, int y1, Mat& mapx, Mat& mapy) {
         float* mx = mapx.ptr<float>(y);
         float* my = mapy.ptr<float>(y);
         const int seen = y % kPullRun;  // rows of this run already pulled
-        const __m512 py = _mm512_set1_ps(float(y));
+        const __m512 py = _mm512_set1_ps(float(y) * m.spacing.y);
         // kTogether vectors of 16 pixels at a time, each stage for all of them before the next (the
         // chains of dependent steps, cell, node loads, barycentrics with a division, then
         // overlap). Each vector's walk is the same as alone, step for step: a vector whose walk
@@ -296,7 +296,8 @@ bool pullRowsAvx512(const PullMesh& m, int y0, int y1, Mat& mapx, Mat& mapy) {
                     xv < W
                         ? static_cast<__mmask16>(_bzhi_u32(0xffff, unsigned(std::min(W - xv, 16))))
                         : 0;
-                px[v] = _mm512_add_ps(_mm512_set1_ps(float(xv)), iota);
+                const __m512 ix = _mm512_add_ps(_mm512_set1_ps(float(xv)), iota);
+                px[v] = _mm512_mul_ps(ix, _mm512_set1_ps(m.spacing.x));
                 __m512 gx, gy;
                 if (seen >= 2) {  // extrapolated from the two rows above
                     const __m512 ax = _mm512_loadu_ps(e1x + xv), ay = _mm512_loadu_ps(e1y + xv);
@@ -306,7 +307,7 @@ bool pullRowsAvx512(const PullMesh& m, int y0, int y1, Mat& mapx, Mat& mapy) {
                     gx = _mm512_loadu_ps(e1x + xv);
                     gy = _mm512_add_ps(_mm512_loadu_ps(e1y + xv), _mm512_set1_ps(sy));
                 } else {
-                    gx = _mm512_add_ps(one, _mm512_mul_ps(px[v], _mm512_set1_ps(sx)));
+                    gx = _mm512_add_ps(one, _mm512_mul_ps(ix, _mm512_set1_ps(sx)));
                     gy = _mm512_set1_ps(1.f + float(y) * sy);
                 }
                 // The guess as a cell and coordinates in it: a walk's step is then decided by its
@@ -733,12 +734,13 @@ bool pullRowsAvx2(const PullMesh& m, int y0, int y1, Mat& mapx, Mat& mapy) {
         float* mx = mapx.ptr<float>(y);
         float* my = mapy.ptr<float>(y);
         const int seen = y % kPullRun;
-        const __m256 py = _mm256_set1_ps(float(y));
+        const __m256 py = _mm256_set1_ps(float(y) * m.spacing.y);
         for (int xv = 0; xv < W; xv += 8) {
             Walk8 k;
             {
                 k.lanesI = _mm256_cmpgt_epi32(_mm256_set1_epi32(std::min(W - xv, 8)), iotaI);
-                k.px = _mm256_add_ps(_mm256_set1_ps(float(xv)), iota);
+                const __m256 ix = _mm256_add_ps(_mm256_set1_ps(float(xv)), iota);
+                k.px = _mm256_mul_ps(ix, _mm256_set1_ps(m.spacing.x));
                 __m256 gx, gy;
                 if (seen >= 2) {
                     const __m256 ax = _mm256_loadu_ps(e1x + xv), ay = _mm256_loadu_ps(e1y + xv);
@@ -748,7 +750,7 @@ bool pullRowsAvx2(const PullMesh& m, int y0, int y1, Mat& mapx, Mat& mapy) {
                     gx = _mm256_loadu_ps(e1x + xv);
                     gy = _mm256_add_ps(_mm256_loadu_ps(e1y + xv), _mm256_set1_ps(sy));
                 } else {
-                    gx = _mm256_add_ps(one, _mm256_mul_ps(k.px, _mm256_set1_ps(sx)));
+                    gx = _mm256_add_ps(one, _mm256_mul_ps(ix, _mm256_set1_ps(sx)));
                     gy = _mm256_set1_ps(1.f + float(y) * sy);
                 }
                 gx = _mm256_min_ps(_mm256_max_ps(gx, _mm256_set1_ps(-1.f)), big);  // NaN: -1

@@ -17,6 +17,9 @@ struct PullMesh {
     Size gridSize;   // m, n
     float step;
     Point2f lo, hi;  // the rest nodes' extent, the maps' clamp (as the raster's)
+    /** Where pixel (i, j) of the maps pulled lies: (i spacing.x, j spacing.y). 1 for the maps of
+    the output itself; a lattice's spacing for maps found only at its points (mesh_lattice.hpp). */
+    Point2f spacing{1.f, 1.f};
 };
 
 /** Whether every triangle of the mesh (kCellTriangles of each cell, ring included) keeps the rest

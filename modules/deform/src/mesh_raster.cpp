@@ -191,6 +191,18 @@ bool RasterMesh::pulls() const {
     return gridStep_ <= kMaxPullStep && foldsNowhere();
 }
 
+void RasterMesh::reserveLattice() {
+    latticeOwners_.clear();
+    latticeX_.release(), latticeY_.release();
+    if (mapStep_ < 2 || out_.width < 2 || out_.height < 2) return;
+    // Allocated and touched here (for a Deformer: at its creation), in 2 MB pages where the
+    // kernel offers them: a first deform does not pay the page faults of fresh maps.
+    const Size points = raster::Lattice::of(out_, mapStep_).points;
+    latticeX_ = hugePageMat(points, CV_32F, latticeOwners_);
+    latticeY_ = hugePageMat(points, CV_32F, latticeOwners_);
+    latticeX_.setTo(Scalar::all(0)), latticeY_.setTo(Scalar::all(0));
+}
+
 bool RasterMesh::interpolates() const {
     return mapStep_ > 1 && mayPull() && raster::latticeFits(pullMesh(), out_, mapStep_) &&
            foldsNowhere();
@@ -199,7 +211,8 @@ bool RasterMesh::interpolates() const {
 bool RasterMesh::drawInterpolated(Mat& mapx, Mat& mapy,
                                   const std::function<void(int, int)>& bandDone) {
     const raster::Lattice lattice = raster::Lattice::of(out_, mapStep_);
-    if (!raster::pullLattice(pullMesh(), lattice, latticeNodes_, latticeX_, latticeY_))
+    if (latticeX_.size() != lattice.points) reserveLattice();
+    if (!raster::pullLattice(pullMesh(), lattice, latticeX_, latticeY_))
         return false;
     // Bands of output rows as draw()'s, each sampled (bandDone) while its maps are in cache.
     const int bands = bandCount(out_.height);
