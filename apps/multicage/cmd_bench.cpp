@@ -808,9 +808,11 @@ void addBenchCommand(CLI::App& app) {
     cmd->add_flag(
         "--augment", o->augment,
         "Only the augmentation figures: randomPose + deform at 512x512 (1 thread, grid "
-        "steps 4 and 2) against cv::remap and the elastic recipe in the same run, and the "
-        "first deform and a warm grid-step-4 deform at 1024x768 (2 threads) against reading "
-        "the coefficients once, with a plain cv::remap of that image beside them");
+        "steps 4 and 2, each with the maps found at every pixel and on a lattice of the grid "
+        "step, DeformParams::mapStep) against cv::remap and the elastic recipe in the same run, "
+        "and the first deform (map steps 1 and 2) and a warm grid-step-4 deform (map steps 1 "
+        "and 4) at 1024x768 (2 threads) against reading the coefficients once, with a plain "
+        "cv::remap of that image beside them");
     cmd->add_flag("--no-peer", o->noPeer, "Skip the thin-plate spline peer");
     cmd->add_flag("--no-gpu", o->noGpu, "Skip the GPU columns");
     cmd->add_option(
