@@ -212,8 +212,7 @@ bool RasterMesh::drawInterpolated(Mat& mapx, Mat& mapy,
                                   const std::function<void(int, int)>& bandDone) {
     const raster::Lattice lattice = raster::Lattice::of(out_, mapStep_);
     if (latticeX_.size() != lattice.points) reserveLattice();
-    if (!raster::pullLattice(pullMesh(), lattice, latticeX_, latticeY_))
-        return false;
+    if (!raster::pullLattice(pullMesh(), lattice, latticeX_, latticeY_)) return false;
     // Bands of output rows as draw()'s, each sampled (bandDone) while its maps are in cache.
     const int bands = bandCount(out_.height);
     parallel_for_(Range(0, bands), [&](const Range& range) {
