@@ -825,21 +825,23 @@ inline bool clearlyPositive(float e1x, float e1y, float e2x, float e2y) {
     return l - r > kSliver * (std::abs(l) + std::abs(r));
 }
 
+// Whether both triangles of cells [k0, k1) of node rows p0, p1 are clearly positive.
+inline bool cellsPositive(const Point2f* p0, const Point2f* p1, int k0, int k1) {
+    bool good = true;
+    for (int k = k0; k < k1; ++k) {
+        const Point2f a = p0[k], b = p0[k + 1], c = p1[k], d = p1[k + 1];
+        good &= clearlyPositive(b.x - a.x, b.y - a.y, c.x - a.x, c.y - a.y) &
+                clearlyPositive(d.x - b.x, d.y - b.y, c.x - b.x, c.y - b.y);
+    }
+    return good;
+}
+
 MULTICAGE_TARGET_CLONES_PULL
 bool positiveRowsPortable(const PullMesh& m, int ey0, int ey1) {
     const Point2f* P = m.nodes;
     const size_t C = m.cols;
-    for (int ey = std::max(ey0, 0); ey < std::min(ey1, m.rows - 1); ++ey) {
-        const Point2f* p0 = P + size_t(ey) * C;
-        const Point2f* p1 = p0 + C;
-        bool good = true;
-        for (int k = 0; k + 1 < m.cols; ++k) {
-            const Point2f a = p0[k], b = p0[k + 1], c = p1[k], d = p1[k + 1];
-            good &= clearlyPositive(b.x - a.x, b.y - a.y, c.x - a.x, c.y - a.y) &
-                    clearlyPositive(d.x - b.x, d.y - b.y, c.x - b.x, c.y - b.y);
-        }
-        if (!good) return false;
-    }
+    for (int ey = std::max(ey0, 0); ey < std::min(ey1, m.rows - 1); ++ey)
+        if (!cellsPositive(P + size_t(ey) * C, P + size_t(ey + 1) * C, 0, m.cols - 1)) return false;
     return true;
 }
 
@@ -869,13 +871,7 @@ MULTICAGE_AVX2_TARGET bool positiveRowsAvx2(const PullMesh& m, int ey0, int ey1)
                                     positive8(_mm256_sub_ps(dx, bx), _mm256_sub_ps(dy, by),
                                               _mm256_sub_ps(cx, bx), _mm256_sub_ps(cy, by))));
         }
-        if (_mm256_movemask_ps(good) != 0xff) return false;
-        for (; k < cells; ++k) {
-            const Point2f a = p0[k], b = p0[k + 1], c = p1[k], d = p1[k + 1];
-            if (!(clearlyPositive(b.x - a.x, b.y - a.y, c.x - a.x, c.y - a.y) &&
-                  clearlyPositive(d.x - b.x, d.y - b.y, c.x - b.x, c.y - b.y)))
-                return false;
-        }
+        if (_mm256_movemask_ps(good) != 0xff || !cellsPositive(p0, p1, k, cells)) return false;
     }
     return true;
 }
