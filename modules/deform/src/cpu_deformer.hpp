@@ -8,6 +8,7 @@
 #include <opencv2/multicage/internal/backend_contract.hpp>
 #include <vector>
 
+#include "mesh_lattice.hpp"
 #include "mesh_pull.hpp"
 
 namespace cv {
@@ -106,7 +107,7 @@ class RasterMesh {
     bool mayPull() const;
     // raster::pullable of the current nodes and frame (pose() may have found it), where mayPull.
     bool foldsNowhere() const;
-    // The lattice's maps for the output size and map step, allocated and touched.
+    // The lattice for the output size and map step: its maps allocated and touched, its columns.
     void reserveLattice();
     // draw() through a lattice (setMapStep); false, nothing written, where a walk did not settle.
     bool drawInterpolated(Mat& mapx, Mat& mapy, const std::function<void(int, int)>& bandDone);
@@ -126,7 +127,12 @@ class RasterMesh {
     bool pullPreferred_ = true;
     int mapStep_ = 1;
     std::vector<Mat> latticeOwners_;  // the memory of latticeX_, latticeY_
-    Mat latticeX_, latticeY_;         // drawInterpolated's lattice maps, kept between poses
+    // drawInterpolated's, kept between poses: the output size they were made for (reserveLattice),
+    // the lattice, its maps and its columns.
+    Size latticeFor_;
+    raster::Lattice lattice_;
+    Mat latticeX_, latticeY_;
+    raster::LatticeColumns latticeColumns_;
     // raster::pullable of the current nodes and frame, when pose() found it.
     enum class Pullable { unknown, yes, no } pullable_ = Pullable::unknown;
 };

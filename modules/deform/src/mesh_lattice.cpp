@@ -104,20 +104,26 @@ __attribute__((target("avx2"))) void expandRowAvx2(const float* r, const float* 
 
 }  // namespace
 
-void interpolateRows(const Lattice& lattice, const Mat& lx, const Mat& ly, int y0, int y1,
-                     Mat& mapx, Mat& mapy) {
-    const int W = mapx.cols, cols = lattice.points.width, last = cols - 2;
-    // Each output column's lattice interval and its weight in it; for 8 columns at a time, each
-    // one's interval less the first's.
-    thread_local std::vector<int> left, local;
-    thread_local std::vector<float> weight, rx, dx, ry, dy;
-    left.resize(W), local.resize(W), weight.resize(W);
-    for (int x = 0; x < W; ++x) {
+LatticeColumns LatticeColumns::of(const Lattice& lattice, int width) {
+    LatticeColumns c;
+    const int last = lattice.points.width - 2;
+    c.left.resize(width), c.local.resize(width), c.weight.resize(width);
+    for (int x = 0; x < width; ++x) {
         const double t = x / lattice.spacing.x;
         const int i = std::min(static_cast<int>(t), last);
-        left[x] = i, weight[x] = float(t - i);
-        local[x] = i - left[x - x % 8];
+        c.left[x] = i, c.weight[x] = float(t - i);
+        c.local[x] = i - c.left[x - x % 8];
     }
+    return c;
+}
+
+void interpolateRows(const Lattice& lattice, const LatticeColumns& columns, const Mat& lx,
+                     const Mat& ly, int y0, int y1, Mat& mapx, Mat& mapy) {
+    const int W = mapx.cols, cols = lattice.points.width;
+    CV_Assert(columns.left.size() == size_t(W));
+    const int *left = columns.left.data(), *local = columns.local.data();
+    const float* weight = columns.weight.data();
+    thread_local std::vector<float> rx, dx, ry, dy;
     // (padded: a vector of 8 reads up to 8 values from its first pixel's interval)
     for (auto* v : {&rx, &dx, &ry, &dy}) v->assign(cols + 8, 0.f);
 #if defined(__GNUC__) && defined(__x86_64__)
@@ -137,13 +143,13 @@ void interpolateRows(const Lattice& lattice, const Mat& lx, const Mat& ly, int y
         float* my = mapy.ptr<float>(y);
 #if defined(__GNUC__) && defined(__x86_64__)
         if (avx2) {
-            expandRowAvx2(rx.data(), dx.data(), left.data(), weight.data(), local.data(), W, mx);
-            expandRowAvx2(ry.data(), dy.data(), left.data(), weight.data(), local.data(), W, my);
+            expandRowAvx2(rx.data(), dx.data(), left, weight, local, W, mx);
+            expandRowAvx2(ry.data(), dy.data(), left, weight, local, W, my);
             continue;
         }
 #endif
-        expandRow(rx.data(), dx.data(), left.data(), weight.data(), W, mx);
-        expandRow(ry.data(), dy.data(), left.data(), weight.data(), W, my);
+        expandRow(rx.data(), dx.data(), left, weight, W, mx);
+        expandRow(ry.data(), dy.data(), left, weight, W, my);
     }
 }
 

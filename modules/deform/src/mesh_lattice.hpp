@@ -12,6 +12,7 @@
 #define MULTICAGE_MESH_LATTICE_HPP
 
 #include <opencv2/core.hpp>
+#include <vector>
 
 #include "mesh_pull.hpp"
 
@@ -40,10 +41,19 @@ lattice's spacing (PullMesh::spacing). False where a point's walk did not settle
 draws the maps whole). */
 bool pullLattice(const PullMesh& mesh, const Lattice& lattice, Mat& lx, Mat& ly);
 
-/** Rows [y0, y1) of the maps (CV_32F, the output's size) interpolated bilinearly from the
-lattice's (pullLattice). */
-void interpolateRows(const Lattice& lattice, const Mat& lx, const Mat& ly, int y0, int y1,
-                     Mat& mapx, Mat& mapy);
+/** Each output column's place in a lattice: its interval (left) and weight in it, and, for 8
+columns at a time, each one's interval less the first's (local). They depend on the output's
+width and the lattice alone: made once, with the lattice's maps, not per pose. */
+struct LatticeColumns {
+    std::vector<int> left, local;
+    std::vector<float> weight;
+    static LatticeColumns of(const Lattice& lattice, int width);
+};
+
+/** Rows [y0, y1) of the maps (CV_32F, the output's size, columns.left.size() wide) interpolated
+bilinearly from the lattice's (pullLattice). */
+void interpolateRows(const Lattice& lattice, const LatticeColumns& columns, const Mat& lx,
+                     const Mat& ly, int y0, int y1, Mat& mapx, Mat& mapy);
 
 }  // namespace raster
 }  // namespace multicage

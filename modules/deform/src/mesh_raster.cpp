@@ -194,13 +194,16 @@ bool RasterMesh::pulls() const {
 void RasterMesh::reserveLattice() {
     latticeOwners_.clear();
     latticeX_.release(), latticeY_.release();
+    latticeColumns_ = raster::LatticeColumns();
+    latticeFor_ = out_;
     if (mapStep_ < 2 || out_.width < 2 || out_.height < 2) return;
     // Allocated and touched here (for a Deformer: at its creation), in 2 MB pages where the
     // kernel offers them: a first deform does not pay the page faults of fresh maps.
-    const Size points = raster::Lattice::of(out_, mapStep_).points;
-    latticeX_ = hugePageMat(points, CV_32F, latticeOwners_);
-    latticeY_ = hugePageMat(points, CV_32F, latticeOwners_);
+    lattice_ = raster::Lattice::of(out_, mapStep_);
+    latticeX_ = hugePageMat(lattice_.points, CV_32F, latticeOwners_);
+    latticeY_ = hugePageMat(lattice_.points, CV_32F, latticeOwners_);
     latticeX_.setTo(Scalar::all(0)), latticeY_.setTo(Scalar::all(0));
+    latticeColumns_ = raster::LatticeColumns::of(lattice_, out_.width);
 }
 
 bool RasterMesh::interpolates() const {
@@ -210,15 +213,15 @@ bool RasterMesh::interpolates() const {
 
 bool RasterMesh::drawInterpolated(Mat& mapx, Mat& mapy,
                                   const std::function<void(int, int)>& bandDone) {
-    const raster::Lattice lattice = raster::Lattice::of(out_, mapStep_);
-    if (latticeX_.size() != lattice.points) reserveLattice();
-    if (!raster::pullLattice(pullMesh(), lattice, latticeX_, latticeY_)) return false;
+    if (latticeFor_ != out_) reserveLattice();  // a pose of another output size
+    if (!raster::pullLattice(pullMesh(), lattice_, latticeX_, latticeY_)) return false;
     // Bands of output rows as draw()'s, each sampled (bandDone) while its maps are in cache.
     const int bands = bandCount(out_.height);
     parallel_for_(Range(0, bands), [&](const Range& range) {
         for (int band = range.start; band < range.end; ++band) {
             const int y0 = out_.height * band / bands, y1 = out_.height * (band + 1) / bands;
-            raster::interpolateRows(lattice, latticeX_, latticeY_, y0, y1, mapx, mapy);
+            raster::interpolateRows(lattice_, latticeColumns_, latticeX_, latticeY_, y0, y1, mapx,
+                                    mapy);
             if (bandDone) bandDone(y0, y1);
         }
     });
