@@ -4,15 +4,15 @@
 #ifndef MULTICAGE_PYTHON_COMMON_HPP
 #define MULTICAGE_PYTHON_COMMON_HPP
 
+#include "convert.hpp"
+
+#include <opencv2/multicage.hpp>
 #include <pybind11/stl.h>  // in every binding file, as pybind11 asks: one set of STL casters
 
 #include <functional>
-#include <opencv2/multicage.hpp>
 #include <string>
 #include <utility>
 #include <vector>
-
-#include "convert.hpp"
 
 namespace multicage_py {
 
