@@ -252,7 +252,7 @@ void addDeformOptions(CLI::App* cmd, DeformOptions& o, int defaultCoordinates) {
                     "where the pose folds nothing (an error of a grid step's kind, a fraction of "
                     "the time: for augmentation); 1 finds every pixel")
         ->capture_default_str()
-        ->check(wholeNumber(1, 64));
+        ->check(wholeNumber(1, cv::multicage::DeformParams::kMaxMapStep));
     cmd->add_option("--memory-budget", o.memoryBudget,
                     "Most memory the binding's coefficients may take, e.g. 4G or 512M; 0: no limit "
                     "(default 1G)");

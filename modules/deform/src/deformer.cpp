@@ -42,18 +42,15 @@ bool autoBackendUsesGpu(std::string* description) {
     return context != nullptr;
 }
 
-// The largest DeformParams::mapStep: past it a lattice saves nothing more.
-constexpr int kMaxMapStep = 64;
-
 // Checked before any path is chosen: with a hardware GPU a multicage is bound on the GPU before
 // the backend switch below is reached, and an unknown backend went through unrefused (an H100).
 static void checkParams(const DeformParams& params) {
     if (params.backend != BACKEND_CPU && params.backend != BACKEND_GPU &&
         params.backend != BACKEND_AUTO)
         CV_Error_(Error::StsOutOfRange, ("multicage: unknown backend %d", params.backend));
-    if (params.mapStep < 1 || params.mapStep > kMaxMapStep)
-        CV_Error_(Error::StsOutOfRange,
-                  ("multicage: mapStep %d is outside [1, %d]", params.mapStep, kMaxMapStep));
+    if (params.mapStep < 1 || params.mapStep > DeformParams::kMaxMapStep)
+        CV_Error_(Error::StsOutOfRange, ("multicage: mapStep %d is outside [1, %d]", params.mapStep,
+                                         DeformParams::kMaxMapStep));
 }
 
 Ptr<Deformer> Deformer::create(InputArray image, const Multicage& rest,

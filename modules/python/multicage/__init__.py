@@ -102,6 +102,7 @@ _wrap_module()
 
 from ._multicage import (
     CONDITIONING_WARNING,
+    MAX_MAP_STEP,
     Backend,
     Binding,
     CoordinateType,
@@ -131,6 +132,7 @@ from .transforms import MulticageWarp, TorchMulticageWarp, box_outline, default_
 
 __all__ = [
     "CONDITIONING_WARNING",
+    "MAX_MAP_STEP",
     "Backend",
     "Binding",
     "CoordinateType",

@@ -166,8 +166,9 @@ class MulticageWarp:
         if int(grid_step) < 1:
             raise ValueError(f"grid_step: must be >= 1, got {grid_step!r}")
         map_step = int(grid_step) if map_step is None else int(map_step)
-        if not 1 <= map_step <= 64:
-            raise ValueError(f"map_step: must be in [1, 64] (or None: the grid step), got {map_step!r}")
+        if not 1 <= map_step <= _mc.MAX_MAP_STEP:
+            raise ValueError(f"map_step: must be in [1, {_mc.MAX_MAP_STEP}] (or None: the grid step), "
+                             f"got {map_step!r}")
         if not (0.0 <= float(p) <= 1.0):
             raise ValueError(f"p: a probability in [0, 1], got {p!r}")
         if fold_check not in ("coarse", "exact"):

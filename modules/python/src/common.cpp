@@ -128,8 +128,10 @@ DeformParams deformParams(const py::object& coordinates, const py::object& gridS
     if (p.gridStep < 1)
         throw py::value_error("grid_step: must be >= 1, got " + std::to_string(p.gridStep));
     p.mapStep = intArg(mapStep, "map_step");
-    if (p.mapStep < 1 || p.mapStep > 64)
-        throw py::value_error("map_step: must be in [1, 64], got " + std::to_string(p.mapStep));
+    if (p.mapStep < 1 || p.mapStep > DeformParams::kMaxMapStep)
+        throw py::value_error("map_step: must be in [1, " +
+                              std::to_string(DeformParams::kMaxMapStep) + "], got " +
+                              std::to_string(p.mapStep));
     p.backend = parseBackend(backend);
     p.borderValue = scalarFromObject(borderValue, "border_value");
     p.halfFloat = boolArg(halfFloat, "half_float");

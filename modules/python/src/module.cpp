@@ -62,6 +62,7 @@ void defineEnums(py::module_& m) {
         .value("MASK", PROPOSE_MASK)
         .value("LABELS", PROPOSE_LABELS);
     m.attr("CONDITIONING_WARNING") = kConditioningWarning;
+    m.attr("MAX_MAP_STEP") = DeformParams::kMaxMapStep;  // map_step's largest value
 }
 
 }  // namespace

@@ -53,6 +53,8 @@ struct CV_EXPORTS DeformParams {
     then cost a fraction of the pixels' walks: for augmentation, where speed matters more than
     the last hundredth of a pixel. The GPU backend finds every pixel whatever it says. */
     int mapStep = 1;
+    /** The largest mapStep: past it a lattice saves nothing more. */
+    static constexpr int kMaxMapStep = 64;
     int backend = BACKEND_AUTO;     //!< Backend
     Scalar borderValue = Scalar();  //!< output pixels no deformed triangle covers
     /** GPU backend: store the packed coefficients as RGBA16F instead of RGBA32F (half the
