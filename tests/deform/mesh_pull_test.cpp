@@ -5,9 +5,12 @@
 // decides, bit for bit.
 #include "mesh_pull.hpp"
 
+#include <cstdlib>
+#include <cstring>
 #include <functional>
 
 #include "cpu_deformer.hpp"
+#include "cpu_level.hpp"
 #include "testing.hpp"
 
 using namespace cv;
@@ -373,4 +376,22 @@ TEST(MeshPull, TheFoldCheckFollowsItsRuleOnEveryKernel) {
     raster::preferAvx2Pull(false);
     EXPECT_GT(folded, cases / 2) << "most cases should have a bad cell";
     EXPECT_LT(folded, cases) << "and some none";
+}
+
+// MULTICAGE_CPU caps the kernels (cpu_level.hpp), so that a machine with AVX-512 runs and times
+// the AVX2 and portable ones end to end too: the deform tests run again under each cap
+// (tests/deform/CMakeLists.txt, DeformKernels.*), and this checks the cap took hold there.
+TEST(CpuLevel, TheEnvironmentCapsTheKernels) {
+    const char* cap = std::getenv("MULTICAGE_CPU");
+    if (!cap) GTEST_SKIP() << "MULTICAGE_CPU unset: the CPU's own kernels";
+    if (std::strcmp(cap, "baseline") == 0) {
+        EXPECT_FALSE(cpuHasX86_64_v3());
+        EXPECT_FALSE(cpuHasX86_64_v4());
+        EXPECT_FALSE(raster::havePullKernel());
+        EXPECT_STREQ(raster::pullKernelName(), "none");
+    } else if (std::strcmp(cap, "avx2") == 0) {
+        EXPECT_FALSE(cpuHasX86_64_v4());
+        EXPECT_STRNE(raster::pullKernelName(), "AVX-512");
+        if (cpuHasX86_64_v3()) EXPECT_STREQ(raster::pullKernelName(), "AVX2");
+    }
 }

@@ -35,6 +35,8 @@
 #include <opencv2/multicage/internal/backend_contract.hpp>
 #include <vector>
 
+#include "cpu_level.hpp"
+
 #if defined(__GNUC__) && defined(__x86_64__)
 #if !defined(__clang__)
 // GCC 12's AVX-512 headers start vectors from _mm512_undefined_*(), which -W(maybe-)uninitialized
@@ -881,12 +883,12 @@ std::atomic<bool> avx2Preferred{false};
 
 PullIsa pullIsa() {
     static const PullIsa isa =
-        __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512vl") &&
-                __builtin_cpu_supports("avx512dq") && __builtin_cpu_supports("avx512bw") &&
-                __builtin_cpu_supports("bmi2")
+        cpuLevelCap() >= 4 && __builtin_cpu_supports("avx512f") &&
+                __builtin_cpu_supports("avx512vl") && __builtin_cpu_supports("avx512dq") &&
+                __builtin_cpu_supports("avx512bw") && __builtin_cpu_supports("bmi2")
             ? PullIsa::avx512
-        : __builtin_cpu_supports("avx2") ? PullIsa::avx2
-                                         : PullIsa::none;
+        : cpuLevelCap() >= 3 && __builtin_cpu_supports("avx2") ? PullIsa::avx2
+                                                               : PullIsa::none;
     return isa == PullIsa::avx512 && avx2Preferred ? PullIsa::avx2 : isa;
 }
 }  // namespace
