@@ -166,10 +166,11 @@ TEST(ProposeSubject, GrabCutFromTheFrameRunsUntilItsLabelsSettle) {
     }
 }
 
-// Item 2: a face gets room by a local push of at most 0.3 face sizes, never a push to the
-// frame: the outline around a face encloses the face box, and above the face (hair, then
-// background) it stays within 0.3 face sizes, the hair (0.6 face heights) and the margin and
-// simplification (3% of the image diagonal). Two face sizes of room put it on the frame.
+// Item 2: a face gets room by a local push of at most 0.3 face sizes (today 0.15), never a
+// push to the frame: the outline around a face encloses the face box, and above the face
+// (hair, then background) it stays within 0.15 face sizes, the hair (0.6 face heights) and the
+// margin and simplification (3% of the image diagonal). Two face sizes of room put it on the
+// frame.
 TEST(ProposePerson, TheOutlineAroundAFaceLeavesItAtMostAThirdOfAFaceOfRoom) {
     if (!haveCascades()) GTEST_SKIP() << "opencv-data is not installed";
     for (const char* name : {"messi5", "megamind_dinner"}) {
@@ -186,11 +187,11 @@ TEST(ProposePerson, TheOutlineAroundAFaceLeavesItAtMostAThirdOfAFaceOfRoom) {
                       (f & cv::Rect(cv::Point(), image.size())).area())
                 << name;
             // Above the face, where there is only hair and background, the outline is at most
-            // 0.3 face sizes plus 3% of the image diagonal (margin and simplification) away.
+            // 0.15 face sizes plus 3% of the image diagonal (margin and simplification) away.
             const cv::Rect box = cv::boundingRect(cage.polygon(around));
             const double size = 0.5 * (f.width + f.height);
             const double slack = 0.03 * std::hypot(image.cols, image.rows);
-            EXPECT_GE(box.y, f.y - 0.3 * size - 0.6 * f.height - slack) << name;
+            EXPECT_GE(box.y, f.y - 0.15 * size - 0.6 * f.height - slack) << name;
             EXPECT_GT(box.y, 0) << name;
         }
     }
