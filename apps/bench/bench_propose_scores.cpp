@@ -2,6 +2,7 @@
 //
 //   bench_propose_scores [DIR] [--runs N] [--sheet SHEET.png] [--no-time] [--harmonic]
 //                        [--protect all|faces|saliency] [--coordinates mvc|local_mvc|...]
+//                        [--scales S,S,...]
 //
 // DIR (default samples/data/propose_bench) holds NAME.jpg, NAME_mask.png (the object a person
 // would cage, 255) and NAME.ref.json ("faces", "eyes" and "features": [x, y, w, h] boxes a
@@ -28,6 +29,9 @@
 // binding time, for comparison.
 // --sheet writes a contact sheet: each proposal over its photo, the reference outline in
 // white, the reference boxes in magenta.
+// --scales scores the photos again at other sizes (the photo and its mask resized, the boxes
+// scaled; times only at scale 1): a change tuned to these photos at their own size shows
+// there, as the benchmark's own photos at 0.8x and 1.25x showed issue 21's changes.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -38,6 +42,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <opencv2/multicage.hpp>
+#include <sstream>
 #include <string>
 #include <tuple>
 #include <vector>
@@ -93,6 +98,27 @@ std::vector<Reference> readReferences(const std::string& dir) {
         refs.push_back(std::move(r));
     }
     return refs;
+}
+
+// The reference at s times its size: the photo resized (INTER_AREA down, INTER_LINEAR up),
+// the mask by its nearest pixels, the boxes scaled.
+Reference scaled(const Reference& r, double s) {
+    if (s == 1.0) return r;
+    Reference out;
+    out.name = r.name;
+    const cv::Size size(std::max(1, cvRound(r.image.cols * s)),
+                        std::max(1, cvRound(r.image.rows * s)));
+    cv::resize(r.image, out.image, size, 0, 0, s < 1 ? cv::INTER_AREA : cv::INTER_LINEAR);
+    cv::resize(r.mask, out.mask, size, 0, 0, cv::INTER_NEAREST);
+    auto boxes = [s](const std::vector<cv::Rect>& in) {
+        std::vector<cv::Rect> b;
+        for (const cv::Rect& x : in)
+            b.emplace_back(cvRound(x.x * s), cvRound(x.y * s), cvRound(x.width * s),
+                           cvRound(x.height * s));
+        return b;
+    };
+    out.faces = boxes(r.faces), out.eyes = boxes(r.eyes), out.features = boxes(r.features);
+    return out;
 }
 
 cv::Rect inner80(const cv::Rect& f) {
@@ -234,17 +260,20 @@ cv::Mat tile(const Reference& r, const Multicage& cage, const Score& s) {
 
 const char* const kUsage =
     "bench_propose_scores [DIR] [--runs N] [--sheet SHEET.png] [--no-time] [--harmonic]\n"
-    "                     [--protect all|faces|saliency] [--coordinates NAME]\n"
+    "                     [--protect all|faces|saliency] [--coordinates NAME] [--scales S,S,...]\n"
     "Scores the default proposal on DIR (default samples/data/propose_bench: NAME.jpg,\n"
     "NAME_mask.png, NAME.ref.json) against references made by hand, one Markdown row per\n"
     "photo: outline IoU, its ceiling, faces and eyes hugged, face residual, inner polygons,\n"
     "those protecting nothing, and the median wall and CPU time of --runs proposals at 1024 px\n"
-    "(--no-time skips them). --sheet writes a contact sheet of the proposals.\n";
+    "(--no-time skips them). --sheet writes a contact sheet of the proposals. --scales 1,0.8,1.25\n"
+    "scores the photos at those sizes too, a table each (times at scale 1 only): what is tuned\n"
+    "to these photos at their own size shows there.\n";
 
 int main(int argc, char** argv) {
     std::string dir = MULTICAGE_SAMPLES_DIR "/propose_bench", sheet;
     int runs = 5;
     bool time = true, harmonic = false;
+    std::vector<double> scales = {1.0};
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
         if (a == "--runs" && i + 1 < argc)
@@ -255,7 +284,21 @@ int main(int argc, char** argv) {
             time = false;
         else if (a == "--harmonic")
             harmonic = true;
-        else if (a == "--coordinates" && i + 1 < argc) {
+        else if (a == "--scales" && i + 1 < argc) {
+            scales.clear();
+            std::stringstream list(argv[++i]);
+            for (std::string item; std::getline(list, item, ',');) {
+                char* end = nullptr;
+                const double v = std::strtod(item.c_str(), &end);
+                if (end == item.c_str() || *end != '\0' || !(v > 0.05 && v <= 8)) {
+                    std::cerr << "bench_propose_scores: --scales takes numbers in (0.05, 8] "
+                                 "separated by commas, got "
+                              << argv[i] << "\n";
+                    return 2;
+                }
+                scales.push_back(v);
+            }
+        } else if (a == "--coordinates" && i + 1 < argc) {
             if (!parseCoordinateType(argv[++i], gCoordinates)) {
                 std::cerr << "bench_propose_scores: unknown coordinates " << argv[i] << "\n";
                 return 2;
@@ -277,58 +320,66 @@ int main(int argc, char** argv) {
                   << "NAME_mask.png and NAME.ref.json\n";
         return 2;
     }
-    const std::vector<Reference> refs = readReferences(dir);
-    std::printf(
-        "| photo | size | outline IoU | ceiling | faces hugged | eyes hugged | face residual (px) "
-        "| inner polygons | protecting nothing | ms at 1024 px | CPU ms "
-        "|\n|---|---|---|---|---|---|---|---|---|---|---|\n");
-    std::vector<cv::Mat> tiles;
-    double iouSum = 0;
-    int hugged = 0, faces = 0, eyesHugged = 0, eyes = 0, stray = 0;
-    for (const Reference& r : refs) {
-        const Multicage cage = proposeProtectedMulticage(r.image, gParams);
-        Score s = score(r, cage, harmonic);
-        if (time) {
-            const double k = 1024.0 / std::max(r.image.cols, r.image.rows);
-            cv::Mat big;
-            cv::resize(r.image, big, cv::Size(), k, k, cv::INTER_LINEAR);
-            std::tie(s.ms, s.cpuMs) = medianMs(big, runs);
-        }
-        iouSum += s.iou, hugged += s.hugged, faces += s.faces, stray += s.stray;
-        eyesHugged += s.eyesHugged, eyes += s.eyes;
-        char residual[32] = "-";
-        if (s.faces > 0) std::snprintf(residual, sizeof residual, "%.2f", s.residual);
+    const std::vector<Reference> originals = readReferences(dir);
+    for (const double scale : scales) {
+        if (scales.size() > 1)
+            std::printf("%sscale %g\n\n", scale == scales.front() ? "" : "\n", scale);
+        std::vector<Reference> refs;
+        for (const Reference& r : originals) refs.push_back(scaled(r, scale));
         std::printf(
-            "| %s | %dx%d | %.3f | %.3f | %d of %d | %d of %d | %s | %d | %d | %.0f | %.0f |\n",
-            r.name.c_str(), r.image.cols, r.image.rows, s.iou, s.ceiling, s.hugged, s.faces,
-            s.eyesHugged, s.eyes, residual, s.inner, s.stray, s.ms, s.cpuMs);
-        if (harmonic && s.faces > 0)
+            "| photo | size | outline IoU | ceiling | faces hugged | eyes hugged | face residual "
+            "(px) "
+            "| inner polygons | protecting nothing | ms at 1024 px | CPU ms "
+            "|\n|---|---|---|---|---|---|---|---|---|---|---|\n");
+        std::vector<cv::Mat> tiles;
+        double iouSum = 0;
+        int hugged = 0, faces = 0, eyesHugged = 0, eyes = 0, stray = 0;
+        for (const Reference& r : refs) {
+            const Multicage cage = proposeProtectedMulticage(r.image, gParams);
+            Score s = score(r, cage, harmonic);
+            if (time && scale == 1.0) {
+                const double k = 1024.0 / std::max(r.image.cols, r.image.rows);
+                cv::Mat big;
+                cv::resize(r.image, big, cv::Size(), k, k, cv::INTER_LINEAR);
+                std::tie(s.ms, s.cpuMs) = medianMs(big, runs);
+            }
+            iouSum += s.iou, hugged += s.hugged, faces += s.faces, stray += s.stray;
+            eyesHugged += s.eyesHugged, eyes += s.eyes;
+            char residual[32] = "-";
+            if (s.faces > 0) std::snprintf(residual, sizeof residual, "%.2f", s.residual);
             std::printf(
-                "|   harmonic coordinates, grid step 2: face residual %.3f px, binding %.0f ms |\n",
-                s.harmonicResidual, s.harmonicMs);
-        std::fflush(stdout);
-        tiles.push_back(tile(r, cage, s));
-    }
-    std::printf(
-        "\nmean outline IoU %.3f; faces hugged %d of %d; eyes hugged %d of %d; inner polygons "
-        "protecting nothing %d\n",
-        refs.empty() ? 0.0 : iouSum / refs.size(), hugged, faces, eyesHugged, eyes, stray);
-    if (!sheet.empty() && !tiles.empty()) {
-        const int cols = 4;
-        std::vector<cv::Mat> rows;
-        for (size_t i = 0; i < tiles.size(); i += cols) {
-            std::vector<cv::Mat> row(tiles.begin() + i,
-                                     tiles.begin() + std::min(tiles.size(), i + cols));
-            while (row.size() < cols)
-                row.push_back(cv::Mat(tiles[0].size(), CV_8UC3, cv::Scalar(32, 32, 32)));
-            cv::Mat r;
-            cv::hconcat(row, r);
-            rows.push_back(r);
+                "| %s | %dx%d | %.3f | %.3f | %d of %d | %d of %d | %s | %d | %d | %.0f | %.0f |\n",
+                r.name.c_str(), r.image.cols, r.image.rows, s.iou, s.ceiling, s.hugged, s.faces,
+                s.eyesHugged, s.eyes, residual, s.inner, s.stray, s.ms, s.cpuMs);
+            if (harmonic && s.faces > 0)
+                std::printf(
+                    "|   harmonic coordinates, grid step 2: face residual %.3f px, binding %.0f ms "
+                    "|\n",
+                    s.harmonicResidual, s.harmonicMs);
+            std::fflush(stdout);
+            tiles.push_back(tile(r, cage, s));
         }
-        cv::Mat all;
-        cv::vconcat(rows, all);
-        cv::imwrite(sheet, all);
-        std::printf("wrote %s\n", sheet.c_str());
+        std::printf(
+            "\nmean outline IoU %.3f; faces hugged %d of %d; eyes hugged %d of %d; inner polygons "
+            "protecting nothing %d\n",
+            refs.empty() ? 0.0 : iouSum / refs.size(), hugged, faces, eyesHugged, eyes, stray);
+        if (!sheet.empty() && !tiles.empty() && scale == scales.front()) {
+            const int cols = 4;
+            std::vector<cv::Mat> rows;
+            for (size_t i = 0; i < tiles.size(); i += cols) {
+                std::vector<cv::Mat> row(tiles.begin() + i,
+                                         tiles.begin() + std::min(tiles.size(), i + cols));
+                while (row.size() < cols)
+                    row.push_back(cv::Mat(tiles[0].size(), CV_8UC3, cv::Scalar(32, 32, 32)));
+                cv::Mat r;
+                cv::hconcat(row, r);
+                rows.push_back(r);
+            }
+            cv::Mat all;
+            cv::vconcat(rows, all);
+            cv::imwrite(sheet, all);
+            std::printf("wrote %s\n", sheet.c_str());
+        }
     }
     return 0;
 }

@@ -74,8 +74,8 @@ namespace {
 // the room is only what a person drawing the outline leaves around the face's polygon: 0.3
 // face sizes made a box above every head (outline IoU on the benchmark's people photos
 // 0.59-0.69), 0.15 follows the head (0.51-0.71; mean of the 13 photos 0.702 -> 0.711, and at
-// 0.8x and 1.25x their sizes 0.704 -> 0.713 and 0.661 -> 0.669); 0.1 gained 0.002 more and
-// left the hair less room still.
+// 0.8x and 1.25x their sizes 0.701 -> 0.709 and 0.687 -> 0.695, bench_propose_scores --scales);
+// 0.1 gained 0.002 more and left the hair less room still.
 double faceRoom(const Rect& face) {
     return kFaceRoom * faceSize(face);
 }
