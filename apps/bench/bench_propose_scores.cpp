@@ -327,9 +327,8 @@ int main(int argc, char** argv) {
         std::vector<Reference> refs;
         for (const Reference& r : originals) refs.push_back(scaled(r, scale));
         std::printf(
-            "| photo | size | outline IoU | ceiling | faces hugged | eyes hugged | face residual "
-            "(px) "
-            "| inner polygons | protecting nothing | ms at 1024 px | CPU ms "
+            "| photo | size | outline IoU | ceiling | faces hugged | eyes hugged "
+            "| face residual (px) | inner polygons | protecting nothing | ms at 1024 px | CPU ms "
             "|\n|---|---|---|---|---|---|---|---|---|---|---|\n");
         std::vector<cv::Mat> tiles;
         double iouSum = 0;
