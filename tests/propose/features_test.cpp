@@ -104,6 +104,29 @@ TEST(ProposeEyes, AnOutlineWithAFaceIsProtectedFirst) {
     expectEyesInTheFacesPolygon(cage, scaled(referenceBoxes("astronaut", "faces").at(0)), eyes);
 }
 
+// A face turned a little shows its far eye smaller: the cartoon dinner scene's woman at 1.2
+// and 1.5 times its size, whose eye cascade boxes differ by 1.3-1.35 times (a pair's sizes may
+// differ by 1.4 times; at 1.3 her eyes got no polygon at these sizes).
+TEST(ProposeEyes, ATurnedFaceKeepsItsEyesAtOtherSizes) {
+    if (!haveCascades()) GTEST_SKIP() << "opencv-data is not installed";
+    for (const double k : {1.2, 1.5}) {
+        SCOPED_TRACE(k);
+        cv::Mat image;
+        cv::resize(benchPhoto("megamind_dinner"), image, cv::Size(), k, k, cv::INTER_LINEAR);
+        const Multicage cage = proposeProtectedMulticage(image);
+        ASSERT_TRUE(cage.validate());
+        auto scaled = [k](const cv::Rect& r) {
+            return cv::Rect(cvRound(k * r.x), cvRound(k * r.y), cvRound(k * r.width),
+                            cvRound(k * r.height));
+        };
+        std::vector<cv::Rect> eyes;
+        for (const cv::Rect& e : referenceBoxes("megamind_dinner", "eyes"))
+            eyes.push_back(scaled(e));
+        expectEyesInTheFacesPolygon(cage, scaled(referenceBoxes("megamind_dinner", "faces").at(0)),
+                                    eyes);
+    }
+}
+
 // messi5.jpg's face is 50 px wide: too small for the eye cascades (they find one eye at most).
 // Its polygon holds nothing: no guessed eyes, and no anchors in a cage with local coordinates.
 TEST(ProposeEyes, AFaceTooSmallForEyesHoldsNoPolygon) {

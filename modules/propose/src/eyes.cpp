@@ -62,7 +62,8 @@ double pairCost(const Rect2d& a, const Rect2d& b, const Size& face) {
     for (double y : {ca.y, cb.y})
         if (y < 0.15 * h || y > 0.6 * h) return -1;
     const double big = std::max(a.width, b.width), small = std::min(a.width, b.width);
-    if (big > 1.3 * small) return -1;
+    // A face turned a little shows its far eye smaller: within 1.4 times (eyes.hpp).
+    if (big > 1.4 * small) return -1;
     // Symmetric about the face's middle, level, alike.
     return std::abs(0.5 * (ca.x + cb.x) - 0.5 * w) / w + dy / dx + (big - small) / big;
 }
