@@ -14,7 +14,7 @@ within the first looser limit, red: beyond it) to judge by eye.
 Run on 2026-11-28 (1.3 was the limit): faces 117/135/146/149 at 0.85/1/1.15/1.3 times; pairs
 at 1.3: 74/78/96/90, at 1.4: 75/78/99/97, at 1.5: 78/80/102/100. The 11 pairs 1.4 adds are all
 on the two eyes (the sheet); of the 11 more that 1.5 adds, two are on no face at all (picture
-frames, a pixelated drawing) and three have a box on the brow and temple.
+frames, a pixelated drawing) and two have a box on the brow and temple.
 """
 import argparse
 import glob
