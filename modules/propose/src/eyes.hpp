@@ -33,8 +33,8 @@ size (1.31-1.34: the far eye is smaller). On opencv-doc's pictures and every ten
 Megamind.avi at 0.85, 1, 1.15 and 1.3 times their size (117-149 faces of 60 px or more), 1.4
 pairs 11 more faces than 1.3, every pair on the two eyes (looked at); 1.5 would pair 11 more
 still, two of them on no face at all (picture frames, a pixelated drawing) and two with a box
-on the brow and temple. One eye alone (a profile, a wink, a
-reflection on glasses) is not trusted. */
+on the brow and temple. One eye alone (a profile, a wink, a reflection on glasses) is not
+trusted. */
 std::vector<Rect> findEyes(const Mat& gray, const Rect& face, const ProposeParams& params);
 
 /** An eye's polygon: kEyeVertices points around the ellipse 0.84 of the eye's box wide and
