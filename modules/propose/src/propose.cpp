@@ -178,7 +178,7 @@ Multicage proposeProtectedMulticage(InputArray image, const ProposeParams& param
     // The outlines share the budgets (maxVertices, maxPolygons) in the order they are
     // protected: those holding a face go first, so that a face's polygon and its eyes are not
     // left without vertices by a salient feature of another outline (faces first, as
-    // PROTECT_ALL says: the astronaut at 1.25x has her head and her suit in two outlines, and a
+    // PROTECT_ALL says: the astronaut at 1.1x has her head and her suit in two outlines, and a
     // salient polygon in the suit's, protected first, took the vertices of her eyes).
     const int top = cage.polygonCount();  // protectFeatures appends; only the outlines get it
     std::vector<int> order;
