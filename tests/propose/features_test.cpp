@@ -45,6 +45,19 @@ int facePolygonOf(const Multicage& cage, const cv::Rect& face) {
     return -1;
 }
 
+// A reference box of a photo resized k times.
+cv::Rect scaledBox(const cv::Rect& r, double k) {
+    return cv::Rect(cvRound(k * r.x), cvRound(k * r.y), cvRound(k * r.width),
+                    cvRound(k * r.height));
+}
+
+// The reference boxes of `name` ("faces", "eyes") for the photo resized k times.
+std::vector<cv::Rect> scaledBoxes(const char* name, const char* kind, double k) {
+    std::vector<cv::Rect> out;
+    for (const cv::Rect& r : referenceBoxes(name, kind)) out.push_back(scaledBox(r, k));
+    return out;
+}
+
 // Each eye box is held by exactly one polygon, and those two polygons are all that the face's
 // polygon holds.
 void expectEyesInTheFacesPolygon(const Multicage& cage, const cv::Rect& face,
@@ -95,13 +108,8 @@ TEST(ProposeEyes, AnOutlineWithAFaceIsProtectedFirst) {
     int outlines = 0;
     for (int p = 0; p < cage.polygonCount(); ++p) outlines += cage.depth(p) == 1;
     EXPECT_GE(outlines, 2) << "the premise: the face's outline is not the only one";
-    auto scaled = [](const cv::Rect& r) {
-        return cv::Rect(cvRound(1.1 * r.x), cvRound(1.1 * r.y), cvRound(1.1 * r.width),
-                        cvRound(1.1 * r.height));
-    };
-    std::vector<cv::Rect> eyes;
-    for (const cv::Rect& e : referenceBoxes("astronaut", "eyes")) eyes.push_back(scaled(e));
-    expectEyesInTheFacesPolygon(cage, scaled(referenceBoxes("astronaut", "faces").at(0)), eyes);
+    expectEyesInTheFacesPolygon(cage, scaledBoxes("astronaut", "faces", 1.1).at(0),
+                                scaledBoxes("astronaut", "eyes", 1.1));
 }
 
 // A face turned a little shows its far eye smaller: the cartoon dinner scene's woman at 1.2
@@ -115,15 +123,8 @@ TEST(ProposeEyes, ATurnedFaceKeepsItsEyesAtOtherSizes) {
         cv::resize(benchPhoto("megamind_dinner"), image, cv::Size(), k, k, cv::INTER_LINEAR);
         const Multicage cage = proposeProtectedMulticage(image);
         ASSERT_TRUE(cage.validate());
-        auto scaled = [k](const cv::Rect& r) {
-            return cv::Rect(cvRound(k * r.x), cvRound(k * r.y), cvRound(k * r.width),
-                            cvRound(k * r.height));
-        };
-        std::vector<cv::Rect> eyes;
-        for (const cv::Rect& e : referenceBoxes("megamind_dinner", "eyes"))
-            eyes.push_back(scaled(e));
-        expectEyesInTheFacesPolygon(cage, scaled(referenceBoxes("megamind_dinner", "faces").at(0)),
-                                    eyes);
+        expectEyesInTheFacesPolygon(cage, scaledBoxes("megamind_dinner", "faces", k).at(0),
+                                    scaledBoxes("megamind_dinner", "eyes", k));
     }
 }
 

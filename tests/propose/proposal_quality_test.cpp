@@ -138,10 +138,7 @@ TEST(ProposePerson, OutlineFollowsThePersonNotTheImageFrame) {
 TEST(ProposePerson, TheOutlineFollowsTheHeadNotABoxAboveIt) {
     if (!haveCascades()) GTEST_SKIP() << "opencv-data is not installed";
     for (const char* name : {"megamind_closeup", "camera"}) {
-        const cv::Mat reference = benchMask(name);
-        const cv::Mat outline = outlinesMask(proposeProtectedMulticage(benchPhoto(name)));
-        const double iou = cv::countNonZero(outline & reference) /
-                           static_cast<double>(cv::countNonZero(outline | reference));
+        const double iou = outlineIoU(name);
         std::cout << "[ head     ] " << name << " outline IoU " << iou << "\n";
         EXPECT_GE(iou, 0.62) << name;
     }

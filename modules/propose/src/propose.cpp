@@ -181,18 +181,17 @@ Multicage proposeProtectedMulticage(InputArray image, const ProposeParams& param
     // PROTECT_ALL says: the astronaut at 1.1x has her head and her suit in two outlines, and a
     // salient polygon in the suit's, protected first, took the vertices of her eyes).
     const int top = cage.polygonCount();  // protectFeatures appends; only the outlines get it
-    std::vector<int> order;
-    for (const bool withFaces : {true, false})
-        for (int p = 0; p < top; ++p) {
-            if (cage.depth(p) != 1) continue;
-            const std::vector<Point2f> outline = cage.polygon(p);
-            const bool holdsFace = std::any_of(faces.begin(), faces.end(), [&](const Rect& f) {
-                const Point2f centre(f.x + 0.5f * f.width, f.y + 0.5f * f.height);
-                return pointPolygonTest(outline, centre, false) > 0;
-            });
-            if (holdsFace == withFaces) order.push_back(p);
-        }
-    for (int p : order) cage = protectInPolygon(img, cage, p, params, &known);
+    std::vector<int> outlines;
+    for (int p = 0; p < top; ++p)
+        if (cage.depth(p) == 1) outlines.push_back(p);
+    std::stable_partition(outlines.begin(), outlines.end(), [&](int p) {
+        const std::vector<Point2f> outline = cage.polygon(p);
+        return std::any_of(faces.begin(), faces.end(), [&](const Rect& f) {
+            const Point2f centre(f.x + 0.5f * f.width, f.y + 0.5f * f.height);
+            return pointPolygonTest(outline, centre, false) > 0;
+        });
+    });
+    for (int p : outlines) cage = protectInPolygon(img, cage, p, params, &known);
     return cage;
 }
 
