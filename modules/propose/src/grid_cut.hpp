@@ -13,6 +13,9 @@
 //   "Efficiently solving dynamic Markov random fields using graph cuts") show that adding the
 //   change of a node's terminal capacities to its residual keeps the residual graph that of a
 //   valid flow, so the next solve only pushes what changed instead of the whole flow again.
+// - The first solve starts with rounds of pushes downhill (pushDownhill): the excess of every
+//   pixel moves in bulk towards the nearest pixel that lacks, as push-relabel moves it, where
+//   augmenting paths would carry it one path at a time.
 #ifndef MULTICAGE_PROPOSE_GRID_CUT_HPP
 #define MULTICAGE_PROPOSE_GRID_CUT_HPP
 
@@ -44,7 +47,8 @@ class GridCut {
     keeps the flow found so far valid (Kohli & Torr). */
     void setTerminal(Point p, double source, double sink);
     /** Pushes as much flow as the residual graph allows; returns the flow pushed in this call
-    (through the terminals' residuals: a constant per node is left out, as in GCGraph). */
+    (through the terminals' residuals: a constant per node is left out, as in GCGraph). The
+    first call starts with pushDownhill. */
     double maxFlow();
     /** After maxFlow(): true when pixel p is on the source side of the minimum cut. A pixel
     that neither side reaches is on the side it was last in (the source side if never in
@@ -63,22 +67,24 @@ class GridCut {
     bool grow(int& from, int& direction);
     double augment(int from, int direction);
     void adopt();
+    double pushDownhill();
     bool reachesTerminal(int u, int& distance);
 
     Size size_;
-    int stride_;                 // padded row length: a ring of dead nodes avoids bounds checks
-    int offset_[kDirections];    // index steps to the neighbours
-    std::vector<double> cap_;    // residual capacities, kDirections per node
-    std::vector<double> tr_;     // residual terminal capacity: > 0 from the source, < 0 to the sink
-    std::vector<double> net_;    // source minus sink capacity as last set
-    std::vector<int8_t> parent_; // direction to the parent, kNone, kTerminal or kOrphan
-    std::vector<uint8_t> tree_;  // kSourceTree or kSinkTree
-    std::vector<int> dist_, ts_; // distance to the terminal and when it was last checked
+    int stride_;               // padded row length: a ring of dead nodes avoids bounds checks
+    int offset_[kDirections];  // index steps to the neighbours
+    std::vector<double> cap_;  // residual capacities, kDirections per node
+    std::vector<double> tr_;   // residual terminal capacity: > 0 from the source, < 0 to the sink
+    std::vector<double> net_;  // source minus sink capacity as last set
+    std::vector<int8_t> parent_;  // direction to the parent, kNone, kTerminal or kOrphan
+    std::vector<uint8_t> tree_;   // kSourceTree or kSinkTree
+    std::vector<int> dist_, ts_;  // distance to the terminal and when it was last checked
     std::vector<uint8_t> queued_;
-    std::vector<int> active_;    // FIFO of active nodes (head_ onwards)
+    std::vector<int> active_;  // FIFO of active nodes (head_ onwards)
     size_t head_ = 0;
     std::vector<int> orphans_;
     int time_ = 0;
+    bool solved_ = false;  // whether maxFlow() has run (pushDownhill before the first)
 };
 
 }  // namespace propose_detail
