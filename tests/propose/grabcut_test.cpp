@@ -228,33 +228,6 @@ TEST(GrabCut, SameLabelsAsCvGrabCutIterationForIteration) {
     }
 }
 
-// A GrabCut started from another's flow on the same image (subject.cpp's second pass, from
-// the first pass's) gives the labels of one started afresh.
-TEST(GrabCut, StartingFromAnotherRunsFlowGivesTheSameLabels) {
-    for (const char* name : {"baboon", "chelsea"}) {
-        const Mat img = photo240(name);
-        const Mat first = frameStart(img.size());
-        const int b = kStrip;
-        Mat second = first.clone();  // the top and the upper left reopened
-        second(Rect(0, 0, img.cols, b)).setTo(GC_PR_BGD);
-        second(Rect(0, 0, b, img.rows / 2)).setTo(GC_PR_BGD);
-        Mat labels = first.clone(), fresh = second.clone(), warm = second.clone();
-        theRNG() = RNG(1);
-        GrabCut one(img, labels);
-        for (int i = 0; i < 5; ++i) one.iterate(labels);
-        theRNG() = RNG(2);
-        GrabCut afresh(img, fresh);
-        theRNG() = RNG(2);
-        GrabCut started(img, warm, one.takeFlow());
-        for (int i = 1; i <= 5; ++i) {
-            afresh.iterate(fresh);
-            started.iterate(warm);
-            EXPECT_EQ(countNonZero(fresh != warm), 0) << name << ", iteration " << i;
-        }
-        EXPECT_GT(countNonZero(fresh != second), 0) << name;  // the run moved something
-    }
-}
-
 // A side with fewer pixels than the mixture has components (a sliver of an image, one
 // pixel of background) gets one component per pixel, and the labels are still cv::grabCut's.
 TEST(GrabCut, SidesSmallerThanTheMixtureAsCvGrabCut) {

@@ -16,9 +16,9 @@ namespace propose_detail {
 namespace {
 
 constexpr int kComponents = 5;
-constexpr double kGamma = 50;              // weight of the smoothness term
-constexpr double kLambda = 9 * kGamma;     // terminal capacity of a sure pixel
-constexpr double kVarianceFloor = 0.01;    // added to a singular covariance's diagonal
+constexpr double kGamma = 50;            // weight of the smoothness term
+constexpr double kLambda = 9 * kGamma;   // terminal capacity of a sure pixel
+constexpr double kVarianceFloor = 0.01;  // added to a singular covariance's diagonal
 constexpr int kKMeansIterations = 10;
 // -log of a likelihood that underflows to zero: far above any pixel's pairwise capacities
 // (8 neighbours of at most gamma), so the pixel is as sure as cv::grabCut's infinite weight
@@ -120,9 +120,7 @@ struct GrabCut::Mixture {
     }
 };
 
-GrabCut::GrabCut(const Mat& img, const Mat& labels) : GrabCut(img, labels, nullptr) {}
-
-GrabCut::GrabCut(const Mat& img, const Mat& labels, std::unique_ptr<GridCut> flow)
+GrabCut::GrabCut(const Mat& img, const Mat& labels)
     : img_(img), background_(std::make_unique<Mixture>()), subject_(std::make_unique<Mixture>()) {
     CV_Assert(img.type() == CV_8UC3 && labels.type() == CV_8UC1 && labels.size() == img.size());
     // The colour models start from k-means++ on each side's colours.
@@ -147,10 +145,6 @@ GrabCut::GrabCut(const Mat& img, const Mat& labels, std::unique_ptr<GridCut> flo
         for (size_t i = 0; i < colours[s].size(); ++i)
             models[s]->add(ids.at<int>(static_cast<int>(i)), Vec3d(colours[s][i]));
         models[s]->endLearning();
-    }
-    if (flow && flow->size() == img.size()) {
-        graph_ = std::move(flow);
-        return;
     }
     // The pairwise capacities: gamma exp(-beta |colour difference|^2) to each of the eight
     // neighbours (divided by sqrt 2 on the diagonals), beta from the mean squared difference.

@@ -32,13 +32,7 @@ class GrabCut {
     /** Starts the colour models from `labels` (CV_8UC1, GC_BGD ... GC_PR_FGD, img's size;
     both sides must have pixels) with k-means++ seeded by cv::theRNG(). img: CV_8UC3. */
     GrabCut(const Mat& img, const Mat& labels);
-    /** The same, with the graph and the flow of an earlier GrabCut of the same image
-    (takeFlow()): the pairwise capacities are the same, and the flow found for the other
-    colour models is a start (grid_cut.hpp); null, or built for another size: as above. */
-    GrabCut(const Mat& img, const Mat& labels, std::unique_ptr<GridCut> flow);
     ~GrabCut();
-    /** The graph and its flow, for a later GrabCut of the same image; this one is spent. */
-    std::unique_ptr<GridCut> takeFlow() { return std::move(graph_); }
     /** One iteration, as cv::grabCut's: each pixel takes its side's most likely component,
     the models are learnt again, and the minimum cut relabels the probable pixels
     (GC_PR_BGD / GC_PR_FGD); sure ones stay. */

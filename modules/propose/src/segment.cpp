@@ -6,7 +6,6 @@
 #include <opencv2/saliency.hpp>
 
 #include "grabcut.hpp"
-#include "grid_cut.hpp"
 #include "subject.hpp"
 
 namespace cv {
@@ -142,8 +141,7 @@ Mat saliencyMap(const Mat& img, bool spectralResidual) {
     return out;
 }
 
-void seededGrabCut(const Mat& img, Mat& labels, int iterations, int settleWithin,
-                   std::unique_ptr<GridCut>* flow) {
+void seededGrabCut(const Mat& img, Mat& labels, int iterations, int settleWithin) {
     // GrabCut seeds its colour models with k-means++ from cv::theRNG(): a fixed seed makes
     // the proposal a function of the image (not of what ran before on this thread), and the
     // caller's generator is put back as it was.
@@ -152,7 +150,7 @@ void seededGrabCut(const Mat& img, Mat& labels, int iterations, int settleWithin
         SeededRng() { theRNG() = RNG(0x6d756c7469636167ULL); }
         ~SeededRng() { theRNG() = saved; }
     } seeded;
-    GrabCut grabCut(img, labels, flow ? std::move(*flow) : nullptr);
+    GrabCut grabCut(img, labels);
     // When settling, the `iterations`-th iteration and those after it are each compared with
     // the labels before them.
     constexpr double kSettled = 0.01;  // of the pixels changing side in an iteration
@@ -166,7 +164,6 @@ void seededGrabCut(const Mat& img, Mat& labels, int iterations, int settleWithin
         if (check && countNonZero((before ^ labels) & Scalar(1)) <= kSettled * labels.total())
             break;
     }
-    if (flow) *flow = grabCut.takeFlow();
 }
 
 namespace {

@@ -2,7 +2,6 @@
 #ifndef MULTICAGE_PROPOSE_SEGMENT_HPP
 #define MULTICAGE_PROPOSE_SEGMENT_HPP
 
-#include <memory>
 #include <opencv2/multicage/propose.hpp>
 
 #include "work.hpp"
@@ -10,8 +9,6 @@
 namespace cv {
 namespace multicage {
 namespace propose_detail {
-
-class GridCut;
 
 /** The input as 8-bit, 1 or 3 channels (alpha dropped; 16-bit and float rescaled). Throws
 StsBadArg for an empty image or an unsupported channel count. */
@@ -37,11 +34,8 @@ Mat saliencyMap(const Mat& img, bool spectralResidual);
 seeded with a fixed number so that the result is a function of the image alone; `labels` is
 updated in place. It runs `iterations` iterations, then, when `settleWithin` is more, goes on
 until one moves at most 1% of the pixels between subject and background (the `iterations`-th
-included), `settleWithin` in all at most. `flow`, when given, carries the graph and its flow
-from one GrabCut of an image to the next of the same image: the run starts from what it holds
-(when it is for this size) and leaves its own there. */
-void seededGrabCut(const Mat& img, Mat& labels, int iterations, int settleWithin = 0,
-                   std::unique_ptr<GridCut>* flow = nullptr);
+included), `settleWithin` in all at most. */
+void seededGrabCut(const Mat& img, Mat& labels, int iterations, int settleWithin = 0);
 
 /** Raw segmentation (before cleaning) of an 8-bit work image: CV_8UC1, 255 on objects.
 `method` is one of the image-based methods (threshold, adaptive, grabcut, saliency,

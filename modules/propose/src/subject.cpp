@@ -34,7 +34,6 @@
 #include <opencv2/core/utility.hpp>
 #include <opencv2/imgproc.hpp>
 
-#include "grid_cut.hpp"
 #include "segment.hpp"
 
 namespace cv {
@@ -43,14 +42,14 @@ namespace propose_detail {
 
 namespace {
 
-constexpr double kStrip = 0.03;            // of the longer side
-constexpr int kPiecesPerSide = 12;         // the strip is judged in twelfths of each side
-constexpr double kReached = 0.3;           // share of the band inside a piece that is subject
-constexpr double kSharpAsMiddle = 0.5;     // a piece's sharpness against the middle's
-constexpr double kInward = 0.5;            // share of what the second pass adds that lies inside
-constexpr double kInwardOfPicture = 0.05;  // and its share of the picture
-constexpr double kTrialScale = 2.0 / 3.0;  // the second pass's trial copy
-constexpr double kHoldsSalient = 0.8;      // share of the salient part the subject must hold
+constexpr double kStrip = 0.03;             // of the longer side
+constexpr int kPiecesPerSide = 12;          // the strip is judged in twelfths of each side
+constexpr double kReached = 0.3;            // share of the band inside a piece that is subject
+constexpr double kSharpAsMiddle = 0.5;      // a piece's sharpness against the middle's
+constexpr double kInward = 0.5;             // share of what the second pass adds that lies inside
+constexpr double kInwardOfPicture = 0.05;   // and its share of the picture
+constexpr double kSecondScale = 2.0 / 3.0;  // the second pass's copy
+constexpr double kHoldsSalient = 0.8;       // share of the salient part the subject must hold
 // Each GrabCut here goes on past ProposeParams::grabCutIterations, up to this many iterations,
 // until one moves at most 1% of the pixels (seededGrabCut). Started from a whole strip or a
 // rectangle, GrabCut is still carving the subject out after two iterations on some photos:
@@ -149,12 +148,18 @@ Mat frameStart(Size size, int b) {
 }
 
 // The second pass (where the first found the subject cut by the frame) on the labels of the
-// first: the first's labels, or the second's when it goes inward. `flow` holds the first
-// pass's graph and flow: the second, on the same image, starts from it (grabcut.hpp), which
-// saves it 10-40% of its time (the labels are the same to the pixel on the 13 benchmark
-// photos).
-Mat reopenedPass(const Mat& img, int iterations, int b, const Mat& first, const Mat& labels,
-                 std::unique_ptr<GridCut>& flow) {
+// first: the first's labels, or the second's when it goes inward. The second pass runs on a
+// copy two thirds the size (kSecondScale), its labels scaled back. It was once only a trial
+// there, deciding whether to run it again at full size from the first pass's flow, because it
+// is refused more often than kept (refused on the apple, the orange, the robin, the coffee and
+// the butterfly, kept on the baboon; on a copy half the size it refused the baboon too). The
+// full-size run added 100 ms to the baboon's 350 and did not draw better outlines: the
+// baboon's outline IoU is 0.934 from the copy's labels against 0.911 from the full size's
+// (0.929 / 0.910 at 0.8x, 0.935 / 0.911 at 1.25x), and of opencv-doc's 91 example pictures
+// the 4 that keep a second pass (the baboon, board.jpg, right02.jpg, right11.jpg) have alike
+// outlines both ways but for right11.jpg, where the copy's goes around the chessboard and the
+// full size's around the whole frame.
+Mat reopenedPass(const Mat& img, int iterations, int b, const Mat& first, const Mat& labels) {
     const std::vector<Piece> pieces = piecesAround(img.size(), b);
     const std::vector<char> open =
         reopened(pieces, (labels == GC_FGD) | (labels == GC_PR_FGD), img);
@@ -162,22 +167,14 @@ Mat reopenedPass(const Mat& img, int iterations, int b, const Mat& first, const 
     Mat second = first.clone();
     for (size_t i = 0; i < pieces.size(); ++i)
         if (open[i]) second(pieces[i].strip).setTo(GC_PR_BGD);
-    {
-        // The second pass costs as much as the first and is refused more often than kept
-        // (refused on the apple, the orange, the robin, the coffee and the butterfly, kept on
-        // the baboon): a trial on a copy two thirds the size decides whether it is worth
-        // running at full size. It saves 20-35% of the CPU time where refused and costs 12%
-        // where kept; on a copy half the size the trial refused the baboon too.
-        Mat small, smallFirst, smallSecond;
-        shrink(img, small, kTrialScale, INTER_AREA);
-        resize(labels, smallFirst, small.size(), 0, 0, INTER_NEAREST);
-        resize(second, smallSecond, small.size(), 0, 0, INTER_NEAREST);
-        seededGrabCut(small, smallSecond, iterations, kSettleWithin);
-        if (!goesInward(smallFirst, smallSecond, std::max(1, cvRound(kTrialScale * b))))
-            return labels;
-    }
-    seededGrabCut(img, second, iterations, kSettleWithin, &flow);
-    return goesInward(labels, second, b) ? second : labels;
+    Mat small, smallFirst, smallSecond;
+    shrink(img, small, kSecondScale, INTER_AREA);
+    resize(labels, smallFirst, small.size(), 0, 0, INTER_NEAREST);
+    resize(second, smallSecond, small.size(), 0, 0, INTER_NEAREST);
+    seededGrabCut(small, smallSecond, iterations, kSettleWithin);
+    if (!goesInward(smallFirst, smallSecond, std::max(1, cvRound(kSecondScale * b)))) return labels;
+    resize(smallSecond, second, img.size(), 0, 0, INTER_NEAREST);
+    return second;
 }
 
 }  // namespace
@@ -193,11 +190,10 @@ Mat frameInwardSubject(const Mat& img, int iterations, const Mat& salientStart) 
     Mat labels, salient = same ? Mat() : salientStart.clone();
     auto frameInward = [&] {
         labels = first.clone();
-        std::unique_ptr<GridCut> flow;
-        seededGrabCut(img, labels, iterations, kSettleWithin, &flow);
+        seededGrabCut(img, labels, iterations, kSettleWithin);
         if (same) salient = labels.clone();
         if (img.cols > 4 * b && img.rows > 4 * b)  // else no strip to reopen
-            labels = reopenedPass(img, iterations, b, first, labels, flow);
+            labels = reopenedPass(img, iterations, b, first, labels);
     };
     if (salient.empty()) {
         frameInward();
