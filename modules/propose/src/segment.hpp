@@ -13,7 +13,7 @@ namespace propose_detail {
 /** The input as 8-bit, 1 or 3 channels (alpha dropped; 16-bit and float rescaled). Throws
 StsBadArg for an empty image or an unsupported channel count. */
 Mat to8Bit(const Mat& image);
-/** True when every pixel of an image holds the same value in every channel. */
+/** True when every pixel of an image holds the same bytes as the first (8-bit images here). */
 bool isConstant(const Mat& image);
 
 /** Otsu's threshold over the pixels where mask is non-zero (the whole image when mask is
@@ -25,6 +25,10 @@ the median over the pixels where `backgroundMask` is non-zero. img: CV_8UC1 or C
 Mat backgroundDistance(const Mat& img, const Mat& backgroundMask);
 /** backgroundMask for backgroundDistance(): a strip along the image border. */
 Mat borderStrip(Size size);
+/** True when the background is plain: at most a quarter of the border strip (borderStrip)
+differs from its median colour by more than 24 (backgroundDistance), what a threshold wants.
+img: 8-bit, 1 or 3 channels. */
+bool plainBackground(const Mat& img);
 
 /** The saliency map (CV_8UC1 of img's size, 0..255) of opencv_contrib's fine grained or
 spectral residual static saliency. */
