@@ -3,7 +3,9 @@
 // every time, on one thread or several, and the caller's random generator is left as it was.
 #include <opencv2/core/utility.hpp>
 
+#include "faces.hpp"
 #include "testing.hpp"
+#include "work.hpp"
 
 namespace {
 
@@ -56,4 +58,26 @@ TEST(ProposeParallel, TheCallersRandomGeneratorIsLeftAsItWas) {
     cv::theRNG() = cv::RNG(12345);
     proposeProtectedMulticage(image);
     EXPECT_EQ(cv::theRNG().state, cv::RNG(12345).state);
+}
+
+// Without a frontal face the profile searches run beside the face-blind segmentation or before
+// it (propose.cpp): the faces a proposal finds are still detectFaces' own. The camera man's
+// face is found in profile only (the segmentation it spares), the baboon's proposal runs the
+// searches beside its one chain of GrabCuts, the orange's before its two, the astronaut's face
+// is frontal.
+TEST(ProposeParallel, TheFacesFoundAreDetectFacesOwnWhereverTheProfileSearchesRan) {
+    using namespace cv::multicage::propose_detail;
+    for (const char* name : {"camera", "baboon", "orange", "astronaut"}) {
+        const cv::Mat image =
+            multicage_testing::readSample(std::string("propose_bench/") + name + ".jpg");
+        const ProposeParams params;
+        const Work w = resolve(image.size(), params);
+        const std::vector<cv::Rect> expected =
+            mergeNearFaces(detectFaces(image, params), w.margin * w.scale);
+        std::vector<cv::Rect> found;
+        proposeProtectedMulticage(image, params, &found);
+        EXPECT_EQ(found, expected) << name;
+        if (std::string(name) == "camera" || std::string(name) == "astronaut")
+            EXPECT_EQ(found.size(), 1u) << name;
+    }
 }

@@ -215,74 +215,127 @@ String faceCascadeFile(const ProposeParams& params) {
     return findCascade(params, kFrontal);
 }
 
-std::vector<Rect> detectFaces(InputArray image, const ProposeParams& params) {
+namespace propose_detail {
+
+struct FaceSearch::State {
+    ProposeParams params;
+    Size size;           // the input's
+    double scale = 1.0;  // input pixels per working pixel
+    Mat gray, mirrored, ycrcb;
+    std::vector<Search> searches;         // the frontal search, then the profile cascade's two
+    std::vector<std::vector<Rect>> kept;  // what stands of each search's faces (working pixels)
+
+    // Whether a face search `s` found stands: in a colour photo its middle is skin; in a grey
+    // one a frontal face needs kGreyFrontalWindows windows or an eye; with faceEyes, an eye.
+    bool stands(const Search& s, size_t i) const {
+        const Rect& r = s.found[i];
+        CascadePool* eyes = nullptr;
+        auto eyeFound = [&] {
+            if (!eyes && !(eyes = cascade(params, kEye, params.faceEyes))) return false;
+            std::unique_ptr<CascadeClassifier> eye = eyes->borrow();
+            const bool found = eyeIn(*eye, gray, r);
+            eyes->giveBack(std::move(eye));
+            return found;
+        };
+        const bool kept = !ycrcb.empty()
+                              ? skinInMiddle(ycrcb, r)
+                              : !s.frontal || s.windows[i] >= kGreyFrontalWindows || eyeFound();
+        return kept && (!params.faceEyes || eyeFound());
+    }
+
+    void search(size_t k) {
+        Search& s = searches[k];
+        run(s, gray, mirrored);
+        s.pool->giveBack(std::move(s.classifier));
+        for (size_t i = 0; i < s.found.size(); ++i)
+            if (stands(s, i)) kept[k].push_back(s.found[i]);
+    }
+};
+
+FaceSearch::FaceSearch(InputArray image, const ProposeParams& params)
+    : state_(std::make_unique<State>()) {
+    State& st = *state_;
     const Mat img = image.getMat();
     if (img.empty()) CV_Error(Error::StsBadArg, "multicage: detectFaces: the image is empty");
-    std::vector<Search> searches;
-    searches.push_back({cascade(params, kFrontal, true), true, false, nullptr, {}, {}});
+    st.params = params;
+    st.size = img.size();
+    st.searches.push_back({cascade(params, kFrontal, true), true, false, nullptr, {}, {}});
     if (CascadePool* profile = cascade(params, kProfile, false)) {
         // The profile cascade knows faces looking one way: the mirror image finds the others.
-        searches.push_back({profile, false, false, nullptr, {}, {}});
-        searches.push_back({profile, false, true, nullptr, {}, {}});
+        st.searches.push_back({profile, false, false, nullptr, {}, {}});
+        st.searches.push_back({profile, false, true, nullptr, {}, {}});
     }
-    for (Search& s : searches) s.classifier = s.pool->borrow();  // load errors before searching
+    for (Search& s : st.searches) s.classifier = s.pool->borrow();  // load errors first
+    st.kept.resize(st.searches.size());
 
     Mat small = propose_detail::to8Bit(img);
     const int longer = std::max(img.cols, img.rows);
-    const double scale = params.faceWorkingSize > 0 && longer > params.faceWorkingSize
-                             ? longer / static_cast<double>(params.faceWorkingSize)
-                             : 1.0;
-    if (scale > 1.0)  // (a side of a thin image keeps at least a pixel)
+    st.scale = params.faceWorkingSize > 0 && longer > params.faceWorkingSize
+                   ? longer / static_cast<double>(params.faceWorkingSize)
+                   : 1.0;
+    if (st.scale > 1.0)  // (a side of a thin image keeps at least a pixel)
         resize(small, small,
-               Size(std::max(1, cvRound(img.cols / scale)), std::max(1, cvRound(img.rows / scale))),
+               Size(std::max(1, cvRound(img.cols / st.scale)),
+                    std::max(1, cvRound(img.rows / st.scale))),
                0, 0, INTER_AREA);
-    Mat gray, ycrcb;
     if (small.channels() == 3) {
-        cvtColor(small, gray, COLOR_BGR2GRAY);
-        cvtColor(small, ycrcb, COLOR_BGR2YCrCb);
-        if (!hasColour(ycrcb)) ycrcb.release();
+        cvtColor(small, st.gray, COLOR_BGR2GRAY);
+        cvtColor(small, st.ycrcb, COLOR_BGR2YCrCb);
+        if (!hasColour(st.ycrcb)) st.ycrcb.release();
     } else {
-        gray = small;
+        st.gray = small;
     }
-    equalizeHist(gray, gray);
-    Mat mirrored;
-    flip(gray, mirrored, 1);
-    // The frontal search on every core (detectMultiScale shares its scales out between
-    // threads), then the two profile searches side by side, one core each. On 2 cores that took
-    // 80-131 ms against 90-148 ms for the three side by side, where one core ran two of them
-    // (at 320 px each search takes 40-90 ms on one core).
-    run(searches[0], gray, mirrored);
-    parallel_for_(Range(1, static_cast<int>(searches.size())), [&](const Range& r) {
-        for (int i = r.start; i < r.end; ++i) run(searches[i], gray, mirrored);
-    });
-    // Where an eye is looked for (faceEyes, or a frontal face in a photo without colour): the
-    // eye cascade, borrowed once; without it nothing is confirmed by an eye.
-    std::unique_ptr<CascadeClassifier> eye;
-    CascadePool* eyes = nullptr;
-    auto eyeFound = [&](const Rect& face) {
-        if (!eyes && !(eyes = cascade(params, kEye, params.faceEyes))) return false;
-        if (!eye) eye = eyes->borrow();
-        return eyeIn(*eye, gray, face);
-    };
+    equalizeHist(st.gray, st.gray);
+    flip(st.gray, st.mirrored, 1);
+}
+
+FaceSearch::~FaceSearch() {
+    for (Search& s : state_->searches)  // the searches never run
+        if (s.classifier) s.pool->giveBack(std::move(s.classifier));
+}
+
+bool FaceSearch::frontal() {
+    // On every core: detectMultiScale shares its scales out between threads.
+    state_->search(0);
+    return !state_->kept[0].empty();
+}
+
+bool FaceSearch::profiles(bool sideBySide) {
+    const int n = static_cast<int>(state_->searches.size());
+    if (sideBySide)
+        parallel_for_(Range(1, n), [this](const Range& r) {
+            for (int i = r.start; i < r.end; ++i) state_->search(static_cast<size_t>(i));
+        });
+    else
+        for (int i = 1; i < n; ++i) state_->search(static_cast<size_t>(i));
+    bool any = false;
+    for (int i = 1; i < n; ++i) any |= !state_->kept[static_cast<size_t>(i)].empty();
+    return any;
+}
+
+std::vector<Rect> FaceSearch::faces() const {
+    const State& st = *state_;
     std::vector<Rect> found;
-    for (Search& s : searches) {
-        for (size_t i = 0; i < s.found.size(); ++i) {
-            const Rect& r = s.found[i];
-            const bool stands = !ycrcb.empty()
-                                    ? skinInMiddle(ycrcb, r)
-                                    : !s.frontal || s.windows[i] >= kGreyFrontalWindows ||
-                                          eyeFound(r);
-            if (stands && (!params.faceEyes || eyeFound(r))) found.push_back(r);
+    for (size_t k = 0; k < st.searches.size(); ++k)
+        for (const Rect& r : st.kept[k]) {
+            const Rect2d s(r.x * st.scale, r.y * st.scale, r.width * st.scale, r.height * st.scale);
+            found.push_back(
+                Rect(Point(cvFloor(s.x), cvFloor(s.y)), Point(cvCeil(s.br().x), cvCeil(s.br().y))) &
+                Rect(Point(), st.size));
         }
-        s.pool->giveBack(std::move(s.classifier));
-    }
-    if (eye) eyes->giveBack(std::move(eye));
-    for (Rect& r : found) {
-        const Rect2d s(r.x * scale, r.y * scale, r.width * scale, r.height * scale);
-        r = Rect(Point(cvFloor(s.x), cvFloor(s.y)), Point(cvCeil(s.br().x), cvCeil(s.br().y))) &
-            Rect(Point(), img.size());
-    }
     return mergeOverlapping(found);
+}
+
+}  // namespace propose_detail
+
+std::vector<Rect> detectFaces(InputArray image, const ProposeParams& params) {
+    // The frontal search on every core, then the two profile searches side by side, one core
+    // each. On 2 cores that took 80-131 ms against 90-148 ms for the three side by side, where
+    // one core ran two of them (at 320 px each search takes 40-90 ms on one core).
+    propose_detail::FaceSearch search(image, params);
+    search.frontal();
+    search.profiles(true);
+    return search.faces();
 }
 
 const char* protectDetectorName(int detector) {

@@ -3,6 +3,7 @@
 #ifndef MULTICAGE_PROPOSE_FACES_HPP
 #define MULTICAGE_PROPOSE_FACES_HPP
 
+#include <memory>
 #include <opencv2/multicage/propose.hpp>
 
 namespace cv {
@@ -51,6 +52,27 @@ residual falls by a quarter to a third (astronaut.png 1.01 -> 0.77 px); one cent
 gains 5%, a large one loses (it and the face's polygon have opposite orientations, and their
 weights cancel inside it, as with any ring of two nested polygons). Input pixels. */
 std::vector<std::vector<Point2f>> faceAnchors(const Rect2d& box);
+
+/** detectFaces in steps, for the proposal's order of work (propose.cpp): the searches run
+when asked, and faces() answers what detectFaces would once all have run. The constructor
+loads the cascades (throwing as detectFaces does) and makes the working copy. */
+class FaceSearch {
+  public:
+    FaceSearch(InputArray image, const ProposeParams& params);
+    ~FaceSearch();
+    /** The frontal search, on every core; true when it found a face. */
+    bool frontal();
+    /** The profile cascade's two searches (as the image is and mirrored; none without the
+    cascade), side by side or one after the other on this thread; true when they found a
+    face. */
+    bool profiles(bool sideBySide);
+    /** The faces of the searches run so far, merged, in input pixels, largest first. */
+    std::vector<Rect> faces() const;
+
+  private:
+    struct State;
+    std::unique_ptr<State> state_;
+};
 
 /** Faces whose polygons, grown by `gap` pixels, would overlap are one face: merged into their
 bounding box until none overlap. Largest first. */

@@ -253,7 +253,7 @@ Rect automaticGrabCutRect(const Mat& img) {
 }
 
 Mat segmentGrabCut(const Mat& img, const ProposeParams& params, double scale, const Mat& region,
-                   const Mat& seed = Mat()) {
+                   const Mat& seed = Mat(), const std::function<bool(bool)>& beside = {}) {
     Mat color;
     if (img.channels() == 1)
         cvtColor(img, color, COLOR_GRAY2BGR);
@@ -293,7 +293,8 @@ Mat segmentGrabCut(const Mat& img, const ProposeParams& params, double scale, co
             salient(r).setTo(GC_PR_FGD);
         else
             salient.release();
-        labels = frameInwardSubject(small, params.grabCutIterations, salient);
+        labels = frameInwardSubject(small, params.grabCutIterations, salient, beside);
+        if (labels.empty()) return Mat();  // `beside` made it moot
     } else {
         labels(rect).setTo(GC_PR_FGD);
         // The person prior (person.hpp) replaces the rectangle: its labels are GrabCut's start.
@@ -379,9 +380,10 @@ Mat cleanMask(const Mat& mask, int radius, double minArea) {
 }
 
 Segmentation segmentForProposal(const Mat& image, const Work& w, const ProposeParams& params,
-                                const Mat& person) {
+                                const Mat& person, const std::function<bool(bool)>& beside) {
     Segmentation s;
     if (params.method == PROPOSE_MASK || params.method == PROPOSE_LABELS) {
+        if (beside && !beside(true)) return s;
         if (image.empty())
             CV_Error(Error::StsBadArg, "multicage: proposeMulticage: the mask is empty");
         if (image.channels() != 1)
@@ -418,8 +420,15 @@ Segmentation segmentForProposal(const Mat& image, const Work& w, const ProposePa
         // where saliency alone lights up texture.
         method = plainBackground(work) ? PROPOSE_THRESHOLD : PROPOSE_GRABCUT;
     }
-    if (!person.empty() && (method == PROPOSE_AUTO || method == PROPOSE_GRABCUT) &&
-        params.rect.area() == 0) {
+    const bool grabCut = method == PROPOSE_AUTO || method == PROPOSE_GRABCUT;
+    if (grabCut && person.empty() && params.rect.area() == 0 && beside) {
+        // From the frame inward, which takes `beside` along (subject.hpp).
+        const Mat mask = segmentGrabCut(work, params, w.scale, Mat(), Mat(), beside);
+        if (!mask.empty()) s.objects = cleanMask(mask, w.radius, w.minArea);
+        return s;
+    }
+    if (beside && !beside(true)) return s;
+    if (!person.empty() && grabCut && params.rect.area() == 0) {
         // A face was found: the person prior seeds GrabCut, whatever the background.
         s.objects =
             cleanMask(segmentGrabCut(work, params, w.scale, Mat(), person), w.radius, w.minArea);

@@ -2,6 +2,7 @@
 #ifndef MULTICAGE_PROPOSE_SEGMENT_HPP
 #define MULTICAGE_PROPOSE_SEGMENT_HPP
 
+#include <functional>
 #include <opencv2/multicage/propose.hpp>
 
 #include "work.hpp"
@@ -62,9 +63,17 @@ input as given (cleaned), a photo by params.method (PROPOSE_AUTO: threshold on a
 background, else GrabCut from the frame inward, subject.hpp), cleaned. Throws StsBadArg for an empty
 or constant image and a mask with more than one channel. `person`, when not empty, is a work-size
 GrabCut seed from the person prior (person.hpp): GC_FGD / GC_PR_FGD where a face and the body below
-it are, GC_PR_BGD elsewhere; with it PROPOSE_AUTO always runs GrabCut. */
+it are, GC_PR_BGD elsewhere; with it PROPOSE_AUTO always runs GrabCut.
+
+`beside`, when set, is work that decides whether the segmentation is wanted, called with true
+when it has the cores to itself: the proposal's profile face searches, which a face found makes
+the face-blind segmentation moot (propose.cpp). It runs beside the segmentation where that
+leaves a core idle (the frame-inward GrabCut of a picture whose salient part is all of it: one
+chain of GrabCuts), else before it; when it returns false before it, the segmentation is
+skipped and empty. */
 Segmentation segmentForProposal(const Mat& image, const Work& w, const ProposeParams& params,
-                                const Mat& person = Mat());
+                                const Mat& person = Mat(),
+                                const std::function<bool(bool)>& beside = {});
 
 }  // namespace propose_detail
 }  // namespace multicage

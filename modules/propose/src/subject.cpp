@@ -26,8 +26,10 @@
 // orange 0.07 of outline IoU.
 //
 // The salient part's GrabCut needs nothing from the frame-inward passes until the end: the two
-// run side by side (frameInwardSubject). Each GrabCut is seeded by itself (seededGrabCut), so
-// the result does not depend on which runs first or on how many threads there are.
+// run side by side (frameInwardSubject); where there is no salient part's GrabCut (its
+// rectangle is the strip's inside), the proposal's profile face searches take the second core
+// (`beside`). Each GrabCut is seeded by itself (seededGrabCut), so the result does not depend
+// on which runs first or on how many threads there are.
 #include "subject.hpp"
 
 #include <algorithm>
@@ -179,7 +181,8 @@ Mat reopenedPass(const Mat& img, int iterations, int b, const Mat& first, const 
 
 }  // namespace
 
-Mat frameInwardSubject(const Mat& img, int iterations, const Mat& salientStart) {
+Mat frameInwardSubject(const Mat& img, int iterations, const Mat& salientStart,
+                       const std::function<bool(bool)>& beside) {
     CV_Assert(img.type() == CV_8UC3);
     const int b = std::max(2, cvRound(kStrip * std::max(img.cols, img.rows)));
     const Mat first = frameStart(img.size(), b);
@@ -195,9 +198,19 @@ Mat frameInwardSubject(const Mat& img, int iterations, const Mat& salientStart) 
         if (img.cols > 4 * b && img.rows > 4 * b)  // else no strip to reopen
             labels = reopenedPass(img, iterations, b, first, labels);
     };
-    if (salient.empty()) {
+    if (salient.empty() && beside) {
+        // One GrabCut chain, one core: `beside` takes the other.
+        parallel_for_(Range(0, 2), [&](const Range& r) {
+            for (int i = r.start; i < r.end; ++i)
+                if (i == 0)
+                    frameInward();
+                else
+                    beside(false);
+        });
+    } else if (salient.empty()) {
         frameInward();
     } else {
+        if (beside && !beside(true)) return Mat();
         // The salient part's GrabCut is needed only for the check below: it runs beside the
         // frame-inward passes, on the second core. Nested parallel loops run serially in
         // OpenCV, so each GrabCut stays on its task's thread.

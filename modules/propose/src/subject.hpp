@@ -3,6 +3,7 @@
 #ifndef MULTICAGE_PROPOSE_SUBJECT_HPP
 #define MULTICAGE_PROPOSE_SUBJECT_HPP
 
+#include <functional>
 #include <opencv2/core.hpp>
 
 namespace cv {
@@ -14,8 +15,14 @@ size) after `iterations` iterations from the frame inward, then as many again wi
 reopened where the subject is cut by it (subject.cpp says when). `salientStart`, when not empty,
 holds GrabCut's start from a rectangle around the salient part: GrabCut runs from it too (beside
 the frame-inward passes), and the frame-inward subject is returned only if it holds at least 80%
-of that part's subject, else that part's labels are. */
-Mat frameInwardSubject(const Mat& img, int iterations, const Mat& salientStart = Mat());
+of that part's subject, else that part's labels are.
+
+`beside`, when set, is work that decides whether the subject is wanted (the proposal's profile
+face searches, segment.hpp's Beside): it runs beside the frame-inward passes when there is no
+salient part's GrabCut to run there, else before both; when it returns false before them,
+nothing else runs and the labels are empty. */
+Mat frameInwardSubject(const Mat& img, int iterations, const Mat& salientStart = Mat(),
+                       const std::function<bool(bool)>& beside = {});
 
 }  // namespace propose_detail
 }  // namespace multicage
