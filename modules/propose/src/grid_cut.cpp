@@ -232,10 +232,11 @@ void GridCut::adopt() {
 //
 // 30 rounds: the 13 benchmark photos' GrabCuts from the frame inward (4 iterations at 240 px,
 // one thread) took 1781 ms together with no rounds, 1252 with 20 rounds pushing downhill only,
-// 1185 with 40, 1158 with 20 and the sideways pushes, 1143 with 30 and 1170 with 40 (the
-// squirrel 233 -> 118 ms, the baboon 163 -> 103, the apple, whose paths were short,
-// 70 -> 80). Stopping when a round delivered under 2-20% of the first round's flow was no
-// better; rounds before the later solves, which start from the flow kept, were slower.
+// 1185 with 40, 1158 with 20 and the sideways pushes, 1143 with 30 and 1170 with 40 (each
+// photo's 4 iterations: the squirrel 233 -> 118 ms, the baboon 163 -> 103, the apple, whose
+// paths were short, 70 -> 80). Stopping when a round delivered under 2-20% of the first
+// round's flow was no better; rounds before the later solves, which start from the flow kept,
+// were slower (30 each) or within the noise (1-3 each).
 double GridCut::pushDownhill() {
     constexpr int kRounds = 30;
     const int n = static_cast<int>(tr_.size());
