@@ -183,7 +183,7 @@ TEST(ProposeSubject, GrabCutFromTheFrameRunsUntilItsLabelsSettle) {
 // (hair, then background) it stays within 0.15 face sizes, the hair (0.6 face heights) and the
 // margin and simplification (3% of the image diagonal). Two face sizes of room put it on the
 // frame.
-TEST(ProposePerson, TheOutlineAroundAFaceLeavesItAtMostAThirdOfAFaceOfRoom) {
+TEST(ProposePerson, TheOutlineAroundAFaceLeavesItLittleRoomNeverTheFrame) {
     if (!haveCascades()) GTEST_SKIP() << "opencv-data is not installed";
     for (const char* name : {"messi5", "megamind_dinner"}) {
         const cv::Mat image = benchPhoto(name);
