@@ -143,6 +143,24 @@ PipelineFigures pipelineFigures(const BenchOptions& o, const cv::Mat& image,
     return f;
 }
 
+// Keeps the GPU busy with poses for at least `seconds` before anything is timed. An idle
+// NVIDIA GPU clocks its SMs down (an H200 at 345 MHz against 1980 MHz under load, 2026-11-28)
+// and takes a few hundred milliseconds of work to clock up again: the first 4096x3072 run after
+// idle measured 4.3-7.6 ms of GPU time per pose, every stage slower at once, and 2.36 ms once
+// the clock was up (the same binary, one after the other). On llvmpipe this costs one pose.
+void warmUpGpu(const cv::Mat& image, const cv::multicage::Multicage& cage,
+               const std::vector<cv::Point2f>& pose, const cv::multicage::GLDeformerParams& params,
+               double seconds) {
+    const auto start = std::chrono::steady_clock::now();
+    cv::multicage::GLDeformer d(image, cage, 1, params);
+    cv::Mat out;
+    do {
+        d.setPose(pose);
+        d.render();
+        d.readOutput(out);  // waits for the GPU: the loop times work done, not work queued
+    } while (msSince(start) < 1000.0 * seconds);
+}
+
 // The GPU figures of one case: binding in the compute shader, packing + upload of a CPU
 // binding, building the programs, Deformer creation, and both pipelines.
 GpuFigures gpuFigures(const BenchOptions& o, const cv::Mat& image,
@@ -153,6 +171,7 @@ GpuFigures gpuFigures(const BenchOptions& o, const cv::Mat& image,
     std::vector<double> bindMs, uploadMs;
     GLDeformerParams glParams;
     glParams.halfFloat = o.half;
+    warmUpGpu(image, cage, pose, glParams, 0.5);
     for (int i = 0; i < o.repeats; ++i) {
         GLDeformer bound(image, cage, 1, glParams);
         bindMs.push_back(bound.timings().binding);
