@@ -15,6 +15,8 @@
 //   features.cpp  the inner polygons: faces, then textured salient regions
 #include <algorithm>
 #include <cmath>
+#include <exception>
+#include <thread>
 #include <opencv2/core/utility.hpp>
 #include <opencv2/imgproc.hpp>
 #include <opencv2/multicage/propose.hpp>
@@ -25,6 +27,7 @@
 #include "person.hpp"
 #include "polygons.hpp"
 #include "segment.hpp"
+#include "segmenter.hpp"
 #include "work.hpp"
 
 namespace cv {
@@ -105,6 +108,48 @@ Multicage outlinesOf(Segmentation s, Size size, const Work& w, const ProposePara
                        Budget{params.maxPolygons, params.maxVertices, params.maxPolygonVertices}, 0,
                        "proposeMulticage", Check::VALID);
 }
+
+// The subject model's map of a photo (segmenter.hpp), run on the proposal's working copy; empty
+// where no model runs: a method other than PROPOSE_AUTO, a rectangle from the caller, no model
+// found under SEGMENTER_AUTO, or an image too plain to segment (segmentForProposal says so).
+Mat subjectFor(const Mat& img, const Work& w, const ProposeParams& params, const String& model) {
+    if (model.empty()) return Mat();
+    const Mat img8 = to8Bit(img);
+    if (isConstant(img8)) return Mat();
+    return subjectMapOf(toWork(img8, w, INTER_AREA), model);
+}
+
+String modelFor(const ProposeParams& params) {
+    if (params.method != PROPOSE_AUTO || params.rect.area() > 0) return String();
+    return modelToRun(params);
+}
+
+// The subject model's map, with the face search beside it on a thread of its own (the network
+// takes OpenCV's worker threads): `found` receives the faces when it is not null.
+Mat subjectBesideFaces(const Mat& img, const Work& w, const ProposeParams& params,
+                       const String& model, std::vector<Rect>* found) {
+    if (!found) return subjectFor(img, w, params, model);
+    std::exception_ptr failed;
+    std::thread search([&] {
+        try {
+            FaceSearch faces(img, params);
+            if (!faces.frontal()) faces.profiles(false);
+            *found = faces.faces();
+        } catch (...) {
+            failed = std::current_exception();
+        }
+    });
+    Mat subject;
+    try {
+        subject = subjectFor(img, w, params, model);
+    } catch (...) {
+        search.join();
+        throw;
+    }
+    search.join();
+    if (failed) std::rethrow_exception(failed);
+    return subject;
+}
 }  // namespace
 
 Multicage proposeMulticage(InputArray image, const ProposeParams& params) {
@@ -112,7 +157,9 @@ Multicage proposeMulticage(InputArray image, const ProposeParams& params) {
     const Mat img = image.getMat();
     if (img.empty()) CV_Error(Error::StsBadArg, "multicage: proposeMulticage: the image is empty");
     const Work w = resolve(img.size(), params);
-    return outlinesOf(segmentForProposal(img, w, params), img.size(), w, params, {});
+    const Mat subject = subjectFor(img, w, params, modelFor(params));
+    return outlinesOf(segmentForProposal(img, w, params, Mat(), {}, subject), img.size(), w,
+                      params, {});
 }
 
 Multicage proposeProtectedMulticage(InputArray image, const ProposeParams& params) {
@@ -142,10 +189,16 @@ Multicage proposeProtectedMulticage(InputArray image, const ProposeParams& param
     // baboon's proposal 270 -> 213 ms at 1024 px, the apple's 205 -> 165), else before it,
     // which they spare when they find a face (segment.hpp). A profile face beside it costs the
     // chain's time (the close-up of a face in profile); a frontal face changes nothing.
+    // With a subject model, the network runs while the faces are searched, and its map joins
+    // the person prior in the segmentation (fuse.hpp).
     std::vector<Rect> found;
     Segmentation s;
     bool segmented = false;
-    if (wantsFaces(params)) {
+    const String model = modelFor(params);
+    Mat subject;
+    if (!model.empty()) {
+        subject = subjectBesideFaces(img, w, params, model, wantsFaces(params) ? &found : nullptr);
+    } else if (wantsFaces(params)) {
         FaceSearch search(img, params);
         if (search.frontal()) {
             search.profiles(true);
@@ -160,7 +213,7 @@ Multicage proposeProtectedMulticage(InputArray image, const ProposeParams& param
     KnownFaces known{faces, {}};
     const Mat person = personSeed(found, w);
     if (faces.empty()) {  // (a mask or label input has none: wantsFaces)
-        if (!segmented) s = segmentForProposal(img, w, params, person);
+        if (!segmented) s = segmentForProposal(img, w, params, person, {}, subject);
     } else {
         // The eyes need the faces alone: they are searched on the second core while the
         // person prior's GrabCut, one thread, runs on the first (a face's two eye cascades
@@ -170,7 +223,7 @@ Multicage proposeProtectedMulticage(InputArray image, const ProposeParams& param
         parallel_for_(Range(0, 2), [&](const Range& r) {
             for (int task = r.start; task < r.end; ++task)
                 if (task == 0)
-                    s = segmentForProposal(img, w, params, person);
+                    s = segmentForProposal(img, w, params, person, {}, subject);
                 else
                     for (size_t i = 0; i < faces.size(); ++i)
                         known.eyes[i] = findEyes(gray, faces[i], params);

@@ -6,6 +6,7 @@
 #include <opencv2/imgproc.hpp>
 #include <opencv2/saliency.hpp>
 
+#include "fuse.hpp"
 #include "grabcut.hpp"
 #include "subject.hpp"
 
@@ -185,6 +186,21 @@ void seededGrabCut(const Mat& img, Mat& labels, int iterations, int settleWithin
     }
 }
 
+Mat piecesHolding(const Mat& mask, const Mat& sure) {
+    Mat ids;
+    const int n = connectedComponents(mask, ids, 8, CV_32S);
+    std::vector<char> keep(n, 0);
+    for (int y = 0; y < ids.rows; ++y)
+        for (int x = 0; x < ids.cols; ++x)
+            if (sure.at<uchar>(y, x)) keep[ids.at<int>(y, x)] = 1;
+    keep[0] = 0;
+    Mat out = mask.clone();
+    for (int y = 0; y < ids.rows; ++y)
+        for (int x = 0; x < ids.cols; ++x)
+            if (!keep[ids.at<int>(y, x)]) out.at<uchar>(y, x) = 0;
+    return out;
+}
+
 namespace {
 Mat thresholdAbove(const Mat& feature, int t, const Mat& region) {
     Mat mask;
@@ -252,6 +268,21 @@ Rect automaticGrabCutRect(const Mat& img) {
     return r & Rect(mx, my, img.cols - 2 * mx, img.rows - 2 * my);
 }
 
+}  // namespace
+
+Mat frameInwardLabels(const Mat& small, const ProposeParams& params,
+                      const std::function<bool(bool)>& beside, bool* reopened) {
+    // The salient part and the subject from the frame inward, which must hold it (subject.hpp).
+    Mat salient(small.size(), CV_8U, Scalar(GC_BGD));
+    const Rect r = automaticGrabCutRect(small) & Rect(1, 1, small.cols - 2, small.rows - 2);
+    if (r.width >= 2 && r.height >= 2)
+        salient(r).setTo(GC_PR_FGD);
+    else
+        salient.release();
+    return frameInwardSubject(small, params.grabCutIterations, salient, beside, reopened);
+}
+
+namespace {
 Mat segmentGrabCut(const Mat& img, const ProposeParams& params, double scale, const Mat& region,
                    const Mat& seed = Mat(), const std::function<bool(bool)>& beside = {}) {
     Mat color;
@@ -285,15 +316,7 @@ Mat segmentGrabCut(const Mat& img, const ProposeParams& params, double scale, co
                    params.rect.x, params.rect.y, params.rect.width, params.rect.height));
     Mat labels(small.size(), CV_8U, Scalar(GC_BGD));
     if (fromFrame) {
-        // The salient part and the subject from the frame inward, which must hold it
-        // (subject.hpp).
-        Mat salient(small.size(), CV_8U, Scalar(GC_BGD));
-        const Rect r = automaticGrabCutRect(small) & Rect(1, 1, small.cols - 2, small.rows - 2);
-        if (r.width >= 2 && r.height >= 2)
-            salient(r).setTo(GC_PR_FGD);
-        else
-            salient.release();
-        labels = frameInwardSubject(small, params.grabCutIterations, salient, beside);
+        labels = frameInwardLabels(small, params, beside);
         if (labels.empty()) return Mat();  // `beside` made it moot
     } else {
         labels(rect).setTo(GC_PR_FGD);
@@ -303,20 +326,9 @@ Mat segmentGrabCut(const Mat& img, const ProposeParams& params, double scale, co
     }
     Mat mask = (labels == GC_FGD) | (labels == GC_PR_FGD);
     if (!seed.empty()) {
-        // The person is what holds a face: pieces GrabCut found apart from every face (a
-        // candle on the table, a lit patch of the wall) are not the subject.
-        Mat ids;
-        const int n = connectedComponents(mask, ids, 8, CV_32S);
-        std::vector<char> keep(n, 0);
         Mat s;
         resize(seed, s, small.size(), 0, 0, INTER_NEAREST);
-        for (int y = 0; y < ids.rows; ++y)
-            for (int x = 0; x < ids.cols; ++x)
-                if (s.at<uchar>(y, x) == GC_FGD) keep[ids.at<int>(y, x)] = 1;
-        keep[0] = 0;
-        for (int y = 0; y < ids.rows; ++y)
-            for (int x = 0; x < ids.cols; ++x)
-                if (!keep[ids.at<int>(y, x)]) mask.at<uchar>(y, x) = 0;
+        mask = piecesHolding(mask, s == GC_FGD);
     }
     if (mask.size() != img.size()) {
         resize(mask, mask, img.size(), 0, 0, INTER_LINEAR);
@@ -380,7 +392,8 @@ Mat cleanMask(const Mat& mask, int radius, double minArea) {
 }
 
 Segmentation segmentForProposal(const Mat& image, const Work& w, const ProposeParams& params,
-                                const Mat& person, const std::function<bool(bool)>& beside) {
+                                const Mat& person, const std::function<bool(bool)>& beside,
+                                const Mat& subject) {
     Segmentation s;
     if (params.method == PROPOSE_MASK || params.method == PROPOSE_LABELS) {
         if (beside && !beside(true)) return s;
@@ -413,6 +426,14 @@ Segmentation segmentForProposal(const Mat& image, const Work& w, const ProposePa
                  "multicage: proposeMulticage: the image is constant (every pixel has the "
                  "same value): there is nothing to segment");
     const Mat work = toWork(img8, w, INTER_AREA);
+    if (!subject.empty() && params.method == PROPOSE_AUTO && params.rect.area() == 0) {
+        if (beside && !beside(true)) return s;
+        const Mat fused = fusedSubject(work, subject, person, params);
+        if (!fused.empty()) {
+            s.objects = cleanMask(fused, w.radius, w.minArea);
+            return s;
+        }
+    }
     int method = params.method;
     if (method == PROPOSE_AUTO && person.empty()) {
         // A plain background (most of the border strip near its median colour) is what a

@@ -42,6 +42,17 @@ until one moves at most 1% of the pixels between subject and background (the `it
 included), `settleWithin` in all at most. */
 void seededGrabCut(const Mat& img, Mat& labels, int iterations, int settleWithin = 0);
 
+/** GrabCut's labels of the subject of `small` (CV_8UC3 at GrabCut's working size) from the
+frame inward, checked against the salient part's (frameInwardSubject in subject.hpp, with the
+same `beside` and `reopened`). */
+Mat frameInwardLabels(const Mat& small, const ProposeParams& params,
+                      const std::function<bool(bool)>& beside = {}, bool* reopened = nullptr);
+
+/** The pieces (8-connected components) of `mask` holding a non-zero pixel of `sure`: the
+person is what holds a face, so a candle on the table or a lit patch of the wall that GrabCut
+found apart from every face is not the subject. */
+Mat piecesHolding(const Mat& mask, const Mat& sure);
+
 /** Raw segmentation (before cleaning) of an 8-bit work image: CV_8UC1, 255 on objects.
 `method` is one of the image-based methods (threshold, adaptive, grabcut, saliency,
 spectral); `region` (optional) restricts thresholds to the pixels inside it. */
@@ -70,10 +81,15 @@ when it has the cores to itself: the proposal's profile face searches, which a f
 the face-blind segmentation moot (propose.cpp). It runs beside the segmentation where that
 leaves a core idle (the frame-inward GrabCut of a picture whose salient part is all of it: one
 chain of GrabCuts), else before it; when it returns false before it, the segmentation is
-skipped and empty. */
+skipped and empty.
+
+`subject`, when not empty, is the subject model's map of the image (subjectMapOf): with
+PROPOSE_AUTO and no rect it is fused with the person prior and the frame-inward GrabCut
+(fuse.hpp), and the classic cues decide only where it holds no subject. */
 Segmentation segmentForProposal(const Mat& image, const Work& w, const ProposeParams& params,
                                 const Mat& person = Mat(),
-                                const std::function<bool(bool)>& beside = {});
+                                const std::function<bool(bool)>& beside = {},
+                                const Mat& subject = Mat());
 
 }  // namespace propose_detail
 }  // namespace multicage

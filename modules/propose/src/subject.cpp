@@ -111,14 +111,25 @@ Mat sharpness(const Mat& img) {
     return lap;
 }
 
-// Which pieces the subject continues through: runs of sharp pieces holding a reached one.
-std::vector<char> reopened(const std::vector<Piece>& pieces, const Mat& subject, const Mat& img) {
+// Which pieces of the strip are as sharp as the picture's middle.
+std::vector<char> sharpPieces(const std::vector<Piece>& pieces, const Mat& img) {
     const Mat sharp = sharpness(img);
     const Rect middle(img.cols / 4, img.rows / 4, img.cols / 2, img.rows / 2);
     const double least = kSharpAsMiddle * mean(sharp(middle))[0];
+    std::vector<char> isSharp(pieces.size());
+    for (size_t i = 0; i < pieces.size(); ++i) isSharp[i] = mean(sharp(pieces[i].strip))[0] >= least;
+    return isSharp;
+}
+
+int stripWidth(Size size) {
+    return std::max(2, cvRound(kStrip * std::max(size.width, size.height)));
+}
+
+// Which pieces the subject continues through: runs of sharp pieces holding a reached one.
+std::vector<char> reopened(const std::vector<Piece>& pieces, const Mat& subject, const Mat& img) {
+    const std::vector<char> isSharp = sharpPieces(pieces, img);
     const int n = static_cast<int>(pieces.size());
-    std::vector<char> isSharp(n), open(n, 0);
-    for (int i = 0; i < n; ++i) isSharp[i] = mean(sharp(pieces[i].strip))[0] >= least;
+    std::vector<char> open(n, 0);
     for (int i = 0; i < n; ++i) {
         const Rect band = pieces[i].band;
         if (!isSharp[i] || countNonZero(subject(band)) <= kReached * band.area()) continue;
@@ -191,10 +202,18 @@ Mat reopenedPass(const Mat& img, int iterations, int b, const Mat& first, const 
 
 }  // namespace
 
+bool frameInFocus(const Mat& img) {
+    const int b = stripWidth(img.size());
+    if (img.cols <= 4 * b || img.rows <= 4 * b) return false;
+    const std::vector<char> sharp = sharpPieces(piecesAround(img.size(), b), img);
+    return std::find(sharp.begin(), sharp.end(), 1) != sharp.end();
+}
+
 Mat frameInwardSubject(const Mat& img, int iterations, const Mat& salientStart,
-                       const std::function<bool(bool)>& beside) {
+                       const std::function<bool(bool)>& beside, bool* reopenedKept) {
     CV_Assert(img.type() == CV_8UC3);
-    const int b = std::max(2, cvRound(kStrip * std::max(img.cols, img.rows)));
+    if (reopenedKept) *reopenedKept = false;
+    const int b = stripWidth(img.size());
     const Mat first = frameStart(img.size(), b);
     // Where the salient part's rectangle is the strip's inside (the saliency spreads over the
     // whole picture: the baboon, the apple) both GrabCuts start from the same labels and find
@@ -205,8 +224,11 @@ Mat frameInwardSubject(const Mat& img, int iterations, const Mat& salientStart,
         labels = first.clone();
         seededGrabCut(img, labels, iterations, kSettleWithin);
         if (same) salient = labels.clone();
-        if (img.cols > 4 * b && img.rows > 4 * b)  // else no strip to reopen
-            labels = reopenedPass(img, iterations, b, first, labels);
+        if (img.cols > 4 * b && img.rows > 4 * b) {  // else no strip to reopen
+            Mat second = reopenedPass(img, iterations, b, first, labels);
+            if (reopenedKept) *reopenedKept = second.data != labels.data;
+            labels = second;
+        }
     };
     if (salient.empty() && beside) {
         // One GrabCut chain, one core: `beside` takes the other.
@@ -239,7 +261,9 @@ Mat frameInwardSubject(const Mat& img, int iterations, const Mat& salientStart,
     // shelves behind it, two facets of a grey sculpture on grey).
     const Mat part = (salient == GC_FGD) | (salient == GC_PR_FGD);
     const Mat subject = (labels == GC_FGD) | (labels == GC_PR_FGD);
-    return countNonZero(part & subject) >= kHoldsSalient * countNonZero(part) ? labels : salient;
+    if (countNonZero(part & subject) >= kHoldsSalient * countNonZero(part)) return labels;
+    if (reopenedKept) *reopenedKept = false;
+    return salient;
 }
 
 }  // namespace propose_detail

@@ -20,9 +20,14 @@ of that part's subject, else that part's labels are.
 `beside`, when set, is work that decides whether the subject is wanted (the proposal's profile
 face searches, segment.hpp's Beside): it runs beside the frame-inward passes when there is no
 salient part's GrabCut to run there, else before both; when it returns false before them,
-nothing else runs and the labels are empty. */
+nothing else runs and the labels are empty. `reopened`, when set, tells whether the second
+pass was kept (the subject goes on past the frame). */
 Mat frameInwardSubject(const Mat& img, int iterations, const Mat& salientStart = Mat(),
-                       const std::function<bool(bool)>& beside = {});
+                       const std::function<bool(bool)>& beside = {}, bool* reopened = nullptr);
+
+/** True when some piece of the strip along the frame is as sharp as the picture's middle: the
+frame may cut an in-focus subject, the condition of frameInwardSubject's second pass. */
+bool frameInFocus(const Mat& img);
 
 }  // namespace propose_detail
 }  // namespace multicage

@@ -30,6 +30,8 @@ void checkParams(const ProposeParams& p) {
         bad("protect", p.protect, "a ProtectDetector");
     if (p.faceWorkingSize != 0 && p.faceWorkingSize < 48)
         bad("faceWorkingSize", p.faceWorkingSize, "0 or >= 48");
+    if (p.segmenter < SEGMENTER_AUTO || p.segmenter > SEGMENTER_CLASSIC)
+        bad("segmenter", p.segmenter, "a ProposeSegmenter");
 }
 
 Work resolve(Size full, const ProposeParams& p) {

@@ -59,6 +59,25 @@ enum ProtectDetector {
     PROTECT_ALL = 2
 };
 
+/** Where proposeMulticage() learns what the subject of a photo is (ProposeParams::segmenter).
+Masks and label images (PROPOSE_MASK, PROPOSE_LABELS) are the caller's word and use none. */
+enum ProposeSegmenter {
+    /** SEGMENTER_MODEL when a subject model is found (segmenterModelFile()), else
+    SEGMENTER_CLASSIC. */
+    SEGMENTER_AUTO = 0,
+    /** A learned salient-object network (U^2-Net-P by default, docs/models.md) run through
+    OpenCV's dnn module gives a subject map; the proposal fuses it with the faces and the
+    frame-inward GrabCut (docs/propose/README.md). No model found: cv::Exception. */
+    SEGMENTER_MODEL = 1,
+    /** Hand-written cues only: GrabCut seeded by the person prior or from the frame inward,
+    and the plain-background threshold. */
+    SEGMENTER_CLASSIC = 2
+};
+
+/** Environment variable naming a subject model file, looked at after
+ProposeParams::segmenterModel (docs/models.md). */
+#define MULTICAGE_SEGMENTER_ENV "MULTICAGE_SEGMENTER_MODEL"
+
 /** Folder of OpenCV's Haar cascades on Debian (package opencv-data). */
 #define MULTICAGE_DEBIAN_CASCADE_DIR "/usr/share/opencv4/haarcascades"
 
@@ -111,6 +130,14 @@ struct CV_EXPORTS ProposeParams {
     cascades' cost grows with area. The smallest face found is 24 pixels of the copy, 7.5% of
     the longer side at 320: smaller faces are too small for a polygon of their own anyway. */
     int faceWorkingSize = 320;
+    /** ProposeSegmenter: where the subject cue comes from (SEGMENTER_AUTO: the learned model
+    when one is found, else the classic cues). */
+    int segmenter = SEGMENTER_AUTO;
+    /** A subject model (ONNX) to use instead of the default: one RGB image in (1x3x320x320,
+    0-1, ImageNet mean and deviation), one subject map out (1x1x320x320, 0-1). Empty: the
+    environment variable MULTICAGE_SEGMENTER_ENV, then the model installed with the build
+    tree, then with the install prefix (segmenterModelFile()). */
+    String segmenterModel;
 };
 
 /** Proposes a valid, oriented multicage that encloses the objects of an image.
@@ -187,6 +214,35 @@ room for its protective polygon, and each face gets an inner polygon in the outl
 it. */
 CV_EXPORTS Multicage proposeProtectedMulticage(InputArray image, const ProposeParams& params,
                                                std::vector<Rect>* faces);
+
+/** @brief The subject model proposeMulticage() would run for `params`.
+
+@param params     segmenter and segmenterModel are read (SEGMENTER_CLASSIC: none)
+@param why        when not null, receives how the model was found ("ProposeParams::segmenterModel",
+                  "MULTICAGE_SEGMENTER_MODEL", "the build tree", "the install prefix") or why
+                  there is none, with how to get one
+@return the model's path, or an empty string when none is found. A path given explicitly (the
+field or the environment variable) is returned as given, whether or not it exists: reading it
+then fails with a cv::Exception naming it. */
+CV_EXPORTS String segmenterModelFile(const ProposeParams& params = ProposeParams(),
+                                     String* why = nullptr);
+
+/** @brief The learned subject map of an image: what the subject model sees as the subject.
+
+@param image   8-bit (or 16-bit / float, rescaled) 1, 3 or 4 channels
+@param map     CV_32FC1 of the image's size, 0 (background) to 1 (subject)
+@param params  segmenterModel and the look-up of segmenterModelFile()
+
+The model is read once per process and shared by every thread (its runs take turns). Throws
+cv::Exception (StsObjectNotFound) when no model is found, and (StsParseError) naming the file
+when it is not a subject model: a truncated, corrupt or foreign file, or a default model whose
+size or sha256 is not the pinned one (docs/models.md). */
+CV_EXPORTS void subjectMap(InputArray image, OutputArray map,
+                           const ProposeParams& params = ProposeParams());
+
+/** Name of a ProposeSegmenter ("auto", "model", "classic"), and back (-1: unknown). */
+CV_EXPORTS const char* segmenterName(int segmenter);
+CV_EXPORTS int parseSegmenter(const String& name);
 
 /** Name of a ProtectDetector ("saliency", "faces", "all"), and back (-1: unknown). */
 CV_EXPORTS const char* protectDetectorName(int detector);

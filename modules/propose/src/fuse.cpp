@@ -1,0 +1,118 @@
+// How the subject model's map joins what the proposal already knows (docs/propose/README.md,
+// "The cues and how they are fused"). The map is a strong cue, not the answer: it is GrabCut's
+// start, and the colour models then follow the subject's own edges.
+//
+//   faces found      the person prior (person.hpp) is the start, and the map adds to it: what
+//                    the map calls subject and the prior left as background becomes probable
+//                    subject (an arm holding a glass, a second person beside the first); the
+//                    pieces holding no face are dropped.
+//   no face          the map is the start: sure subject where it is above kSure, probable
+//                    subject above kSubject, probable background near it, sure background
+//                    elsewhere. Where the map's subject stays inside the picture and the
+//                    frame is in focus somewhere (frameInFocus), the frame-inward GrabCut runs
+//                    beside it: when that one finds the subject going on past the frame and
+//                    its subject holds the map's, it wins (a close-up whose fur fills the
+//                    frame, which the network sees as a face in the middle).
+//   nothing / all    no map value above kSubject, or above it nearly everywhere: the map says
+//                    nothing, and the classic cues decide (segment.cpp).
+#include "fuse.hpp"
+
+#include <opencv2/core/utility.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "segment.hpp"
+#include "subject.hpp"
+#include "work.hpp"
+
+namespace cv {
+namespace multicage {
+namespace propose_detail {
+
+namespace {
+
+constexpr double kSubject = 0.5;    // map value: probable subject
+constexpr double kSure = 0.8;       // map value: sure subject (no face)
+constexpr double kNear = 0.2;       // map value: something is there
+constexpr double kNearReach = 0.08; // of the longer side: probable background around it
+constexpr double kMostOfAll = 0.97; // the map's subject covering this much is the picture
+constexpr double kCutByFrame = 0.05;  // share of the frame strip the map's subject covers
+constexpr double kHolds = 0.9;      // share of the map's subject the frame-inward one holds
+constexpr int kSettleWithin = 5;    // GrabCut's iterations at most (seededGrabCut)
+
+Mat subjectOf(const Mat& labels) {
+    return (labels == GC_FGD) | (labels == GC_PR_FGD);
+}
+
+// GrabCut's start from the map alone.
+Mat mapStart(const Mat& m) {
+    Mat labels(m.size(), CV_8U, Scalar(GC_BGD));
+    const int r = std::max(1, cvRound(kNearReach * std::max(m.cols, m.rows)));
+    Mat near;
+    dilate(m > kNear, near, getStructuringElement(MORPH_ELLIPSE, Size(2 * r + 1, 2 * r + 1)));
+    labels.setTo(GC_PR_BGD, near);
+    labels.setTo(GC_PR_FGD, m > kSubject);
+    labels.setTo(GC_FGD, m > kSure);
+    return labels;
+}
+
+// Share of a strip along the frame (3% of the longer side) that `mask` covers.
+double frameShare(const Mat& mask) {
+    const int b = std::max(1, cvRound(0.03 * std::max(mask.cols, mask.rows)));
+    Mat strip(mask.size(), CV_8U, Scalar(255));
+    if (mask.cols > 2 * b && mask.rows > 2 * b)
+        strip(Rect(b, b, mask.cols - 2 * b, mask.rows - 2 * b)).setTo(0);
+    return countNonZero(mask & strip) / std::max(1.0, static_cast<double>(countNonZero(strip)));
+}
+
+}  // namespace
+
+Mat fusedSubject(const Mat& img, const Mat& map, const Mat& person, const ProposeParams& params) {
+    CV_Assert(map.type() == CV_32FC1 && !map.empty());
+    Mat color;
+    if (img.channels() == 1)
+        cvtColor(img, color, COLOR_GRAY2BGR);
+    else
+        color = img;
+    Mat small, m;
+    shrink(color, small, params.grabCutMaxSide / static_cast<double>(std::max(img.cols, img.rows)),
+           INTER_AREA);
+    resize(map, m, small.size(), 0, 0, INTER_LINEAR);
+    const Mat subject = m > kSubject;
+    const int n = countNonZero(subject);
+    if (n == 0 || n > kMostOfAll * subject.total()) return Mat();
+    Mat mask;
+    if (!person.empty()) {
+        Mat labels;
+        resize(person, labels, small.size(), 0, 0, INTER_NEAREST);
+        labels.setTo(GC_PR_FGD, subject & (labels == GC_PR_BGD));
+        const Mat face = labels == GC_FGD;
+        seededGrabCut(small, labels, params.grabCutIterations);
+        mask = piecesHolding(subjectOf(labels), face);
+    } else {
+        Mat labels = mapStart(m), inward;
+        bool reopened = false;
+        const bool tryInward = frameShare(subject) <= kCutByFrame && frameInFocus(small);
+        // Two GrabCut chains, one core each; each is seeded by itself (seededGrabCut).
+        parallel_for_(Range(0, tryInward ? 2 : 1), [&](const Range& r) {
+            for (int i = r.start; i < r.end; ++i)
+                if (i == 0)
+                    seededGrabCut(small, labels, params.grabCutIterations, kSettleWithin);
+                else
+                    inward = frameInwardLabels(small, params, {}, &reopened);
+        });
+        mask = subjectOf(labels);
+        if (reopened) {
+            const Mat wide = subjectOf(inward);
+            if (countNonZero(wide & subject) >= kHolds * n) mask = wide;
+        }
+    }
+    if (mask.size() != img.size()) {
+        resize(mask, mask, img.size(), 0, 0, INTER_LINEAR);
+        threshold(mask, mask, 127, 255, THRESH_BINARY);
+    }
+    return mask;
+}
+
+}  // namespace propose_detail
+}  // namespace multicage
+}  // namespace cv

@@ -1,0 +1,26 @@
+// The learned subject cue (private): a salient-object network run through OpenCV's dnn module
+// (U^2-Net-P by default, docs/models.md), found, checked and read once per process.
+#ifndef MULTICAGE_PROPOSE_SEGMENTER_HPP
+#define MULTICAGE_PROPOSE_SEGMENTER_HPP
+
+#include <opencv2/multicage/propose.hpp>
+
+namespace cv {
+namespace multicage {
+namespace propose_detail {
+
+/** The model a proposal runs for `params`: empty for SEGMENTER_CLASSIC, and for
+SEGMENTER_AUTO when none is found; SEGMENTER_MODEL without one throws StsObjectNotFound
+saying how to get one. */
+String modelToRun(const ProposeParams& params);
+
+/** The subject map of `img` (8-bit, 1 or 3 channels) by the model in `file`: CV_32FC1 of the
+model's own size (320x320 for U^2-Net-P), 0..1. Reads the model on first use (see subjectMap
+in propose.hpp for the errors); runs of one model from several threads take turns. */
+Mat subjectMapOf(const Mat& img, const String& file);
+
+}  // namespace propose_detail
+}  // namespace multicage
+}  // namespace cv
+
+#endif
