@@ -175,13 +175,21 @@ void propose(Editor& e, Settings& s) {
     const auto t0 = Clock::now();
     // As `multicage propose` with no flags: the library's default (outlines plus inner
     // polygons protecting the faces and the salient features inside them).
-    mc::Multicage cage = mc::proposeProtectedMulticage(e.image, mc::ProposeParams());
+    const mc::ProposeParams params;
+    mc::Multicage cage = mc::proposeProtectedMulticage(e.image, params);
     edit(e);
     if (e.mode == Mode::Resize) e.fitPending = true;  // back to the image's own size
     e.mode = Mode::Rest;
     adoptCage(e, s, cage);
+    // Which subject cue ran: the learned model when the default found one, else the classic
+    // segmentation (and how to get the model).
+    const cv::String model = mc::segmenterModelFile(params);
+    const std::string cue =
+        model.empty()
+            ? "classic segmentation: no subject model installed (run .ci/deps.sh, docs/models.md)"
+            : "subject model " + std::filesystem::path(model).filename().string();
     e.message = "proposed " + count(cage.polygonCount(), "polygon", "polygons") + ", " +
-                count(cage.vertexCount(), "vertex", "vertices") + " (" +
+                count(cage.vertexCount(), "vertex", "vertices") + " (" + cue + ", " +
                 std::to_string(cvRound(msSince(t0))) + " ms)";
 }
 

@@ -294,6 +294,74 @@ cv::multicage::DeformParams deformParams(const DeformOptions& o, const std::stri
     return params;
 }
 
+void addSegmenterOptions(CLI::App* cmd, SegmenterOptions& o) {
+    using namespace cv::multicage;
+    std::vector<std::string> names;
+    for (int s = SEGMENTER_AUTO; s <= SEGMENTER_CLASSIC; ++s) names.push_back(segmenterName(s));
+    cmd->add_option("--segmenter", o.segmenter,
+                    "Where the subject cue comes from: auto (the learned subject model when one "
+                    "is found, else classic), model (the learned model; none found: an error), "
+                    "classic (GrabCut and threshold cues only). The model runs with --method "
+                    "auto and no --rect")
+        ->capture_default_str()
+        ->check(CLI::IsMember(names));
+    cmd->add_option("--segmenter-model", o.model,
+                    "Subject model (ONNX) to run instead of the installed one (docs/models.md); "
+                    "a file that is not one is an error")
+        ->type_name("PATH");
+}
+
+void applySegmenterOptions(const SegmenterOptions& o, int* segmenter, cv::String* model) {
+    using namespace cv::multicage;
+    *segmenter = parseSegmenter(o.segmenter);
+    if (*segmenter < 0)  // CLI11 checks the names; this is for a caller that did not
+        throw Failure("--segmenter: '" + o.segmenter + "' is not auto, model or classic");
+    if (!o.model.empty() && *segmenter == SEGMENTER_CLASSIC)
+        throw Failure("--segmenter-model " + o.model +
+                      ": --segmenter classic runs no model (drop one of the two)");
+    if (!o.model.empty() && !std::filesystem::is_regular_file(o.model))
+        throw Failure("--segmenter-model " + o.model + ": no such file");
+    *model = o.model;
+}
+
+namespace {
+// The library's reason without its advice to C++ callers (the tool's option is named there).
+std::string toolWords(std::string why) {
+    const std::string field = "ProposeParams::segmenterModel, ";
+    const size_t at = why.find(field);
+    if (at != std::string::npos) why.erase(at, field.size());
+    return why;
+}
+}  // namespace
+
+std::string subjectCueHelp() {
+    using namespace cv::multicage;
+    cv::String why;
+    const cv::String file = segmenterModelFile(ProposeParams(), &why);
+    if (file.empty()) return "Subject cue now: classic (" + toolWords(why) + ").";
+    // An environment variable (MULTICAGE_SEGMENTER_MODEL, MULTICAGE_DATA_DIR), or a folder.
+    const std::string where = why.rfind("MULTICAGE_", 0) == 0 ? "from " + why : "found in " + why;
+    return "Subject cue now: the learned model " + file + " (" + where +
+           "); --segmenter classic does without it.";
+}
+
+std::string subjectCueNote(const cv::multicage::ProposeParams& params) {
+    using namespace cv::multicage;
+    const bool modelMethod = params.method == PROPOSE_AUTO && params.rect.area() <= 0;
+    if (!modelMethod) {
+        if (params.segmenter == SEGMENTER_MODEL || !params.segmenterModel.empty())
+            return std::string("the subject model did not run: it runs with --method auto and "
+                               "no --rect (this was --method ") +
+                   proposeMethodName(params.method) +
+                   (params.rect.area() > 0 ? " with --rect)" : ")");
+        return "";
+    }
+    if (params.segmenter != SEGMENTER_AUTO) return "";
+    cv::String why;
+    if (!segmenterModelFile(params, &why).empty()) return "";
+    return "the classic segmentation ran: " + toolWords(why);
+}
+
 std::string plural(long long n, const std::string& one, const std::string& many) {
     return std::to_string(n) + " " + (n == 1 ? one : many.empty() ? one + "s" : many);
 }

@@ -116,6 +116,27 @@ cv::multicage::DeformParams deformParams(const DeformOptions& o, const std::stri
                                          cv::Size imageSize, const cv::multicage::Multicage& cage,
                                          std::string* stepChange);
 
+/** Where a proposal's subject cue comes from, as typed (propose, resize): --segmenter and
+--segmenter-model. */
+struct SegmenterOptions {
+    std::string segmenter = "auto";  //!< --segmenter: auto, model or classic
+    std::string model;               //!< --segmenter-model: "" for the library's look-up
+};
+/** Adds --segmenter (checked against the library's names) and --segmenter-model to cmd, stored
+in o (which must live as long as cmd). */
+void addSegmenterOptions(CLI::App* cmd, SegmenterOptions& o);
+/** The ProposeParams::segmenter and segmenterModel the options ask for. Throws a Failure for
+--segmenter-model with --segmenter classic (it would not run) and for a model path that is no
+file. */
+void applySegmenterOptions(const SegmenterOptions& o, int* segmenter, cv::String* model);
+/** For a command's help: "Subject cue: ..." which cue a default proposal runs now and why
+(segmenterModelFile() of the default ProposeParams). */
+std::string subjectCueHelp();
+/** After a proposal with params (what the note says, without "note: "), or "" when there is
+nothing to say: the default found no subject model (the classic segmentation ran, and how to
+get the model), or a segmenter asked for that this method does not use. */
+std::string subjectCueNote(const cv::multicage::ProposeParams& params);
+
 /** "1 polygon", "3 polygons" (many: the plural when it is not singular + "s"). */
 std::string plural(long long n, const std::string& one, const std::string& many = "");
 /** Milliseconds since `start` (std::chrono::steady_clock). */

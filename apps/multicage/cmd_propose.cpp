@@ -18,6 +18,7 @@ struct ProposeOptions {
     std::string protect,
         cascadeDir;  // protect: "" (not given: the library's default), saliency, faces, all
     bool noProtect = false;
+    SegmenterOptions segmenter;  // --segmenter, --segmenter-model
 };
 
 void checkCageOutput(const std::string& path) {
@@ -45,6 +46,8 @@ cv::multicage::ProposeParams proposeParams(const ProposeOptions& o) {
     // Not given: ProposeParams' default (all), the same as Python's and the editor's.
     if (!o.protect.empty()) params.protect = parseProtectDetector(o.protect);
     params.cascadeDir = o.cascadeDir;
+    // Not given: auto, the library's default (the learned model when one is found).
+    applySegmenterOptions(o.segmenter, &params.segmenter, &params.segmenterModel);
     return params;
 }
 
@@ -138,6 +141,7 @@ void runPropose(const ProposeOptions& o) {
     try {
         cage = proposeCage(o, params, image, input, &note);
     } catch (const cv::Exception& e) {
+        // A subject model that cannot be read names its file; nothing is written.
         throw Failure(o.image + ": " + reasonOf(e));
     }
     if (cage.polygonCount() == 0)
@@ -158,6 +162,12 @@ void runPropose(const ProposeOptions& o) {
     if (!o.overlay.empty()) std::cout << " and " << o.overlay;
     std::cout << std::endl;
     if (!note.empty()) std::cout << note << std::endl;
+    // Which subject cue ran, when it is not what the options asked for or the default found
+    // no model (a mask or label image is no photo: no cue runs).
+    if (!isMaskMethod(params.method)) {
+        const std::string cue = subjectCueNote(params);
+        if (!cue.empty()) std::cout << "note: " << cue << std::endl;
+    }
 }
 }  // namespace
 
@@ -165,6 +175,7 @@ void addProposeCommand(CLI::App& app) {
     auto o = std::make_shared<ProposeOptions>();
     CLI::App* cmd = app.add_subcommand(
         "propose",
+        std::string() +
         "Propose a multicage for IMAGE: find its objects, put one polygon around each (a margin "
         "away), nest polygons where objects sit inside others, and simplify them to a vertex "
         "budget. The result is always valid: simple, disjoint polygons inside the image, "
@@ -176,6 +187,11 @@ void addProposeCommand(CLI::App& app) {
         "saliency (fine grained), spectral "
         "(spectral residual saliency, coarse and fast), mask (IMAGE is a mask: non-zero is "
         "object), labels (IMAGE is a label image: each label its own polygon).\n"
+        "With --method auto the subject of a photo comes from a learned subject model "
+        "(U^2-Net-P, docs/models.md) fused with the faces and GrabCut, when the model is "
+        "installed (--segmenter auto, the default), else from the classic cues alone; "
+        "--segmenter classic or model picks one. " +
+        subjectCueHelp() + "\n" +
         "By default the result is a multicage: an outline around each object, plus inner polygons "
         "around the faces and salient features inside it (moving the outline then leaves them "
         "almost rigid); --protect DETECTOR picks what is protected: all (the default: faces, "
@@ -243,6 +259,7 @@ void addProposeCommand(CLI::App& app) {
     cmd->add_flag("--no-protect", o->noProtect,
                   "Outlines only: one polygon per object, no inner polygons")
         ->excludes("--protect");
+    addSegmenterOptions(cmd, o->segmenter);
     cmd->callback([o] { runPropose(*o); });
 }
 

@@ -16,6 +16,7 @@ struct ResizeCommandOptions {
     int width = 0, height = 0;
     std::string aspect;
     DeformOptions deform;
+    SegmenterOptions segmenter;  // the proposal's subject cue (no --cage)
     bool quiet = false;
 };
 
@@ -105,6 +106,7 @@ void runResize(const ResizeCommandOptions& o) {
         if (rp.protect < 0)
             throw Failure("--protect: '" + o.protect + "' is not saliency, faces or all");
     }
+    applySegmenterOptions(o.segmenter, &rp.segmenter, &rp.segmenterModel);
     // Every size and output checked before any work: a bad one writes nothing.
     const std::vector<cv::Size> sizes = targetSizes(o, image.size());
     for (const cv::Size& s : sizes) {
@@ -118,6 +120,7 @@ void runResize(const ResizeCommandOptions& o) {
     if (!o.overlay.empty()) checkImageOutput(o.overlay);
 
     const auto tp = std::chrono::steady_clock::now();
+    // A subject model that cannot be read fails here, naming its file: nothing is written.
     const Multicage cage = o.cage.empty() ? resizeCage(image, rp) : loadCage(o.cage, image.size());
     const double proposeMs = o.cage.empty() ? msSince(tp) : 0;
     std::string stepChange;
@@ -155,6 +158,13 @@ void runResize(const ResizeCommandOptions& o) {
     if (!o.overlay.empty())
         std::cout << "wrote " << o.overlay << " (the cage at rest and resized)" << std::endl;
     if (!o.quiet) std::cout << "total " << cvRound(msSince(t0)) << " ms" << std::endl;
+    if (o.cage.empty() && !o.quiet) {
+        ProposeParams propose;  // resizeCage()'s
+        propose.segmenter = rp.segmenter;
+        propose.segmenterModel = rp.segmenterModel;
+        const std::string cue = subjectCueNote(propose);
+        if (!cue.empty()) std::cout << "note: " << cue << std::endl;
+    }
 }
 }  // namespace
 
@@ -162,6 +172,7 @@ void addResizeCommand(CLI::App& app) {
     auto o = std::make_shared<ResizeCommandOptions>();
     CLI::App* cmd = app.add_subcommand(
         "resize",
+        std::string() +
         "Resize IMAGE to another size or aspect ratio keeping faces and subjects in shape "
         "(content-aware resizing).\n"
         "The image is bound once to a multicage (proposed: an outline around each subject, inner "
@@ -170,7 +181,8 @@ void addResizeCommand(CLI::App& app) {
         "to the new frame, each subject and what it holds moves by a similarity (it keeps its size "
         "in "
         "pixels where the new frame allows), and the background absorbs the aspect change. Several "
-        "--size bind once and write OUT_WxH.ext each.\n"
+        "--size bind once and write OUT_WxH.ext each.\n" +
+        subjectCueHelp() + "\n" +
         "Examples:\n"
         "  multicage resize photo.jpg -o wide.png --aspect 16:9\n"
         "  multicage resize photo.jpg -o out.png --size 1536x768 --size 717x768 --overlay "
@@ -192,6 +204,7 @@ void addResizeCommand(CLI::App& app) {
     cmd->add_option("--protect", o->protect,
                     "What the proposal protects inside each outline: saliency, faces or all "
                     "(default: the proposal's)");
+    addSegmenterOptions(cmd, o->segmenter);
     addDeformOptions(cmd, o->deform, cv::multicage::ResizeParams().coordinates);
     cmd->add_flag("-q,--quiet", o->quiet, "Print only the files written");
     cmd->callback([o]() { runResize(*o); });

@@ -374,3 +374,102 @@ TEST(Cli, SmallerDeadEndsGivePlainAnswers) {
     r = run("propose " + dir + "/mask.png -o " + dir + "/m.yml --method mask", dir);
     EXPECT_EQ(r.code, 0) << r.err;
 }
+
+// Issue 39 item 7: the subject cue is one default everywhere (the learned model when one is
+// found, else the classic segmentation); --segmenter picks one and --segmenter-model names a
+// model. A bad choice or a bad model file is one line, a non-zero exit and no file written.
+TEST(Cli, ProposeSegmenterOptions) {
+    using namespace cv::multicage;
+    const std::string dir = multicage_testing::tempDir("cli_segmenter");
+    const std::string image = sample("messi5.jpg");
+    auto validCage = [](const std::string& file) {
+        const Multicage cage = Multicage::load(file);
+        std::string why;
+        EXPECT_TRUE(cage.validate(&why)) << file << ": " << why;
+        EXPECT_GE(cage.polygonCount(), 1) << file;
+        EXPECT_EQ(cage.imageSize(), cv::Size(548, 342)) << file;
+    };
+    ProposeParams modelParams;
+    modelParams.segmenter = SEGMENTER_MODEL;
+    const bool haveModel = !segmenterModelFile(modelParams).empty();
+
+    Result r = run("propose " + image + " -o " + dir + "/classic.yml --segmenter classic", dir);
+    ASSERT_EQ(r.code, 0) << r.err;
+    validCage(dir + "/classic.yml");
+    EXPECT_EQ(r.out.find("classic segmentation ran"), std::string::npos) << r.out;  // as asked
+
+    // The default says so when it had no model to run, and nothing when it ran the model.
+    r = run("propose " + image + " -o " + dir + "/default.yml", dir);
+    ASSERT_EQ(r.code, 0) << r.err;
+    validCage(dir + "/default.yml");
+    EXPECT_EQ(r.out.find("note: the classic segmentation ran") != std::string::npos, !haveModel)
+        << r.out;
+    const std::string help = run("propose --help", dir).out;
+    EXPECT_NE(help.find("--segmenter-model"), std::string::npos) << help;
+    EXPECT_NE(help.find(haveModel ? "Subject cue now: the learned model " + segmenterModelFile()
+                                  : std::string("Subject cue now: classic (no subject model")),
+              std::string::npos)
+        << help;
+
+    if (haveModel) {
+        r = run("propose " + image + " -o " + dir + "/model.yml --segmenter model", dir);
+        ASSERT_EQ(r.code, 0) << r.err;
+        validCage(dir + "/model.yml");
+        // The installed model named explicitly is the same proposal.
+        r = run("propose " + image + " -o " + dir + "/named.yml --segmenter-model " +
+                    segmenterModelFile(),
+                dir);
+        ASSERT_EQ(r.code, 0) << r.err;
+        validCage(dir + "/named.yml");
+        const Multicage a = Multicage::load(dir + "/model.yml"),
+                        b = Multicage::load(dir + "/named.yml");
+        EXPECT_EQ(a.vertices(), b.vertices());
+    } else {
+        std::printf("no subject model installed (.ci/deps.sh): --segmenter model must fail\n");
+        r = run("propose " + image + " -o " + dir + "/model.yml --segmenter model", dir);
+        EXPECT_NE(r.code, 0);
+        EXPECT_EQ(lines(r.err), 1) << r.err;
+        EXPECT_NE(r.err.find("no subject model is installed"), std::string::npos) << r.err;
+        EXPECT_FALSE(fs::exists(dir + "/model.yml"));
+    }
+
+    // 1000 random bytes are no model: the error names the file, for propose and resize.
+    std::vector<char> bytes(1000);
+    cv::RNG rng(39);
+    for (char& c : bytes) c = static_cast<char>(rng.uniform(0, 256));
+    const std::string junk = dir + "/random_bytes.onnx";
+    std::ofstream(junk, std::ios::binary).write(bytes.data(), bytes.size());
+    struct Case {
+        std::string args, expected;
+    } cases[] = {
+        {"propose " + image + " -o " + dir + "/out.yml --segmenter bogus", "--segmenter"},
+        {"propose " + image + " -o " + dir + "/out.yml --segmenter-model " + junk, junk},
+        {"propose " + image + " -o " + dir + "/out.yml --segmenter model --segmenter-model " + junk,
+         junk},
+        {"propose " + image + " -o " + dir + "/out.yml --segmenter-model " + dir + "/missing.onnx",
+         dir + "/missing.onnx: no such file"},
+        {"propose " + image + " -o " + dir + "/out.yml --segmenter classic --segmenter-model " +
+             junk,
+         "--segmenter classic runs no model"},
+        {"resize " + image + " -o " + dir + "/out.png --size 600x342 --segmenter bogus",
+         "--segmenter"},
+        {"resize " + image + " -o " + dir + "/out.png --size 600x342 --segmenter-model " + junk,
+         junk},
+    };
+    for (const Case& c : cases) {
+        r = run(c.args, dir);
+        EXPECT_NE(r.code, 0) << c.args;
+        EXPECT_EQ(lines(r.err), 1) << c.args << "\n" << r.err;
+        EXPECT_NE(r.err.find(c.expected), std::string::npos) << c.args << "\n" << r.err;
+        EXPECT_FALSE(fs::exists(dir + "/out.yml")) << c.args;
+        EXPECT_FALSE(fs::exists(dir + "/out.png")) << c.args;
+    }
+
+    // resize proposes as propose does, and takes the same choice.
+    r = run("resize " + image + " -o " + dir + "/wide.png --size 600x342 --segmenter classic "
+                "--backend cpu --grid-step 4",
+            dir);
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_EQ(cv::imread(dir + "/wide.png").size(), cv::Size(600, 342));
+    EXPECT_NE(run("resize --help", dir).out.find("--segmenter"), std::string::npos);
+}

@@ -507,6 +507,13 @@ TEST(EditorWindow, ProposeProtectsTheFace) {
       << "save " << dir << "/cage.yml\n"
       << "quit\n";
     const std::string log = runEditorScript(dir, s.str());
+    // Issue 39 item 7: the message says which subject cue ran (the default's: the model when
+    // one is found, else the classic segmentation).
+    const std::string model = segmenterModelFile();
+    EXPECT_NE(log.find(model.empty() ? std::string("(classic segmentation: no subject model")
+                                     : "(subject model " + model.substr(model.rfind('/') + 1)),
+              std::string::npos)
+        << log;
     const Multicage cage = Multicage::load(dir + "/cage.yml");
     std::string why;
     ASSERT_TRUE(cage.validate(&why)) << why << "\n" << log;

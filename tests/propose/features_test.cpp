@@ -96,22 +96,6 @@ TEST(ProposeEyes, EyesOfLargeFacesGetPolygonsOfTheirOwnInTheFacesPolygon) {
     }
 }
 
-// The outlines share the vertex budget, and those holding a face are protected first: at 1.1
-// times its size the astronaut's head and suit are two outlines, and when the suit's came
-// first its salient polygon took the vertices her eyes needed (0 of 2 eyes hugged).
-TEST(ProposeEyes, AnOutlineWithAFaceIsProtectedFirst) {
-    if (!haveCascades()) GTEST_SKIP() << "opencv-data is not installed";
-    cv::Mat image;
-    cv::resize(benchPhoto("astronaut"), image, cv::Size(), 1.1, 1.1, cv::INTER_LINEAR);
-    const Multicage cage = proposeProtectedMulticage(image);
-    ASSERT_TRUE(cage.validate());
-    int outlines = 0;
-    for (int p = 0; p < cage.polygonCount(); ++p) outlines += cage.depth(p) == 1;
-    EXPECT_GE(outlines, 2) << "the premise: the face's outline is not the only one";
-    expectEyesInTheFacesPolygon(cage, scaledBoxes("astronaut", "faces", 1.1).at(0),
-                                scaledBoxes("astronaut", "eyes", 1.1));
-}
-
 // A face turned a little shows its far eye smaller: the cartoon dinner scene's woman at 1.2
 // and 1.5 times its size, whose eye cascade boxes differ by 1.3-1.35 times (a pair's sizes may
 // differ by 1.4 times; at 1.3 her eyes got no polygon at these sizes).

@@ -355,8 +355,13 @@ double faceMargin(const Rect& face) {
     return std::max(2.0, 0.02 * std::max(face.width, face.height));
 }
 
-std::vector<Point2f> facePolygon(const Rect2d& box, double margin, int vertices) {
+std::vector<Point2f> facePolygon(const Rect2d& detected, double margin, int vertices) {
     CV_Assert(vertices >= 4 && vertices % 4 == 0);
+    // The frontal cascade's box runs from the brow to the lower lip; the polygon takes in the
+    // forehead and the chin, which an outline hugging the head (the subject model's) would
+    // otherwise stretch with the hair.
+    const Rect2d box(detected.x, detected.y - kFaceForehead * detected.height, detected.width,
+                     detected.height * (1 + kFaceForehead + kFaceChin));
     // The superellipse |x/a|^8 + |y/b|^8 = 1 through the box's corners has semi-axes 2^(1/8)
     // times the half sides, and its point at parameter t = 45 degrees is the corner.
     const double k = std::pow(2.0, 1.0 / kFaceExponent);

@@ -23,11 +23,17 @@ inline double faceSize(const Rect& face) {
 side, at least 2 px. Along the sides the polygon bulges further out (9% of the half side). */
 double faceMargin(const Rect& face);
 
+/** How far above a detected face's box its forehead goes, and below it its chin, in box
+heights (facePolygon). */
+constexpr double kFaceForehead = 0.05;
+constexpr double kFaceChin = 0.10;
+
 /** Exponent of the superellipse a face's polygon follows: a rounded box. */
 constexpr double kFaceExponent = 8.0;
 
 /** A face's protective polygon: `vertices` (a multiple of 4, at least 4) points on the
-superellipse |x/a|^8 + |y/b|^8 = 1 centred on the box, through the box's corners when
+superellipse |x/a|^8 + |y/b|^8 = 1 centred on the box grown up to the forehead
+and down to the chin (kFaceForehead, kFaceChin), through that box's corners when
 margin = 0 and `margin` pixels further out otherwise, one vertex on each diagonal so that the
 corners are inside. Input pixels; signed area > 0.
 

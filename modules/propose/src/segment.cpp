@@ -428,11 +428,10 @@ Segmentation segmentForProposal(const Mat& image, const Work& w, const ProposePa
     const Mat work = toWork(img8, w, INTER_AREA);
     if (!subject.empty() && params.method == PROPOSE_AUTO && params.rect.area() == 0) {
         if (beside && !beside(true)) return s;
+        // A map with no subject, or whose subject is all specks, leaves it to the classic cues.
         const Mat fused = fusedSubject(work, subject, person, params);
-        if (!fused.empty()) {
-            s.objects = cleanMask(fused, w.radius, w.minArea);
-            return s;
-        }
+        if (!fused.empty()) s.objects = cleanMask(fused, w.radius, w.minArea);
+        if (!s.objects.empty() && countNonZero(s.objects) > 0) return s;
     }
     int method = params.method;
     if (method == PROPOSE_AUTO && person.empty()) {

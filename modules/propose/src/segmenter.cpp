@@ -7,6 +7,8 @@
 #include <openssl/evp.h>
 
 #include <cstdlib>
+#include <utility>
+#include <vector>
 #include <fstream>
 #include <map>
 #include <memory>
@@ -47,11 +49,16 @@ Located locate(const ProposeParams& params) {
         return {params.segmenterModel, "ProposeParams::segmenterModel", false};
     const char* env = std::getenv(MULTICAGE_SEGMENTER_ENV);
     if (env && *env) return {env, MULTICAGE_SEGMENTER_ENV, false};
-    const std::pair<const char*, const char*> defaults[] = {
-        {MULTICAGE_SEGMENTER_BUILD_DIR, "the build tree"},
-        {MULTICAGE_SEGMENTER_INSTALL_DIR, "the install prefix"}};
+    // MULTICAGE_DATA_DIR stands for both default folders: a prefix moved after installing.
+    const char* data = std::getenv(MULTICAGE_DATA_ENV);
+    std::vector<std::pair<String, const char*>> defaults;
+    if (data && *data)
+        defaults = {{utils::fs::join(data, "models"), MULTICAGE_DATA_ENV}};
+    else
+        defaults = {{MULTICAGE_SEGMENTER_BUILD_DIR, "the build tree"},
+                    {MULTICAGE_SEGMENTER_INSTALL_DIR, "the install prefix"}};
     for (const auto& d : defaults) {
-        if (!*d.first) continue;
+        if (d.first.empty()) continue;
         const String file = utils::fs::join(d.first, MULTICAGE_SEGMENTER_FILE);
         if (utils::fs::exists(file)) return {file, d.second, true};
     }

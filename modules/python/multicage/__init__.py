@@ -18,7 +18,10 @@ sizes are (width, height).
 A multicage made for another image size is scaled to the image (poses too), as the CLI does;
 Deformer follows the multicage's coordinates (a cage file's `coordinates:`) unless given
 coordinates=; propose_multicage takes the CLI's options as keywords and raises
-NoObjectFoundError where the CLI says "no object found". gpu_available() says whether
+NoObjectFoundError where the CLI says "no object found". By default (segmenter='auto') a
+proposal finds the subject of a photo with the learned subject model when one is installed
+(docs/models.md), else with the classic cues; segmenter_model_file() says which runs and why,
+subject_map(image) gives the model's map. gpu_available() says whether
 backend='gpu' works, auto_backend() what backend='auto' takes. Multicage, Pose, Binding and
 Deformer pickle (multiprocessing, Dask). For augmentation: random_pose(cage, amplitude, seed)
 draws valid random poses, Deformer.transform_points moves keypoints with the image, and
@@ -126,6 +129,8 @@ from ._multicage import (
     protect_features,
     random_pose,
     resize_pose,
+    segmenter_model_file,
+    subject_map,
     validate_pose,
 )
 from .transforms import MulticageWarp, TorchMulticageWarp, box_outline, default_multicage, sample_seed
@@ -155,6 +160,8 @@ __all__ = [
     "protect_features",
     "random_pose",
     "resize_pose",
+    "segmenter_model_file",
+    "subject_map",
     "validate_pose",
     "MulticageWarp",
     "TorchMulticageWarp",

@@ -133,7 +133,9 @@ class MulticageWarp:
     cages           ... or a mapping from image name (the call's name=) to a Multicage or a
                     cage file path; names not in it fall through to the next source
     propose         propose a multicage for an image on first use (multicage.propose_multicage
-                    with protect= and propose_options=), cached in memory by name= (or by the
+                    with protect= and propose_options=, e.g. {'segmenter': 'classic'} or
+                    {'segmenter_model': path}; none: the library's default, the learned subject
+                    model when one is installed), cached in memory by name= (or by the
                     image's content when no name is given) ...
     cage_dir        ... and as <cage_dir>/<name>.yml cage files, read back on later runs
     no_subject      what an image where no object is found gets: 'default' (the documented

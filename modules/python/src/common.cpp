@@ -94,6 +94,33 @@ int enumFromObject(const py::handle& obj, const char* what,
     return v;
 }
 
+int segmenterArg(const py::handle& obj) {
+    std::vector<std::pair<std::string, int>> names;
+    for (int s = SEGMENTER_AUTO; s <= SEGMENTER_CLASSIC; ++s)
+        names.emplace_back(segmenterName(s), s);
+    return enumFromObject(obj, "segmenter", names, SEGMENTER_CLASSIC + 1);
+}
+
+std::string segmenterModelArg(const py::handle& obj) {
+    if (obj.is_none()) return std::string();
+    if (!py::isinstance<py::str>(obj) && !py::hasattr(obj, "__fspath__"))
+        throw py::type_error("segmenter_model: expected a path (str or os.PathLike) or None, got " +
+                             shortValue(obj));
+    const py::object path = py::module_::import("os").attr("fspath")(obj);
+    if (!py::isinstance<py::str>(path))
+        throw py::type_error("segmenter_model: expected a str path, got " + shortValue(path));
+    const std::string file = path.cast<std::string>();
+    if (file.empty())
+        throw py::value_error("segmenter_model: an empty path (None: the installed model)");
+    return file;
+}
+
+void checkSegmenterPair(int segmenter, const std::string& model) {
+    if (segmenter == SEGMENTER_CLASSIC && !model.empty())
+        throw py::value_error("segmenter_model: '" + model +
+                              "' given with segmenter='classic', which runs no model");
+}
+
 // The names are the library's (backendName, coordinateTypeName), as in the CLI.
 int parseBackend(const py::handle& obj) {
     std::vector<std::pair<std::string, int>> names;

@@ -50,6 +50,15 @@ int parseBackend(const py::handle& obj);
 int parseCoordinates(const py::handle& obj);
 const char* coordinatesName(int c);  // backendName is the library's
 
+/** The segmenter= keyword: 'auto', 'model', 'classic' (the library's segmenterName()) or
+their integer values; anything else a ValueError (TypeError) naming the keyword. */
+int segmenterArg(const py::handle& obj);
+/** The segmenter_model= keyword: a path (str or os.PathLike); None gives "" (the library's
+look-up). An empty path is a ValueError, anything else a TypeError, naming the keyword. */
+std::string segmenterModelArg(const py::handle& obj);
+/** Throws a ValueError for a model path given with segmenter='classic' (it would not run). */
+void checkSegmenterPair(int segmenter, const std::string& model);
+
 /** DeformParams from the Python keywords. coordinates None follows the multicage's own
 choice (the cage file's `coordinates:`), as `multicage deform` does without --coords. */
 cv::multicage::DeformParams deformParams(const py::object& coordinates, const py::object& gridStep,

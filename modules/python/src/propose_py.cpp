@@ -21,8 +21,8 @@ struct ProposeOptions {
 
 const char* kProposeKeywords =
     "method, max_vertices, max_polygon_vertices, max_polygons, max_depth, margin, min_region_area, "
-    "working_size, rect, protect, cascade_dir, morphology_radius, grabcut_iterations, "
-    "grabcut_max_side";
+    "working_size, rect, protect, cascade_dir, segmenter, segmenter_model, morphology_radius, "
+    "grabcut_iterations, grabcut_max_side";
 
 ProposeOptions proposeOptions(const py::kwargs& kwargs, const char* function, bool takesProtect) {
     ProposeOptions o;
@@ -85,6 +85,10 @@ ProposeOptions proposeOptions(const py::kwargs& kwargs, const char* function, bo
                 throw py::type_error("cascade_dir: expected a folder name (str), got " +
                                      shortValue(v));
             p.cascadeDir = v.cast<std::string>();
+        } else if (key == "segmenter") {
+            p.segmenter = segmenterArg(v);
+        } else if (key == "segmenter_model") {
+            p.segmenterModel = segmenterModelArg(v);
         } else if (key == "rect") {
             if (py::isinstance<py::str>(v) || !py::isinstance<py::sequence>(v))
                 throw py::type_error("rect: expected (x, y, width, height), got " + shortValue(v));
@@ -101,6 +105,7 @@ ProposeOptions proposeOptions(const py::kwargs& kwargs, const char* function, bo
     }
     if (!std::isfinite(p.margin)) throw py::value_error("margin: must be finite");
     if (!std::isfinite(p.minRegionArea)) throw py::value_error("min_region_area: must be finite");
+    checkSegmenterPair(p.segmenter, p.segmenterModel);
     return o;
 }
 
@@ -133,6 +138,8 @@ py::dict proposeDefaults() {
     d["rect"] = py::make_tuple(p.rect.x, p.rect.y, p.rect.width, p.rect.height);
     d["protect"] = o.protect;
     d["cascade_dir"] = std::string(p.cascadeDir);
+    d["segmenter"] = segmenterName(p.segmenter);
+    d["segmenter_model"] = py::none();  // the library's look-up (segmenter_model_file())
     d["morphology_radius"] = p.morphologyRadius;
     d["grabcut_iterations"] = p.grabCutIterations;
     d["grabcut_max_side"] = p.grabCutMaxSide;
@@ -151,6 +158,11 @@ const char* kProposeMulticageDoc =
     "polygons around the faces, then the textured salient features inside every outer polygon "
     "(the multicage proper: what they enclose stays almost rigid when the outline moves); "
     "protect='faces' or 'saliency' protects only those; protect=False gives outlines only. "
+    "segmenter: where the subject of a photo comes from (method='auto' without rect): 'auto' "
+    "(the learned subject model when one is found, else 'classic'), 'model' (the model; none "
+    "found: multicage.Error), 'classic' (GrabCut and threshold cues only); segmenter_model: an "
+    "ONNX subject model to run instead of the installed one (docs/models.md; a file that is "
+    "not one raises multicage.Error naming it); segmenter_model_file() says which would run. "
     "margin < 0 and morphology_radius < 0 "
     "pick a size from the image. Defaults (the library's ProposeParams, also "
     "multicage.propose_defaults()):\n";
@@ -188,6 +200,17 @@ void defineProposeMulticage(py::module_& m) {
         py::arg("image"), (kProposeMulticageDoc + proposeKeywordDoc).c_str());
 }
 
+/** segmenter_model_file(segmenter='auto', segmenter_model=None) -> (path, why). */
+py::tuple segmenterModelFileOf(const py::object& segmenter, const py::object& model) {
+    ProposeParams p;
+    p.segmenter = segmenterArg(segmenter);
+    p.segmenterModel = segmenterModelArg(model);
+    checkSegmenterPair(p.segmenter, p.segmenterModel);
+    cv::String why;
+    const cv::String file = segmenterModelFile(p, &why);
+    return py::make_tuple(std::string(file), std::string(why));
+}
+
 }  // namespace
 
 void defineProposal(py::module_& m) {
@@ -211,7 +234,8 @@ void defineProposal(py::module_& m) {
         py::arg("image"),
         "The cleaned segmentation propose_multicage encloses: HxW uint8, 255 on object pixels "
         "(all 0 where it finds no object). Same keywords as propose_multicage (protect changes "
-        "nothing here).");
+        "nothing here; segmenter and segmenter_model are checked alike, but the library's "
+        "proposeSegmentation() runs no subject model: the mask is the classic segmentation's).");
     m.def(
         "protect_features",
         [](const py::object& image, const py::object& cageObj, const py::object& polygonObj,
@@ -229,6 +253,32 @@ void defineProposal(py::module_& m) {
         "A copy of the multicage with protective polygons added around the salient features inside "
         "polygon `polygon` (unchanged when there is none). Same keywords as propose_multicage, "
         "except protect.");
+    m.def(
+        "subject_map",
+        [](const py::object& image, const py::object& model) {
+            ProposeParams params;
+            params.segmenterModel = segmenterModelArg(model);
+            py::object keep;
+            const cv::Mat src = imageFromArray(image, "image", keep);
+            cv::Mat map;
+            {
+                py::gil_scoped_release release;
+                subjectMap(src, map, params);
+            }
+            return arrayFromMat(map);
+        },
+        py::arg("image"), py::arg("segmenter_model") = py::none(),
+        "The learned subject map of an image: HxW float32, 0 (background) to 1 (subject), what "
+        "the subject model sees as the subject (segmenter_model, else the installed model: "
+        "segmenter_model_file()). Raises multicage.Error when no model is found, or naming the "
+        "file when it is not a subject model.");
+    m.def("segmenter_model_file", &segmenterModelFileOf, py::arg("segmenter") = "auto",
+          py::arg("segmenter_model") = py::none(),
+          "(path, why): the subject model propose_multicage would run with these keywords, and "
+          "how it was found ('ProposeParams::segmenterModel' for segmenter_model, "
+          "'MULTICAGE_SEGMENTER_MODEL', 'the build tree', 'the install prefix'); path is '' when "
+          "none runs, and why then says why and how to get one. A path given (segmenter_model "
+          "or the environment variable) is returned as given, whether or not it exists.");
 }
 
 }  // namespace multicage_py

@@ -9,7 +9,7 @@ namespace {
 using namespace cv::multicage;
 
 /** ResizeParams from keyword arguments: coordinates, grid_step, backend, protect (a detector
-name, or False for the outline only), margin, max_scale. */
+name, or False for the outline only), margin, segmenter, segmenter_model, max_scale. */
 ResizeParams resizeParams(const py::kwargs& kwargs) {
     ResizeParams p;
     for (const auto& item : kwargs) {
@@ -26,6 +26,10 @@ ResizeParams resizeParams(const py::kwargs& kwargs) {
             p.margin = static_cast<float>(numberArg(v, key));
         else if (key == "max_scale")
             p.maxScale = numberArg(v, key);
+        else if (key == "segmenter")
+            p.segmenter = segmenterArg(v);
+        else if (key == "segmenter_model")
+            p.segmenterModel = segmenterModelArg(v);
         else if (key == "protect") {
             if (py::isinstance<py::str>(v)) {
                 const std::string name = v.cast<std::string>();
@@ -38,9 +42,11 @@ ResizeParams resizeParams(const py::kwargs& kwargs) {
             }
         } else {
             throw py::type_error("content_aware_resize: unexpected keyword '" + key +
-                                 "' (coordinates, grid_step, backend, protect, margin, max_scale)");
+                                 "' (coordinates, grid_step, backend, protect, margin, segmenter, "
+                                 "segmenter_model, max_scale)");
         }
     }
+    checkSegmenterPair(p.segmenter, p.segmenterModel);
     return p;
 }
 
@@ -105,7 +111,8 @@ Keywords: coordinates, grid_step, max_scale (8: the largest growth of a side).)d
 
 cage: a Multicage (scaled to the image when drawn on another size), or None for the default
 proposal (propose_multicage with protection). Keywords: coordinates, grid_step, backend,
-protect ('saliency', 'faces', 'all'), margin, max_scale. Returns an h x w array of the
+protect ('saliency', 'faces', 'all'), margin, segmenter ('auto', 'model', 'classic') and
+segmenter_model (as propose_multicage's), max_scale. Returns an h x w array of the
 image's dtype and channels.)doc");
 }
 

@@ -8,6 +8,8 @@ Multicage resizeCage(InputArray image, const ResizeParams& params) {
     ProposeParams propose;
     if (params.protect >= 0) propose.protect = params.protect;
     propose.margin = params.margin;
+    propose.segmenter = params.segmenter;
+    propose.segmenterModel = params.segmenterModel;
     try {
         return proposeProtectedMulticage(image, propose);
     } catch (const Exception& e) {

@@ -77,6 +77,10 @@ enum ProposeSegmenter {
 /** Environment variable naming a subject model file, looked at after
 ProposeParams::segmenterModel (docs/models.md). */
 #define MULTICAGE_SEGMENTER_ENV "MULTICAGE_SEGMENTER_MODEL"
+/** Environment variable naming the folder that holds the installed data (its models/
+subfolder): where set, it replaces the build tree's and the install prefix's share/multicage,
+for a prefix moved after installing. */
+#define MULTICAGE_DATA_ENV "MULTICAGE_DATA_DIR"
 
 /** Folder of OpenCV's Haar cascades on Debian (package opencv-data). */
 #define MULTICAGE_DEBIAN_CASCADE_DIR "/usr/share/opencv4/haarcascades"
@@ -135,8 +139,8 @@ struct CV_EXPORTS ProposeParams {
     int segmenter = SEGMENTER_AUTO;
     /** A subject model (ONNX) to use instead of the default: one RGB image in (1x3x320x320,
     0-1, ImageNet mean and deviation), one subject map out (1x1x320x320, 0-1). Empty: the
-    environment variable MULTICAGE_SEGMENTER_ENV, then the model installed with the build
-    tree, then with the install prefix (segmenterModelFile()). */
+    environment variable MULTICAGE_SEGMENTER_ENV, then the pinned model in the build tree,
+    then in the install prefix (or in MULTICAGE_DATA_ENV's folder; segmenterModelFile()). */
     String segmenterModel;
 };
 

@@ -24,6 +24,12 @@ struct CV_EXPORTS ResizeParams {
     int protect = PROTECT_ALL;
     /** ProposeParams::margin of the default proposal (< 0: its automatic margin). */
     float margin = -1.f;
+    /** ProposeParams::segmenter of the default proposal (ProposeSegmenter; SEGMENTER_AUTO: the
+    learned subject model when one is found, else the classic cues). */
+    int segmenter = SEGMENTER_AUTO;
+    /** ProposeParams::segmenterModel of the default proposal (empty: the usual look-up,
+    segmenterModelFile()). */
+    String segmenterModel;
     /** The largest factor a side may grow by (the target's side <= maxScale x the image's):
     an output 8x wider holds 64x the pixels, and the maps 8 bytes per output pixel. */
     double maxScale = 8.0;
@@ -65,16 +71,17 @@ CV_EXPORTS std::vector<Point2f> resizePose(const Multicage& cage, const Binding&
                                            const ResizeParams& params = ResizeParams());
 
 /** Resizes image to newSize keeping what the multicage protects: binds image to cage (an empty
-cage: proposeProtectedMulticage() of the image with params.protect and params.margin), then
-deforms it to resizePose(). dst: newSize, the image's type. For several sizes of one image,
-make a Deformer once and deform it to resizePose(cage, deformer->binding(), size) per size. */
+cage: resizeCage()), then deforms it to resizePose(). dst: newSize, the image's type. For
+several sizes of one image, make a Deformer once and deform it to
+resizePose(cage, deformer->binding(), size) per size. */
 CV_EXPORTS void contentAwareResize(InputArray image, Size newSize, OutputArray dst,
                                    const Multicage& cage = Multicage(),
                                    const ResizeParams& params = ResizeParams());
 
 /** The multicage contentAwareResize() uses for image when given none: proposeProtectedMulticage()
-with params.protect and params.margin; for an image too thin to propose in (a strip under 3
-pixels each way in the proposal's working copy), no polygon: it scales plainly. */
+with params.protect, params.margin, params.segmenter and params.segmenterModel; for an image
+too thin to propose in (a strip under 3 pixels each way in the proposal's working copy), no
+polygon: it scales plainly. */
 CV_EXPORTS Multicage resizeCage(InputArray image, const ResizeParams& params = ResizeParams());
 
 /** Throws cv::Exception (StsOutOfRange) unless newSize is a size resizePose() accepts for an

@@ -1,0 +1,201 @@
+// Issue 39: the learned subject cue. The model's own map against the hand-made references, the
+// fused proposal's outlines, the look-up with no model installed, damaged and foreign model
+// files, and two threads proposing at once.
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <fstream>
+#include <opencv2/imgproc.hpp>
+#include <opencv2/multicage.hpp>
+#include <opencv2/core/utils/filesystem.hpp>
+#include <thread>
+
+#include "propose_bench.hpp"
+
+namespace {
+
+using namespace cv::multicage;
+using propose_bench::benchPhoto;
+
+bool haveModel() {
+    return !segmenterModelFile().empty();
+}
+
+cv::Mat benchMask(const std::string& name) {
+    return multicage_testing::readSample("propose_bench/" + name + "_mask.png",
+                                         0 /* IMREAD_GRAYSCALE */) > 127;
+}
+
+double iou(const cv::Mat& a, const cv::Mat& b) {
+    return cv::countNonZero(a & b) / static_cast<double>(cv::countNonZero(a | b));
+}
+
+cv::Mat outlines(const Multicage& cage) {
+    cv::Mat mask = cv::Mat::zeros(cage.imageSize(), CV_8U);
+    for (int p = 0; p < cage.polygonCount(); ++p)
+        if (cage.depth(p) == 1) {
+            std::vector<cv::Point> q;
+            for (const cv::Point2f& v : cage.polygon(p)) q.emplace_back(cvRound(v.x), cvRound(v.y));
+            cv::fillPoly(mask, std::vector<std::vector<cv::Point>>{q}, 255);
+        }
+    return mask;
+}
+
+// Sets an environment variable for one scope, and puts the old value back.
+class ScopedEnv {
+  public:
+    ScopedEnv(const char* name, const std::string& value) : name_(name) {
+        const char* old = std::getenv(name);
+        had_ = old != nullptr;
+        if (had_) old_ = old;
+        setenv(name, value.c_str(), 1);
+    }
+    ~ScopedEnv() {
+        if (had_)
+            setenv(name_, old_.c_str(), 1);
+        else
+            unsetenv(name_);
+    }
+
+  private:
+    const char* name_;
+    std::string old_;
+    bool had_ = false;
+};
+
+std::string writeFile(const std::string& name, const std::vector<char>& bytes) {
+    const std::string path = multicage_testing::tempDir("segmenter") + "/" + name;
+    std::ofstream(path, std::ios::binary).write(bytes.data(), bytes.size());
+    return path;
+}
+
+std::vector<char> defaultModelBytes() {
+    std::ifstream in(segmenterModelFile(), std::ios::binary);
+    return std::vector<char>(std::istreambuf_iterator<char>(in), {});
+}
+
+// The pinned model is where the README's commands put it (.ci/deps.sh, then the build).
+TEST(Segmenter, ThePinnedModelIsFoundInTheBuildTree) {
+    cv::String why;
+    const cv::String file = segmenterModelFile(ProposeParams(), &why);
+    ASSERT_FALSE(file.empty()) << why << " (.ci/deps.sh's step 'segmenter model' puts it in "
+                               << ".deps/models, and configuring copies it into the build tree)";
+    EXPECT_EQ(why, "the build tree");
+}
+
+// The network alone, above one half, against the references a person drew: measured 0.95
+// (apple), 0.98 (butterfly), 0.93 (camera), 0.95 (orange).
+TEST(Segmenter, TheModelsMapFindsTheSubjectOfPlainPhotos) {
+    if (!haveModel()) GTEST_SKIP() << "no subject model installed";
+    for (const char* name : {"apple", "butterfly", "camera", "orange"}) {
+        cv::Mat map;
+        subjectMap(benchPhoto(name), map);
+        ASSERT_EQ(map.type(), CV_32FC1);
+        ASSERT_EQ(map.size(), benchPhoto(name).size());
+        double lo, hi;
+        cv::minMaxLoc(map, &lo, &hi);
+        EXPECT_GE(lo, 0.0);
+        EXPECT_LE(hi, 1.0);
+        const double score = iou(map > 0.5, benchMask(name));
+        std::cout << "[ map      ] " << name << " IoU " << score << "\n";
+        EXPECT_GE(score, 0.9) << name;
+    }
+}
+
+// The default proposal with the model (fuse.cpp), outline IoU against the references: the
+// classic cues alone gave 0.706, 0.464, 0.876, 0.544 and 0.848 on these photos.
+TEST(Segmenter, TheFusedProposalFollowsTheSubject) {
+    if (!haveModel()) GTEST_SKIP() << "no subject model installed";
+    const std::pair<const char*, double> photos[] = {
+        {"astronaut", 0.85}, {"chelsea", 0.85}, {"coffee", 0.88}, {"robin", 0.75}, {"orange", 0.85}};
+    for (const auto& [name, least] : photos) {
+        const double score = iou(outlines(proposeProtectedMulticage(benchPhoto(name))) > 0,
+                                 benchMask(name));
+        std::cout << "[ fused    ] " << name << " outline IoU " << score << "\n";
+        EXPECT_GE(score, least) << name;
+    }
+}
+
+// No model installed: the default falls back to the classic cues, and says why; asking for the
+// model then is an error that says how to get one.
+TEST(Segmenter, NoModelInstalledMeansTheClassicCues) {
+    const ScopedEnv none(MULTICAGE_DATA_ENV, multicage_testing::tempDir("no_models"));
+    const ScopedEnv unset(MULTICAGE_SEGMENTER_ENV, "");
+    cv::String why;
+    EXPECT_TRUE(segmenterModelFile(ProposeParams(), &why).empty());
+    EXPECT_NE(why.find(".ci/deps.sh"), cv::String::npos) << why;
+    const cv::Mat photo = benchPhoto("apple");
+    ProposeParams classic;
+    classic.segmenter = SEGMENTER_CLASSIC;
+    const Multicage fallback = proposeMulticage(photo);
+    EXPECT_TRUE(fallback.validate());
+    EXPECT_EQ(fallback.vertices(), proposeMulticage(photo, classic).vertices());
+    ProposeParams model;
+    model.segmenter = SEGMENTER_MODEL;
+    try {
+        proposeMulticage(photo, model);
+        ADD_FAILURE() << "SEGMENTER_MODEL without a model did not throw";
+    } catch (const cv::Exception& e) {
+        EXPECT_EQ(e.code, cv::Error::StsObjectNotFound);
+        EXPECT_NE(e.err.find(".ci/deps.sh"), std::string::npos) << e.err;
+    }
+}
+
+// A damaged, foreign or missing model file is an error naming it, never a crash; a damaged
+// default copy is caught by its checksum before it is parsed.
+TEST(Segmenter, BadModelFilesAreRefusedWithTheirName) {
+    if (!haveModel()) GTEST_SKIP() << "no subject model installed";
+    const std::vector<char> model = defaultModelBytes();
+    ASSERT_GT(model.size(), 1000u);
+    std::vector<char> random(100000);
+    cv::RNG rng(39);
+    for (char& c : random) c = static_cast<char>(rng.uniform(0, 256));
+    const std::string truncated =
+        writeFile("truncated.onnx", std::vector<char>(model.begin(), model.begin() + model.size() / 3));
+    const std::string noise = writeFile("noise.onnx", random);
+    const std::string text = writeFile("text.onnx", {'h', 'e', 'l', 'l', 'o', '\n'});
+    const cv::Mat photo = benchPhoto("apple");
+    for (const std::string& file : {truncated, noise, text, std::string("/no/such/model.onnx")}) {
+        ProposeParams p;
+        p.segmenterModel = file;
+        try {
+            proposeProtectedMulticage(photo, p);
+            ADD_FAILURE() << file << " was taken for a model";
+        } catch (const cv::Exception& e) {
+            EXPECT_NE(e.err.find(file), std::string::npos) << e.err;
+        }
+    }
+    // The default look-up's copy, truncated: its size and sha256 are not the pinned ones.
+    const std::string data = multicage_testing::tempDir("damaged_data");
+    cv::utils::fs::createDirectories(data + "/models");
+    std::ofstream(data + "/models/u2netp.onnx", std::ios::binary)
+        .write(model.data(), model.size() - 1);
+    const ScopedEnv damaged(MULTICAGE_DATA_ENV, data);
+    const ScopedEnv unset(MULTICAGE_SEGMENTER_ENV, "");
+    try {
+        proposeMulticage(photo);
+        ADD_FAILURE() << "a damaged default model was read";
+    } catch (const cv::Exception& e) {
+        EXPECT_EQ(e.code, cv::Error::StsParseError);
+        EXPECT_NE(e.err.find("sha256"), std::string::npos) << e.err;
+        EXPECT_NE(e.err.find(data), std::string::npos) << e.err;
+    }
+}
+
+// The model is read once and shared: two threads proposing at once give what one gives.
+TEST(Segmenter, TwoThreadsProposingAtOnceGiveWhatOneGives) {
+    if (!haveModel()) GTEST_SKIP() << "no subject model installed";
+    const cv::Mat a = benchPhoto("robin"), b = benchPhoto("astronaut");
+    const Multicage aloneA = proposeProtectedMulticage(a), aloneB = proposeProtectedMulticage(b);
+    Multicage togetherA, togetherB;
+    std::thread first([&] { togetherA = proposeProtectedMulticage(a); });
+    std::thread second([&] { togetherB = proposeProtectedMulticage(b); });
+    first.join();
+    second.join();
+    EXPECT_EQ(togetherA.vertices(), aloneA.vertices());
+    EXPECT_EQ(togetherB.vertices(), aloneB.vertices());
+    EXPECT_GT(aloneA.polygonCount(), 0);
+    EXPECT_GT(aloneB.polygonCount(), 0);
+}
+
+}  // namespace
