@@ -189,7 +189,7 @@ void addProposeCommand(CLI::App& app) {
         "object), labels (IMAGE is a label image: each label its own polygon).\n"
         "With --method auto the subject of a photo comes from a learned subject model "
         "(U^2-Net-P, docs/models.md) fused with the faces and GrabCut, when the model is "
-        "installed (--segmenter auto, the default), else from the classic cues alone; "
+        "installed (--segmenter auto, when no other is given), else from the classic cues alone; "
         "--segmenter classic or model picks one. " +
         subjectCueHelp() + "\n" +
         "By default the result is a multicage: an outline around each object, plus inner polygons "

@@ -211,10 +211,13 @@ TEST(ProposePerson, TheOutlineAroundAFaceLeavesItLittleRoomNeverTheFrame) {
 
 // Item 4: a salient region no more textured than its object (the butterfly's wings, as
 // patterned as the whole butterfly) gets no polygon; a region more textured than its object
-// (HappyFish.jpg's eye, the cat's eye) gets one.
+// (HappyFish.jpg's eye, the cat's eye) gets one. The rule judges a region against the outline
+// it is in: the classic segmentation's outlines, whose cat is its face (the subject model's
+// takes in the whole cat, as textured as its eye).
 TEST(ProposeFeatures, ARegionNoMoreTexturedThanItsObjectGetsNoPolygon) {
     ProposeParams saliency;
     saliency.protect = PROTECT_SALIENCY;
+    saliency.segmenter = SEGMENTER_CLASSIC;
     EXPECT_EQ(innerPolygons(proposeProtectedMulticage(readSample("butterfly.jpg"), saliency)), 0);
     EXPECT_GE(innerPolygons(proposeProtectedMulticage(readSample("HappyFish.jpg"), saliency)), 1);
     EXPECT_GE(innerPolygons(proposeProtectedMulticage(benchPhoto("chelsea"), saliency)), 1);

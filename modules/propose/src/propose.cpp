@@ -55,14 +55,6 @@ int parseProposeMethod(const String& name) {
     return -1;
 }
 
-void proposeSegmentation(InputArray image, OutputArray mask, const ProposeParams& params) {
-    checkParams(params);
-    const Mat img = image.getMat();
-    if (img.empty())
-        CV_Error(Error::StsBadArg, "multicage: proposeSegmentation: the image is empty");
-    const Work w = resolve(img.size(), params);
-    fromWork(segmentForProposal(img, w, params).objects, w).copyTo(mask);
-}
 
 namespace {
 // Room between a face's polygon and the outline around it, in input pixels: 0.15 face sizes,
@@ -151,6 +143,16 @@ Mat subjectBesideFaces(const Mat& img, const Work& w, const ProposeParams& param
     return subject;
 }
 }  // namespace
+
+void proposeSegmentation(InputArray image, OutputArray mask, const ProposeParams& params) {
+    checkParams(params);
+    const Mat img = image.getMat();
+    if (img.empty())
+        CV_Error(Error::StsBadArg, "multicage: proposeSegmentation: the image is empty");
+    const Work w = resolve(img.size(), params);
+    const Mat subject = subjectFor(img, w, params, modelFor(params));
+    fromWork(segmentForProposal(img, w, params, Mat(), {}, subject).objects, w).copyTo(mask);
+}
 
 Multicage proposeMulticage(InputArray image, const ProposeParams& params) {
     checkParams(params);
