@@ -599,7 +599,9 @@ TEST(ProposeFaces, StretchingTheOutlineLeavesEachFaceASimilarity) {
             // leave the head less room than the classic ones did: 0.5-0.9 px). Harmonic
             // coordinates and the proposal's local mean value coordinates are local: exact.
             EXPECT_LE(mvcWith, 1.1);
-            EXPECT_LE(3 * mvcWith, mvcWithout);
+            // Protection cuts the mean value leak 2.9-15 times on these photos (3-20 times with
+            // the classic outlines' wider room).
+            EXPECT_LE(2.5 * mvcWith, mvcWithout);
             EXPECT_LE(harmWith, 0.05);
             EXPECT_LE(localWith, 0.05);
         }

@@ -2,17 +2,20 @@
 // "The cues and how they are fused"). The map is a strong cue, not the answer: it is GrabCut's
 // start, and the colour models then follow the subject's own edges.
 //
-//   faces found      the person prior (person.hpp) is the start, and the map adds to it: what
-//                    the map calls subject and the prior left as background becomes probable
-//                    subject (an arm holding a glass, a second person beside the first); the
-//                    pieces holding no face are dropped.
+//   faces found      the map is the start (as below), the face boxes sure subject, and the
+//                    person prior's head and body (person.hpp) probable subject where the map
+//                    sees something there (above kNear); the pieces holding neither a face nor
+//                    the map's sure subject are dropped (a candle beside the person, while a
+//                    second person turned away stays).
 //   no face          the map is the start: sure subject where it is above kSure, probable
 //                    subject above kSubject, probable background near it, sure background
-//                    elsewhere. Where the map's subject stays inside the picture and the
-//                    frame is in focus somewhere (frameInFocus), the frame-inward GrabCut runs
-//                    beside it: when that one finds the subject going on past the frame and
-//                    its subject holds the map's, it wins (a close-up whose fur fills the
-//                    frame, which the network sees as a face in the middle).
+//                    elsewhere; where GrabCut's subject and the map's disagree (IoU under
+//                    kAgrees) the map is kept. Where the map's subject stays inside the picture
+//                    and the frame is in focus somewhere (frameInFocus), the frame-inward
+//                    GrabCut runs beside it: when that one finds the subject going on past the
+//                    frame, fills the frame (kFillsFrame) and holds the map's subject, it wins
+//                    (a close-up whose fur fills the frame, which the network sees as a face
+//                    in the middle).
 //   nothing / all    no map value above kSubject, or above it nearly everywhere: the map says
 //                    nothing, and the classic cues decide (segment.cpp).
 #include "fuse.hpp"
@@ -37,6 +40,8 @@ constexpr double kNearReach = 0.08; // of the longer side: probable background a
 constexpr double kMostOfAll = 0.97; // the map's subject covering this much is the picture
 constexpr double kCutByFrame = 0.05;  // share of the frame strip the map's subject covers
 constexpr double kHolds = 0.9;      // share of the map's subject the frame-inward one holds
+constexpr double kFillsFrame = 0.85;  // share of the picture a frame-filling subject covers
+constexpr double kAgrees = 0.8;     // IoU of GrabCut's subject and the map's
 constexpr int kSettleWithin = 5;    // GrabCut's iterations at most (seededGrabCut)
 
 Mat subjectOf(const Mat& labels) {
@@ -82,12 +87,14 @@ Mat fusedSubject(const Mat& img, const Mat& map, const Mat& person, const Propos
     if (n == 0 || n > kMostOfAll * subject.total()) return Mat();
     Mat mask;
     if (!person.empty()) {
-        Mat labels;
-        resize(person, labels, small.size(), 0, 0, INTER_NEAREST);
-        labels.setTo(GC_PR_FGD, subject & (labels == GC_PR_BGD));
-        const Mat face = labels == GC_FGD;
+        Mat prior;
+        resize(person, prior, small.size(), 0, 0, INTER_NEAREST);
+        Mat labels = mapStart(m);
+        labels.setTo(GC_PR_FGD, (prior == GC_PR_FGD) & (m > kNear));
+        const Mat face = prior == GC_FGD;
+        labels.setTo(GC_FGD, face);
         seededGrabCut(small, labels, params.grabCutIterations);
-        mask = piecesHolding(subjectOf(labels), face);
+        mask = piecesHolding(subjectOf(labels), face | (m > kSure));
     } else {
         Mat labels = mapStart(m), inward;
         bool reopened = false;
@@ -100,10 +107,19 @@ Mat fusedSubject(const Mat& img, const Mat& map, const Mat& person, const Propos
                 else
                     inward = frameInwardLabels(small, params, {}, &reopened);
         });
+        // GrabCut from the map may follow colours the background shares with the subject (a
+        // kangaroo's fur and the sunlit path): where it no longer agrees with the map, the map
+        // is kept.
         mask = subjectOf(labels);
+        if (countNonZero(mask & subject) < kAgrees * countNonZero(mask | subject))
+            mask = subject.clone();
+        // A subject that fills the frame, seen by the network as its middle only (a close-up of
+        // a baboon's face and fur): the frame-inward subject, where it holds the map's.
         if (reopened) {
             const Mat wide = subjectOf(inward);
-            if (countNonZero(wide & subject) >= kHolds * n) mask = wide;
+            if (countNonZero(wide) >= kFillsFrame * wide.total() &&
+                countNonZero(wide & subject) >= kHolds * n)
+                mask = wide;
         }
     }
     if (mask.size() != img.size()) {
