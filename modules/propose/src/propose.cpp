@@ -4,15 +4,20 @@
 //   work.cpp      ProposeParams checked and resolved into pixels of a downscaled copy
 //   faces.cpp     face detection (Haar cascades) and the polygon hugging a face
 //   person.cpp    the person prior: where a face is, the head and the body below it
+//   segmenter.cpp the subject model (a salient-object network through OpenCV's dnn): found,
+//                 checked, read once per process, run on the working copy
 //   segment.cpp   image -> mask of objects (threshold, GrabCut seeded by the person prior or
-//                 from the frame inward, saliency)
+//                 from the frame inward, saliency; with a subject map, fuse.cpp)
+//   fuse.cpp      the subject model's map fused with the person prior and the frame-inward
+//                 GrabCut
 //   subject.cpp   the frame-inward GrabCut of a photo without faces: the frame is background
 //                 except where the subject goes on past it
 //   grabcut.cpp   GrabCut itself (cv::grabCut's colour models and energy), on
 //   grid_cut.cpp  a max-flow over the pixel grid that keeps its flow between iterations
 //   polygons.cpp  mask -> nested regions -> polygons within the budgets, simplified and
 //                 repaired until simple and disjoint
-//   features.cpp  the inner polygons: faces, then textured salient regions
+//   features.cpp  the inner polygons: faces, then textured salient regions (eyes.cpp,
+//                 texture.cpp)
 #include <algorithm>
 #include <cmath>
 #include <exception>

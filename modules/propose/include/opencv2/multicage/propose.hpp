@@ -12,9 +12,10 @@ namespace multicage {
 
 /** How proposeMulticage() decides which pixels belong to an object. */
 enum ProposeMethod {
-    /** PROPOSE_THRESHOLD when the image border is mostly one colour (an object on a plain
-    background), else PROPOSE_GRABCUT from the image frame inward: whole objects in
-    photographs, at GrabCut's cost (see docs/propose/README.md). */
+    /** The subject model's map fused with the faces and GrabCut where a model runs
+    (ProposeParams::segmenter); else PROPOSE_THRESHOLD when the image border is mostly one
+    colour (an object on a plain background), and PROPOSE_GRABCUT from the image frame inward
+    otherwise (see docs/propose/README.md). */
     PROPOSE_AUTO = 0,
     /** Otsu threshold on the distance from the background colour (the median colour of the
     image border): objects on a plain background. */
@@ -46,10 +47,11 @@ enum ProtectDetector {
     /** Faces: frontal and profile (both directions) faces found by cv::CascadeClassifier with
     OpenCV's Haar cascades (Debian package opencv-data), optionally confirmed by an eye inside
     (ProposeParams::faceEyes). Each face becomes a rounded box hugging it (a superellipse a
-    small margin around the detected box), nested in the polygon around it and crossing no
+    small margin around the detected box grown to the forehead and the chin), nested in the
+    polygon around it and crossing no
     other; faces whose polygons would overlap merge. proposeProtectedMulticage() leaves the
-    face two face sizes of room to the outline, so that moving the outline leaves the face a
-    similarity (within 1 px with mean value coordinates, exactly with harmonic ones). No
+    face 0.15 face sizes of room to the outline and binds with local mean value coordinates,
+    so that moving the outline leaves the face a similarity. No
     cascade file: cv::Exception (StsObjectNotFound) naming the package. No face found: nothing
     added. */
     PROTECT_FACES = 1,
