@@ -105,15 +105,59 @@ TEST(Cli, BadInputGivesOneLineAndNoOutput) {
     }
 }
 
+// Issue 39, item 7: the demo shows what the project is for: a photo whose default proposal
+// nests inner polygons (the astronaut: an outline, her face's polygon in it, her eyes' in
+// that), and a pose that widens the outline, keeps the multicage valid and folds nothing.
 TEST(Cli, DemoWritesItsOutputs) {
+    using namespace cv::multicage;
     const std::string dir = multicage_testing::tempDir("cli_demo");
     const Result r = run("demo --backend cpu -o " + dir + "/demo", dir);
     ASSERT_EQ(r.code, 0) << r.err;
-    for (const char* f : {"input.png", "overlay.png", "deformed.png", "side_by_side.png", "cage.yml"})
+    std::printf("%s", r.out.c_str());
+    for (const char* f : {"input.png", "overlay.png", "deformed.png", "deformed_overlay.png", "side_by_side.png",
+                          "cage.yml"})
         EXPECT_TRUE(fs::exists(dir + "/demo/" + f)) << f;
-    const cv::multicage::Multicage cage = cv::multicage::Multicage::load(dir + "/demo/cage.yml");
+    const Multicage cage = Multicage::load(dir + "/demo/cage.yml");
     EXPECT_TRUE(cage.validate());
-    EXPECT_GE(cage.poseCount(), 1);
+    const cv::Mat input = cv::imread(dir + "/demo/input.png", cv::IMREAD_COLOR);
+    ASSERT_EQ(input.size(), cage.imageSize());
+
+    // Nested: without OpenCV's face cascades (Debian package opencv-data) the astronaut may get
+    // her outline alone; with them, her face's polygon inside it and her eyes' inside that.
+    int deepest = 0;
+    for (int p = 0; p < cage.polygonCount(); ++p) deepest = std::max(deepest, cage.depth(p));
+    if (!faceCascadeFile().empty()) {
+        EXPECT_GE(deepest, 2) << r.out;
+        EXPECT_NE(r.out.find("stays a face"), std::string::npos) << r.out;
+    }
+
+    // The pose: valid, folding nothing on the mesh the demo deformed with (grid step 1, the
+    // cage's coordinates), and a visible widening (outline vertices moved by 5% of the width).
+    const int stretch = cage.findPose("stretch");
+    ASSERT_GE(stretch, 0);
+    const std::vector<cv::Point2f> pose = cage.pose(stretch).vertices;
+    std::string why;
+    EXPECT_TRUE(validatePose(cage, pose, &why)) << why;
+    DeformParams params;
+    params.backend = BACKEND_CPU;
+    const cv::Ptr<Deformer> deformer = Deformer::create(input, cage, params);
+    EXPECT_EQ(deformer->foldedTriangles(pose), 0);
+    EXPECT_NE(r.out.find("folds nothing"), std::string::npos) << r.out;
+    double most = 0;
+    const std::vector<cv::Point2f> rest = cage.vertices();
+    for (int p = 0; p < cage.polygonCount(); ++p)
+        if (cage.depth(p) == 1)
+            for (int i = cage.polygonOffset(p); i < cage.polygonOffset(p) + static_cast<int>(cage.polygon(p).size());
+                 ++i)
+                most = std::max(most, cv::norm(pose[i] - rest[i]));
+    EXPECT_GE(most, 0.05 * input.cols);
+    // The nested polygons moved as rigid pieces: each by one translation.
+    for (int p = 0; p < cage.polygonCount(); ++p) {
+        if (cage.depth(p) < 2) continue;
+        const int begin = cage.polygonOffset(p);
+        for (int i = begin; i < begin + static_cast<int>(cage.polygon(p).size()); ++i)
+            EXPECT_LT(cv::norm((pose[i] - rest[i]) - (pose[begin] - rest[begin])), 1e-3) << "polygon " << p;
+    }
 }
 
 namespace {

@@ -48,12 +48,11 @@ enum ProtectDetector {
     OpenCV's Haar cascades (Debian package opencv-data), optionally confirmed by an eye inside
     (ProposeParams::faceEyes). Each face becomes a rounded box hugging it (a superellipse a
     small margin around the detected box grown to the forehead and the chin), nested in the
-    polygon around it and crossing no
-    other; faces whose polygons would overlap merge. proposeProtectedMulticage() leaves the
-    face 0.15 face sizes of room to the outline and binds with local mean value coordinates,
-    so that moving the outline leaves the face a similarity. No
-    cascade file: cv::Exception (StsObjectNotFound) naming the package. No face found: nothing
-    added. */
+    polygon around it and crossing no other; faces whose polygons would overlap merge.
+    proposeProtectedMulticage() leaves the face 0.15 face sizes of room to the outline and binds
+    with local mean value coordinates, so that moving the outline leaves the face a similarity.
+    No cascade file: cv::Exception (StsObjectNotFound) naming the package. No face found:
+    nothing added. */
     PROTECT_FACES = 1,
     /** Faces first (they get the budget first), then salient blobs, kept a face size away
     from the faces' polygons (never around them). No cascade installed: salient blobs only, no
