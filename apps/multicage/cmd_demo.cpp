@@ -1,8 +1,9 @@
 // multicage demo: the embedded default job, end to end: the astronaut, an outline with a face
 // polygon nested in it and eye polygons nested in that, and a pose that widens the outline
 // while the nested polygons move as rigid pieces and nothing folds (issue 39); --faces: the
-// face scene (issue 16).
+// face protection alone (issue 16).
 #include <algorithm>
+#include <cfloat>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
@@ -93,38 +94,52 @@ int chooseOutline(const cv::multicage::Multicage& cage, const std::vector<cv::Re
 
 // The demo's pose: the middle of the outline widened, the polygons nested in it moved as rigid
 // pieces. Each outline vertex at x moves sideways by A sin(pi (x - c) / r) within r of the
-// outline's centre c (A = strength r / pi): left of c to the left, right of it to the right,
-// most at r/2, not at all at c and beyond r. That map of the line is monotone (strength < 1),
-// so the outline stays simple and its parts keep their order; the body around the centre is
-// widened by up to 1 + strength, and the arms, legs or helmet at the sides are pushed out
-// less, or not at all, where a tip pushed along its own axis into the fixed background would
-// fold the mesh around it. Vertices within 5% of the shorter side of the image frame stay
-// (a vertex dragged along the fixed frame folds the thin strip between them), and the motion
-// fades in over the next 5%. A polygon nested in the outline (with everything nested in it)
-// moves by the displacement of its centre: rigidly, a translation.
-std::vector<cv::Point2f> widenPose(const cv::multicage::Multicage& cage, int outline,
+// centre c (A = strength r / pi): left of c to the left, right of it to the right, most at r/2,
+// not at all at c and beyond r. That map of the line is monotone (strength < 1), so the
+// outline stays simple and its parts keep their order; the body around the centre is widened
+// by up to 1 + strength, and the arms, legs or helmet at the sides are pushed out less, or not
+// at all, where a tip pushed along its own axis into the fixed background would fold the mesh
+// around it. Vertices within 5% of the shorter side of the image frame stay (a vertex dragged
+// along the fixed frame folds the thin strip between them), and the motion fades in over the
+// next 5%; so do they near another object's outline, which stays where it is (a thin gap
+// between it and a moving outline would be sheared and fold). A polygon nested in the
+// outline, with everything nested in it, moves by the displacement of its centre: rigidly.
+std::vector<cv::Point2f> widenPose(const cv::multicage::Multicage& cage, int outline, float c,
                                    float strength) {
     const std::vector<cv::Point2f> rest = cage.vertices();
     std::vector<cv::Point2f> pose(rest.begin(), rest.begin() + cage.vertexCount());
     const cv::Size size = cage.imageSize();
-    const float c = meanOf(cage.polygon(outline)).x, r = 0.28f * size.width;
-    const float amplitude = strength * r / static_cast<float>(CV_PI);
+    const float r = 0.28f * size.width, amplitude = strength * r / static_cast<float>(CV_PI);
+    const float near = std::max(4.f, 0.05f * std::min(size.width, size.height));
     auto shift = [&](float x) {
         const float t = (x - c) / r;
         return std::abs(t) >= 1 ? 0.f : amplitude * std::sin(static_cast<float>(CV_PI) * t);
     };
-    const float near = std::max(4.f, 0.05f * std::min(size.width, size.height));
+    auto fade = [&](const std::vector<cv::Point2f>& points) {
+        float border = FLT_MAX;
+        for (const cv::Point2f& p : points)
+            border = std::min({border, p.x, p.y, size.width - 1 - p.x, size.height - 1 - p.y});
+        return std::min(1.f, std::max(0.f, (border - near) / near));
+    };
+    std::vector<int> others;  // the other objects' outlines: they stay, as the frame does
+    for (int p = 0; p < cage.polygonCount(); ++p)
+        if (p != outline && cage.depth(p) == 1) others.push_back(p);
     const int begin = cage.polygonOffset(outline);
     for (int i = begin; i < begin + static_cast<int>(cage.polygon(outline).size()); ++i) {
-        const cv::Point2f p = rest[i];
-        const float border = std::min({p.x, p.y, size.width - 1 - p.x, size.height - 1 - p.y});
-        const float fade = std::min(1.f, std::max(0.f, (border - near) / near));
-        pose[i].x = p.x + fade * shift(p.x);
+        float f = fade({rest[i]});
+        for (const int other : others) {
+            const float gap = static_cast<float>(
+                -cv::pointPolygonTest(cage.polygon(other), rest[i], true));
+            f = std::min(f, std::min(1.f, std::max(0.f, (gap - near) / near)));
+        }
+        pose[i].x = rest[i].x + f * shift(rest[i].x);
     }
-    for (const int child : childrenOf(cage, outline)) {
-        const cv::Point2f move(shift(meanOf(cage.polygon(child)).x), 0.f);
+    const std::vector<int> pieces = childrenOf(cage, outline);
+    for (const int piece : pieces) {
+        const std::vector<cv::Point2f> polygon = cage.polygon(piece);
+        const cv::Point2f move(fade(polygon) * shift(meanOf(polygon).x), 0.f);
         for (int p = 0; p < cage.polygonCount(); ++p) {
-            if (p != child && !nestedIn(cage, child, p)) continue;
+            if (p != piece && !nestedIn(cage, piece, p)) continue;
             const int b = cage.polygonOffset(p);
             for (int i = b; i < b + static_cast<int>(cage.polygon(p).size()); ++i)
                 pose[i] = rest[i] + move;
@@ -133,29 +148,42 @@ std::vector<cv::Point2f> widenPose(const cv::multicage::Multicage& cage, int out
     return pose;
 }
 
-// The strongest widening (from 0.8 down) that keeps the multicage valid (validatePose) and
-// folds no triangle of the deformer's mesh; the rest pose when none does. Says which.
+// The strongest widening (from 0.8 down), about the outline's centre or the face's, that keeps
+// the multicage valid (validatePose) and folds no triangle of the deformer's mesh; the rest
+// pose when none does. Says which.
 std::vector<cv::Point2f> chooseStretch(const Scene& s, const cv::multicage::Deformer& deformer) {
     using namespace cv::multicage;
     const std::vector<cv::Point2f> rest = s.cage.vertices();
+    std::vector<float> centres = {meanOf(s.cage.polygon(s.outline)).x};
+    for (const cv::Rect& f : s.faces)
+        if (cv::pointPolygonTest(s.cage.polygon(s.outline),
+                                 cv::Point2f(f.x + 0.5f * f.width, f.y + 0.5f * f.height),
+                                 false) > 0) {
+            centres.push_back(f.x + 0.5f * f.width);
+            break;
+        }
     float strength = 0.8f;
-    for (int attempt = 0; attempt < 12; ++attempt, strength *= 0.85f) {
-        const std::vector<cv::Point2f> pose = widenPose(s.cage, s.outline, strength);
-        if (!validatePose(s.cage, pose) || deformer.foldedTriangles(pose) != 0) continue;
-        double most = 0;
-        const int begin = s.cage.polygonOffset(s.outline);
-        for (int i = begin; i < begin + static_cast<int>(s.cage.polygon(s.outline).size()); ++i)
-            most = std::max(most, cv::norm(pose[i] - rest[i]));
-        const int nested = nestedCount(s.cage, s.outline);
-        std::cout << "  pose 'stretch': the outline's middle widened up to "
-                  << cvRound(100 * strength) << "% (its vertices moved up to " << cvRound(most)
-                  << " px), "
-                  << (nested > 0 ? "the " + plural(nested, "polygon") +
-                                       " nested in it moved with it as rigid pieces"
-                                 : std::string("no polygon nested in it to keep rigid"))
-                  << "; the pose folds nothing (0 mesh triangles over)\n";
-        return pose;
-    }
+    for (int attempt = 0; attempt < 16; ++attempt, strength *= 0.9f)
+        for (const float centre : centres) {
+            const std::vector<cv::Point2f> pose = widenPose(s.cage, s.outline, centre, strength);
+            if (!validatePose(s.cage, pose) || deformer.foldedTriangles(pose) != 0) continue;
+            double most = 0;
+            const int begin = s.cage.polygonOffset(s.outline);
+            for (int i = begin; i < begin + static_cast<int>(s.cage.polygon(s.outline).size()); ++i)
+                most = std::max(most, cv::norm(pose[i] - rest[i]));
+            const int nested = nestedCount(s.cage, s.outline);
+            const int others = s.cage.polygonCount() - 1 - nested;
+            std::cout << "  pose 'stretch': the outline's middle widened by up to "
+                      << cvRound(100 * strength) << "% (its vertices moved up to " << cvRound(most)
+                      << " px), "
+                      << (nested > 0 ? "the " + plural(nested, "polygon") +
+                                           " nested in it moved along rigidly"
+                                     : std::string("no polygon nested in it to keep rigid"))
+                      << (others > 0 ? ", the " + plural(others, "other polygon") + " at rest"
+                                     : "")
+                      << "; the pose folds nothing (0 mesh triangles over)\n";
+            return pose;
+        }
     std::cout << "  note: every widening tried folds the mesh over; the pose 'stretch' is the "
                  "rest pose (it folds nothing)\n";
     return std::vector<cv::Point2f>(rest.begin(), rest.begin() + s.cage.vertexCount());
@@ -173,11 +201,15 @@ std::string describeNesting(const cv::multicage::Multicage& cage, int outline,
                             const std::vector<cv::Rect>& faces, const std::string& subject) {
     using namespace cv::multicage;
     std::string words = "an outline around " + subject;
+    const int elsewhere = cage.polygonCount() - 1 - nestedCount(cage, outline);
+    const std::string rest =
+        elsewhere > 0 ? "; " + plural(elsewhere, "polygon") + " around other objects" : "";
     const std::vector<int> children = childrenOf(cage, outline);
     if (children.empty())
         return words +
-               " and nothing nested in it: no face found inside it (the face cascades are the "
-               "Debian package opencv-data) and no region more textured than the subject";
+               " and nothing nested in it: no face found in it (face detection needs the Debian "
+               "package opencv-data) and no region in it more textured than the subject" +
+               rest;
     int facePolygons = 0, inFaces = 0, others = 0;
     for (const int child : children) {
         bool face = false;
@@ -202,42 +234,34 @@ std::string describeNesting(const cv::multicage::Multicage& cage, int outline,
         if (others > 0) words += ", and ";
     }
     if (others > 0) words += plural(others, "polygon") + " around textured features";
-    return words;
+    return words + rest;
 }
 
-Scene astronautScene() {
+// The demo's scene: the astronaut and the multicage proposed for her, as `multicage propose`
+// does by default (facesOnly: as with --protect faces, the face's polygon and what it holds
+// only). An outline around the astronaut, then inner polygons protecting her face and, nested
+// in it, her eyes (and the textured features inside the outline, where there are any).
+// Without the subject model the classic cues find the same; without the face cascades the
+// default finds no inner polygon here, and --faces stops with a line naming the package.
+Scene astronautScene(bool facesOnly) {
     using namespace cv::multicage;
     Scene s{"astronaut.jpg", decodeEmbeddedImage("astronaut.jpg"), {}, {}, -1, 2};
-    std::cout << "multicage demo: " << s.name << " (" << s.image.cols << "x" << s.image.rows
-              << ")\n";
-    // The multicage is proposed from the image, as `multicage propose` does by default: an
-    // outline around the astronaut, then inner polygons protecting her face (and, nested in
-    // it, her eyes) and the textured features inside it. Without the subject model the
-    // classic cues find the same; without the face cascades there may be no inner polygon.
+    std::cout << "multicage demo" << (facesOnly ? " --faces: " : ": ") << s.name << " ("
+              << s.image.cols << "x" << s.image.rows << ")\n";
+    ProposeParams params;
+    if (facesOnly) {
+        params.protect = PROTECT_FACES;  // the face only: the rest of the body takes the stretch
+        if (faceCascadeFile(params).empty())
+            throw Failure(std::string("demo --faces needs OpenCV's face cascades (") +
+                          MULTICAGE_DEBIAN_CASCADE_DIR +
+                          "): install the Debian package opencv-data");
+    }
     const auto t = std::chrono::steady_clock::now();
-    s.cage = proposeProtectedMulticage(s.image, ProposeParams(), &s.faces);
+    s.cage = proposeProtectedMulticage(s.image, params, &s.faces);
+    if (facesOnly && s.faces.empty()) throw Failure("no face found in the demo image " + s.name);
     s.outline = chooseOutline(s.cage, s.faces);
     if (s.outline < 0) throw Failure("the proposal found no object in the demo image");
     printProposal(s.cage, msSince(t), describeNesting(s.cage, s.outline, s.faces, "the astronaut"));
-    return s;
-}
-
-Scene facesScene() {
-    using namespace cv::multicage;
-    Scene s{"messi5.jpg", decodeEmbeddedImage("messi5.jpg"), {}, {}, -1, 1};  // thin: a small face
-    std::cout << "multicage demo --faces: " << s.name << " (" << s.image.cols << "x" << s.image.rows
-              << ")\n";
-    ProposeParams params;
-    params.protect = PROTECT_FACES;  // the face only: the rest of the body takes the stretch
-    if (faceCascadeFile(params).empty())
-        throw Failure(std::string("demo --faces needs OpenCV's face cascades (") +
-                      MULTICAGE_DEBIAN_CASCADE_DIR + "): install the Debian package opencv-data");
-    const auto t = std::chrono::steady_clock::now();
-    s.cage = proposeProtectedMulticage(s.image, params, &s.faces);
-    if (s.faces.empty()) throw Failure("no face found in the demo image " + s.name);
-    s.outline = multicage_fixtures::outlineAround(s.cage, s.faces[0]);
-    if (s.outline < 0) throw Failure("internal error: the face has no outline around it");
-    printProposal(s.cage, msSince(t), describeNesting(s.cage, s.outline, s.faces, "the player"));
     return s;
 }
 
@@ -282,7 +306,7 @@ void runDemo(const DemoOptions& o) {
                             : o.faces         ? "multicage-demo-faces"
                                               : "multicage-demo";
     std::filesystem::create_directories(dir);
-    Scene s = o.faces ? facesScene() : astronautScene();
+    Scene s = astronautScene(o.faces);
     std::string stepChange;
     const DeformParams params = deformParams(o.deform, "demo", s.image.size(), s.cage, &stepChange);
     if (!stepChange.empty())
@@ -314,13 +338,14 @@ void addDemoCommand(CLI::App& app) {
         "around her face, and in that polygons around her eyes), a pose that widens the "
         "outline's middle while the nested polygons move as rigid pieces (the strongest "
         "widening that folds nothing), and the output images in a folder.\n"
-        "--faces: the face scene instead: a footballer (messi5.jpg), an outline around him and "
-        "a polygon hugging his face (found by OpenCV's face cascades, Debian package "
-        "opencv-data); the pose widens the body and the face stays a face.");
+        "--faces: face protection only (as `multicage propose --protect faces`): the outline "
+        "and the polygon hugging her face, found by OpenCV's face cascades (Debian package "
+        "opencv-data), with her eyes' polygons in it; the body widens and the face stays a "
+        "face.");
     cmd->add_option("-o,--output-dir", o->outDir,
                     "Folder for the outputs (default: multicage-demo, with --faces "
                     "multicage-demo-faces)");
-    cmd->add_flag("--faces", o->faces, "Show face protection on messi5.jpg (see above)");
+    cmd->add_flag("--faces", o->faces, "Protect the face only (see above)");
     addDeformOptions(cmd, o->deform);
     cmd->callback([o] { runDemo(*o); });
 }

@@ -858,7 +858,7 @@ int lineCount(const std::string& text) {
 }
 }  // namespace
 
-// Issue 16, item 4: `multicage demo --faces` writes the demo's outputs for messi5.jpg, and its
+// Issue 16, item 4: `multicage demo --faces` writes the demo's outputs for astronaut.jpg, and its
 // pose stretches the body while the face only moves by a similarity.
 TEST(ProposeCli, DemoFacesStretchesTheBodyAndTheFaceStaysAFace) {
     if (!haveCascades()) GTEST_SKIP() << "opencv-data is not installed";
