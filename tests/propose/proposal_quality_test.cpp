@@ -132,7 +132,7 @@ TEST(ProposePerson, OutlineFollowsThePersonNotTheImageFrame) {
     }
 }
 
-// Item 2: the room around a face's polygon is 0.08 face sizes (propose.cpp: faceRoom). At 0.3
+// Item 2: the room around a face's polygon is 0.1 face sizes (propose.cpp: faceRoom). At 0.3
 // the outline drew a box above the head of the close-up and the camera man (outline IoU 0.587
 // and 0.593); following the head, 0.654 and 0.645.
 TEST(ProposePerson, TheOutlineFollowsTheHeadNotABoxAboveIt) {
@@ -178,7 +178,7 @@ TEST(ProposeSubject, GrabCutFromTheFrameRunsUntilItsLabelsSettle) {
     }
 }
 
-// Item 2: a face gets room by a local push of at most 0.3 face sizes (today 0.08), never a
+// Item 2: a face gets room by a local push of at most 0.3 face sizes (today 0.1), never a
 // push to the frame: the outline around a face encloses the face box, and above the face
 // (hair, then background) it stays within 0.15 face sizes, the hair (0.6 face heights) and the
 // margin and simplification (3% of the image diagonal). Two face sizes of room put it on the
