@@ -133,8 +133,8 @@ cv::Rect inner80(const cv::Rect& f) {
 }
 
 struct Score {
-    double iou = 0, ceiling = 0, residual = 0, ms = 0, cpuMs = 0, modelMs = 0,
-           harmonicResidual = 0, harmonicMs = 0;
+    double iou = 0, ceiling = 0, residual = 0, ms = 0, cpuMs = 0, modelMs = 0, harmonicResidual = 0,
+           harmonicMs = 0;
     int hugged = 0, faces = 0, eyesHugged = 0, eyes = 0, stray = 0, inner = 0;
 };
 
@@ -314,7 +314,8 @@ const char* const kUsage =
     "photo: outline IoU, its ceiling, faces and eyes hugged, face residual, inner polygons,\n"
     "those protecting nothing, and the median wall and CPU time of --runs proposals at 1024 px\n"
     "(--no-time skips them), and the subject model's own time on the same copy (model ms).\n"
-    "Photos whose reference says \"set\": \"added\" are summed apart. --sheet writes a contact sheet of the proposals. --scales 1,0.8,1.25\n"
+    "Photos whose reference says \"set\": \"added\" are summed apart. --sheet writes a contact "
+    "sheet of the proposals. --scales 1,0.8,1.25\n"
     "scores the photos at those sizes too, a table each (times at scale 1 only): what is tuned\n"
     "to these photos at their own size shows there.\n";
 
@@ -360,8 +361,7 @@ int main(int argc, char** argv) {
                 std::cerr << "bench_propose_scores: --segmenter takes auto, model or classic\n";
                 return 2;
             }
-        }
-        else if (a == "-h" || a == "--help") {
+        } else if (a == "-h" || a == "--help") {
             std::cout << kUsage;
             return 0;
         } else if (!a.empty() && a[0] == '-') {

@@ -5,9 +5,10 @@
 
 #include <cstdlib>
 #include <fstream>
+#include <opencv2/core.hpp>
+#include <opencv2/core/utils/filesystem.hpp>
 #include <opencv2/imgproc.hpp>
 #include <opencv2/multicage.hpp>
-#include <opencv2/core/utils/filesystem.hpp>
 #include <thread>
 
 #include "propose_bench.hpp"
@@ -106,11 +107,14 @@ TEST(Segmenter, TheModelsMapFindsTheSubjectOfPlainPhotos) {
 // classic cues alone gave 0.706, 0.464, 0.876, 0.544 and 0.848 on these photos.
 TEST(Segmenter, TheFusedProposalFollowsTheSubject) {
     if (!haveModel()) GTEST_SKIP() << "no subject model installed";
-    const std::pair<const char*, double> photos[] = {
-        {"astronaut", 0.85}, {"chelsea", 0.85}, {"coffee", 0.88}, {"robin", 0.75}, {"orange", 0.85}};
+    const std::pair<const char*, double> photos[] = {{"astronaut", 0.85},
+                                                     {"chelsea", 0.85},
+                                                     {"coffee", 0.88},
+                                                     {"robin", 0.75},
+                                                     {"orange", 0.85}};
     for (const auto& [name, least] : photos) {
-        const double score = iou(outlines(proposeProtectedMulticage(benchPhoto(name))) > 0,
-                                 benchMask(name));
+        const double score =
+            iou(outlines(proposeProtectedMulticage(benchPhoto(name))) > 0, benchMask(name));
         std::cout << "[ fused    ] " << name << " outline IoU " << score << "\n";
         EXPECT_GE(score, least) << name;
     }
@@ -150,8 +154,8 @@ TEST(Segmenter, BadModelFilesAreRefusedWithTheirName) {
     std::vector<char> random(100000);
     cv::RNG rng(39);
     for (char& c : random) c = static_cast<char>(rng.uniform(0, 256));
-    const std::string truncated =
-        writeFile("truncated.onnx", std::vector<char>(model.begin(), model.begin() + model.size() / 3));
+    const std::string truncated = writeFile(
+        "truncated.onnx", std::vector<char>(model.begin(), model.begin() + model.size() / 3));
     const std::string noise = writeFile("noise.onnx", random);
     const std::string text = writeFile("text.onnx", {'h', 'e', 'l', 'l', 'o', '\n'});
     const cv::Mat photo = benchPhoto("apple");

@@ -5,8 +5,8 @@
 //   faces found      the map is the start (as below), the face boxes sure subject, and the
 //                    person prior's head and body (person.hpp) probable subject where the map
 //                    sees something there (above kNear); the pieces holding neither a face nor
-//                    the map's sure subject are dropped (a candle beside the person, while a
-//                    second person turned away stays).
+//                    the map's sure subject are dropped (the candle beside the woman of the
+//                    dinner scene).
 //   no face          the map is the start: sure subject where it is above kSure, probable
 //                    subject above kSubject, probable background near it, sure background
 //                    elsewhere; where GrabCut's subject and the map's disagree (IoU under
@@ -33,16 +33,16 @@ namespace propose_detail {
 
 namespace {
 
-constexpr double kSubject = 0.5;    // map value: probable subject
-constexpr double kSure = 0.8;       // map value: sure subject (no face)
-constexpr double kNear = 0.2;       // map value: something is there
-constexpr double kNearReach = 0.08; // of the longer side: probable background around it
-constexpr double kMostOfAll = 0.97; // the map's subject covering this much is the picture
+constexpr double kSubject = 0.5;      // map value: probable subject
+constexpr double kSure = 0.8;         // map value: sure subject
+constexpr double kNear = 0.2;         // map value: something is there
+constexpr double kNearReach = 0.08;   // of the longer side: probable background around it
+constexpr double kMostOfAll = 0.97;   // the map's subject covering this much is the picture
 constexpr double kCutByFrame = 0.05;  // share of the frame strip the map's subject covers
-constexpr double kHolds = 0.9;      // share of the map's subject the frame-inward one holds
+constexpr double kHolds = 0.9;        // share of the map's subject the frame-inward one holds
 constexpr double kFillsFrame = 0.85;  // share of the picture a frame-filling subject covers
-constexpr double kAgrees = 0.8;     // IoU of GrabCut's subject and the map's
-constexpr int kSettleWithin = 5;    // GrabCut's iterations at most (seededGrabCut)
+constexpr double kAgrees = 0.8;       // IoU of GrabCut's subject and the map's
+constexpr int kSettleWithin = 5;      // GrabCut's iterations at most (seededGrabCut)
 
 Mat subjectOf(const Mat& labels) {
     return (labels == GC_FGD) | (labels == GC_PR_FGD);

@@ -21,10 +21,10 @@
 #include <algorithm>
 #include <cmath>
 #include <exception>
-#include <thread>
 #include <opencv2/core/utility.hpp>
 #include <opencv2/imgproc.hpp>
 #include <opencv2/multicage/propose.hpp>
+#include <thread>
 
 #include "eyes.hpp"
 #include "faces.hpp"
@@ -59,7 +59,6 @@ int parseProposeMethod(const String& name) {
         if (name == proposeMethodName(m)) return m;
     return -1;
 }
-
 
 namespace {
 // Room between a face's polygon and the outline around it, in input pixels: 0.1 face sizes,
@@ -169,8 +168,8 @@ Multicage proposeMulticage(InputArray image, const ProposeParams& params) {
     if (img.empty()) CV_Error(Error::StsBadArg, "multicage: proposeMulticage: the image is empty");
     const Work w = resolve(img.size(), params);
     const Mat subject = subjectFor(img, w, params, modelFor(params));
-    return outlinesOf(segmentForProposal(img, w, params, Mat(), {}, subject), img.size(), w,
-                      params, {});
+    return outlinesOf(segmentForProposal(img, w, params, Mat(), {}, subject), img.size(), w, params,
+                      {});
 }
 
 Multicage proposeProtectedMulticage(InputArray image, const ProposeParams& params) {

@@ -7,8 +7,6 @@
 #include <openssl/evp.h>
 
 #include <cstdlib>
-#include <utility>
-#include <vector>
 #include <fstream>
 #include <map>
 #include <memory>
@@ -16,6 +14,8 @@
 #include <opencv2/core/utils/filesystem.hpp>
 #include <opencv2/dnn.hpp>
 #include <opencv2/imgproc.hpp>
+#include <utility>
+#include <vector>
 
 #include "segment.hpp"
 
@@ -80,7 +80,8 @@ String sha256Of(const std::vector<uchar>& bytes) {
         CV_Error(Error::StsError, "multicage: OpenSSL could not compute a sha256");
     String hex;
     static const char* digits = "0123456789abcdef";
-    for (unsigned int i = 0; i < n; ++i) hex += digits[digest[i] >> 4], hex += digits[digest[i] & 15];
+    for (unsigned int i = 0; i < n; ++i)
+        hex += digits[digest[i] >> 4], hex += digits[digest[i] & 15];
     return hex;
 }
 
@@ -165,9 +166,9 @@ namespace propose_detail {
 String modelToRun(const ProposeParams& params) {
     const Located l = locate(params);
     if (l.file.empty() && params.segmenter == SEGMENTER_MODEL)
-        CV_Error_(Error::StsObjectNotFound,
-                  ("multicage: the subject model was asked for (segmenter model) and %s",
-                   l.why.c_str()));
+        CV_Error_(
+            Error::StsObjectNotFound,
+            ("multicage: the subject model was asked for (segmenter model) and %s", l.why.c_str()));
     return l.file;
 }
 

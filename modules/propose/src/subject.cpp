@@ -117,7 +117,8 @@ std::vector<char> sharpPieces(const std::vector<Piece>& pieces, const Mat& img) 
     const Rect middle(img.cols / 4, img.rows / 4, img.cols / 2, img.rows / 2);
     const double least = kSharpAsMiddle * mean(sharp(middle))[0];
     std::vector<char> isSharp(pieces.size());
-    for (size_t i = 0; i < pieces.size(); ++i) isSharp[i] = mean(sharp(pieces[i].strip))[0] >= least;
+    for (size_t i = 0; i < pieces.size(); ++i)
+        isSharp[i] = mean(sharp(pieces[i].strip))[0] >= least;
     return isSharp;
 }
 
