@@ -13,31 +13,11 @@ namespace {
 using namespace cv::multicage;
 using multicage_testing::readSample;
 
+using propose_bench::benchMask;
 using propose_bench::benchPhoto;
 using propose_bench::haveCascades;
-
-cv::Mat benchMask(const std::string& name) {
-    const cv::Mat m = cv::imread(
-        multicage_testing::samplePath("propose_bench/" + name + "_mask.png"), cv::IMREAD_GRAYSCALE);
-    EXPECT_FALSE(m.empty()) << name;
-    return m > 127;
-}
-
-cv::Mat outlinesMask(const Multicage& cage) {
-    cv::Mat m = cv::Mat::zeros(cage.imageSize(), CV_8U);
-    for (int p = 0; p < cage.polygonCount(); ++p)
-        if (cage.depth(p) == 1)
-            m |= multicage_fixtures::polygonMask(cage.polygon(p), cage.imageSize());
-    return m;
-}
-
-/** Outline IoU of the default proposal of a benchmark photo against its reference mask. */
-double outlineIoU(const std::string& name) {
-    const cv::Mat reference = benchMask(name);
-    const cv::Mat outline = outlinesMask(proposeProtectedMulticage(benchPhoto(name)));
-    return cv::countNonZero(outline & reference) /
-           static_cast<double>(cv::countNonZero(outline | reference));
-}
+using propose_bench::outlineIoU;
+using propose_bench::outlinesMask;
 
 int innerPolygons(const Multicage& cage) {
     int n = 0;

@@ -15,6 +15,34 @@ inline cv::Mat benchPhoto(const std::string& name) {
     return multicage_testing::readSample("propose_bench/" + name + ".jpg");
 }
 
+/** A benchmark reference mask: 255 on the subject a person would cage. */
+inline cv::Mat benchMask(const std::string& name) {
+    const cv::Mat m =
+        multicage_testing::readSample("propose_bench/" + name + "_mask.png", 0 /* GRAYSCALE */);
+    EXPECT_FALSE(m.empty()) << name;
+    return m > 127;
+}
+
+/** Intersection over union of two masks. */
+inline double maskIoU(const cv::Mat& a, const cv::Mat& b) {
+    return cv::countNonZero(a & b) / static_cast<double>(cv::countNonZero(a | b));
+}
+
+/** The union of a cage's outlines (depth-1 polygons), 255 inside. */
+inline cv::Mat outlinesMask(const cv::multicage::Multicage& cage) {
+    cv::Mat m = cv::Mat::zeros(cage.imageSize(), CV_8U);
+    for (int p = 0; p < cage.polygonCount(); ++p)
+        if (cage.depth(p) == 1)
+            m |= multicage_fixtures::polygonMask(cage.polygon(p), cage.imageSize());
+    return m;
+}
+
+/** Outline IoU of the default proposal of a benchmark photo against its reference mask. */
+inline double outlineIoU(const std::string& name) {
+    return maskIoU(outlinesMask(cv::multicage::proposeProtectedMulticage(benchPhoto(name))),
+                   benchMask(name));
+}
+
 /** The boxes under `key` ("faces", "eyes", "features") of a benchmark reference. */
 inline std::vector<cv::Rect> referenceBoxes(const std::string& name, const char* key) {
     cv::FileStorage fs(multicage_testing::samplePath("propose_bench/" + name + ".ref.json"),

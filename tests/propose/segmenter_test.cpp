@@ -16,30 +16,13 @@
 namespace {
 
 using namespace cv::multicage;
+using propose_bench::benchMask;
 using propose_bench::benchPhoto;
+using propose_bench::maskIoU;
+using propose_bench::outlineIoU;
 
 bool haveModel() {
     return !segmenterModelFile().empty();
-}
-
-cv::Mat benchMask(const std::string& name) {
-    return multicage_testing::readSample("propose_bench/" + name + "_mask.png",
-                                         0 /* IMREAD_GRAYSCALE */) > 127;
-}
-
-double iou(const cv::Mat& a, const cv::Mat& b) {
-    return cv::countNonZero(a & b) / static_cast<double>(cv::countNonZero(a | b));
-}
-
-cv::Mat outlines(const Multicage& cage) {
-    cv::Mat mask = cv::Mat::zeros(cage.imageSize(), CV_8U);
-    for (int p = 0; p < cage.polygonCount(); ++p)
-        if (cage.depth(p) == 1) {
-            std::vector<cv::Point> q;
-            for (const cv::Point2f& v : cage.polygon(p)) q.emplace_back(cvRound(v.x), cvRound(v.y));
-            cv::fillPoly(mask, std::vector<std::vector<cv::Point>>{q}, 255);
-        }
-    return mask;
 }
 
 // Sets an environment variable for one scope, and puts the old value back.
@@ -97,7 +80,7 @@ TEST(Segmenter, TheModelsMapFindsTheSubjectOfPlainPhotos) {
         cv::minMaxLoc(map, &lo, &hi);
         EXPECT_GE(lo, 0.0);
         EXPECT_LE(hi, 1.0);
-        const double score = iou(map > 0.5, benchMask(name));
+        const double score = maskIoU(map > 0.5, benchMask(name));
         std::cout << "[ map      ] " << name << " IoU " << score << "\n";
         EXPECT_GE(score, 0.9) << name;
     }
@@ -113,8 +96,7 @@ TEST(Segmenter, TheFusedProposalFollowsTheSubject) {
                                                      {"robin", 0.75},
                                                      {"orange", 0.85}};
     for (const auto& [name, least] : photos) {
-        const double score =
-            iou(outlines(proposeProtectedMulticage(benchPhoto(name))) > 0, benchMask(name));
+        const double score = outlineIoU(name);
         std::cout << "[ fused    ] " << name << " outline IoU " << score << "\n";
         EXPECT_GE(score, least) << name;
     }

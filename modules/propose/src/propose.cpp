@@ -112,22 +112,23 @@ Multicage outlinesOf(Segmentation s, Size size, const Work& w, const ProposePara
 // The subject model's map of a photo (segmenter.hpp), run on the proposal's working copy; empty
 // where no model runs: a method other than PROPOSE_AUTO, a rectangle from the caller, no model
 // found under SEGMENTER_AUTO, or an image too plain to segment (segmentForProposal says so).
-Mat subjectFor(const Mat& img, const Work& w, const ProposeParams& params, const String& model) {
+Mat subjectFor(const Mat& img, const Work& w, const ProposeParams& params,
+               const SubjectModel& model) {
     if (model.empty()) return Mat();
     const Mat img8 = to8Bit(img);
     if (isConstant(img8)) return Mat();
     return subjectMapOf(toWork(img8, w, INTER_AREA), model);
 }
 
-String modelFor(const ProposeParams& params) {
-    if (params.method != PROPOSE_AUTO || params.rect.area() > 0) return String();
+SubjectModel modelFor(const ProposeParams& params) {
+    if (params.method != PROPOSE_AUTO || params.rect.area() > 0) return SubjectModel();
     return modelToRun(params);
 }
 
 // The subject model's map, with the face search beside it on a thread of its own (the network
 // takes OpenCV's worker threads): `found` receives the faces when it is not null.
 Mat subjectBesideFaces(const Mat& img, const Work& w, const ProposeParams& params,
-                       const String& model, std::vector<Rect>* found) {
+                       const SubjectModel& model, std::vector<Rect>* found) {
     if (!found) return subjectFor(img, w, params, model);
     std::exception_ptr failed;
     std::thread search([&] {
@@ -204,7 +205,7 @@ Multicage proposeProtectedMulticage(InputArray image, const ProposeParams& param
     std::vector<Rect> found;
     Segmentation s;
     bool segmented = false;
-    const String model = modelFor(params);
+    const SubjectModel model = modelFor(params);
     Mat subject;
     if (!model.empty()) {
         subject = subjectBesideFaces(img, w, params, model, wantsFaces(params) ? &found : nullptr);

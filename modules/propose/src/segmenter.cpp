@@ -163,19 +163,19 @@ void subjectMap(InputArray image, OutputArray map, const ProposeParams& params) 
 
 namespace propose_detail {
 
-String modelToRun(const ProposeParams& params) {
+SubjectModel modelToRun(const ProposeParams& params) {
     const Located l = locate(params);
     if (l.file.empty() && params.segmenter == SEGMENTER_MODEL)
         CV_Error_(
             Error::StsObjectNotFound,
             ("multicage: the subject model was asked for (segmenter model) and %s", l.why.c_str()));
-    return l.file;
+    return {l.file, l.pinned};
 }
 
-Mat subjectMapOf(const Mat& img, const String& file) {
+Mat subjectMapOf(const Mat& img, const SubjectModel& subject) {
     CV_Assert(img.depth() == CV_8U && (img.channels() == 1 || img.channels() == 3));
-    const Located l = locate(ProposeParams());
-    const std::shared_ptr<Model> model = modelFor(file, l.pinned && l.file == file);
+    const String& file = subject.file;
+    const std::shared_ptr<Model> model = modelFor(file, subject.pinned);
     // The network's input: RGB at its own size, 0..1, less ImageNet's mean over its deviation.
     Mat rgb, input;
     cvtColor(img, rgb, img.channels() == 1 ? COLOR_GRAY2RGB : COLOR_BGR2RGB);

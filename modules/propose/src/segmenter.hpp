@@ -9,15 +9,23 @@ namespace cv {
 namespace multicage {
 namespace propose_detail {
 
-/** The model a proposal runs for `params`: empty for SEGMENTER_CLASSIC, and for
+/** A subject model to run: its file, and whether it is the pinned default (found in the build
+tree or the install prefix), whose size and sha256 are checked before it is read. */
+struct SubjectModel {
+    String file;
+    bool pinned = false;
+    bool empty() const { return file.empty(); }
+};
+
+/** The model a proposal runs for `params`: none for SEGMENTER_CLASSIC, and for
 SEGMENTER_AUTO when none is found; SEGMENTER_MODEL without one throws StsObjectNotFound
 saying how to get one. */
-String modelToRun(const ProposeParams& params);
+SubjectModel modelToRun(const ProposeParams& params);
 
-/** The subject map of `img` (8-bit, 1 or 3 channels) by the model in `file`: CV_32FC1 of the
-model's own size (320x320 for U^2-Net-P), 0..1. Reads the model on first use (see subjectMap
-in propose.hpp for the errors); runs of one model from several threads take turns. */
-Mat subjectMapOf(const Mat& img, const String& file);
+/** The subject map of `img` (8-bit, 1 or 3 channels) by `model`: CV_32FC1 of the model's own
+size (320x320 for U^2-Net-P), 0..1. Reads the model on first use (see subjectMap in
+propose.hpp for the errors); runs of one model from several threads take turns. */
+Mat subjectMapOf(const Mat& img, const SubjectModel& model);
 
 }  // namespace propose_detail
 }  // namespace multicage

@@ -169,25 +169,25 @@ Mat frameStart(Size size, int b) {
     return labels;
 }
 
-// The second pass (where the first found the subject cut by the frame) on the labels of the
-// first: the first's labels, or the second's when it goes inward. The second pass runs on a
-// copy two thirds the size (kSecondScale), its labels scaled back. It was once only a trial
-// there, deciding whether to run it again at full size from the first pass's flow, because it
-// is refused more often than kept (refused on the apple, the orange, the robin, the coffee and
+// The second pass (where the first found the subject cut by the frame) on the labels of the first:
+// the second pass's labels when it goes inward, else an empty Mat (the first's stand). The second
+// pass runs on a copy two thirds the size (kSecondScale), its labels scaled back. It was once only
+// a trial there, deciding whether to run it again at full size from the first pass's flow, because
+// it is refused more often than kept (refused on the apple, the orange, the robin, the coffee and
 // the butterfly, kept on the baboon; on a copy half the size it refused the baboon too). The
-// full-size run added 100 ms to the baboon's 350 and did not draw better outlines: the
-// baboon's outline IoU is 0.934 from the copy's labels against 0.911 from the full size's
-// (0.929 / 0.910 at 0.8x, 0.935 / 0.911 at 1.25x), and of opencv-doc's 91 example pictures
-// the 4 that keep a second pass (the baboon, board.jpg, right02.jpg, right11.jpg) have alike
-// outlines both ways but for right11.jpg, where the copy's goes around the chessboard and the
-// full size's around the whole frame.
+// full-size run added 100 ms to the baboon's 350 and did not draw better outlines: the baboon's
+// outline IoU is 0.934 from the copy's labels against 0.911 from the full size's (0.929 / 0.910 at
+// 0.8x, 0.935 / 0.911 at 1.25x), and of opencv-doc's 91 example pictures the 4 that keep a second
+// pass (the baboon, board.jpg, right02.jpg, right11.jpg) have alike outlines both ways but for
+// right11.jpg, where the copy's goes around the chessboard and the full size's around the whole
+// frame.
 Mat reopenedPass(const Mat& img, int iterations, int b, const Mat& first, const Mat& labels) {
     const std::vector<Piece> pieces = piecesAround(img.size(), b);
     const std::vector<char> open =
         reopened(pieces, (labels == GC_FGD) | (labels == GC_PR_FGD), img);
     // None: the frame does not cut the subject. All: no sure background would be left.
     const auto opened = std::count(open.begin(), open.end(), 1);
-    if (opened == 0 || opened == static_cast<long>(open.size())) return labels;
+    if (opened == 0 || opened == static_cast<long>(open.size())) return Mat();
     Mat second = first.clone();
     for (size_t i = 0; i < pieces.size(); ++i)
         if (open[i]) second(pieces[i].strip).setTo(GC_PR_BGD);
@@ -196,7 +196,7 @@ Mat reopenedPass(const Mat& img, int iterations, int b, const Mat& first, const 
     resize(labels, smallFirst, small.size(), 0, 0, INTER_NEAREST);
     resize(second, smallSecond, small.size(), 0, 0, INTER_NEAREST);
     seededGrabCut(small, smallSecond, iterations, kSettleWithin);
-    if (!goesInward(smallFirst, smallSecond, std::max(1, cvRound(kSecondScale * b)))) return labels;
+    if (!goesInward(smallFirst, smallSecond, std::max(1, cvRound(kSecondScale * b)))) return Mat();
     resize(smallSecond, second, img.size(), 0, 0, INTER_NEAREST);
     return second;
 }
@@ -226,9 +226,11 @@ Mat frameInwardSubject(const Mat& img, int iterations, const Mat& salientStart,
         seededGrabCut(img, labels, iterations, kSettleWithin);
         if (same) salient = labels.clone();
         if (img.cols > 4 * b && img.rows > 4 * b) {  // else no strip to reopen
-            Mat second = reopenedPass(img, iterations, b, first, labels);
-            if (reopenedKept) *reopenedKept = second.data != labels.data;
-            labels = second;
+            const Mat second = reopenedPass(img, iterations, b, first, labels);
+            if (!second.empty()) {
+                labels = second;
+                if (reopenedKept) *reopenedKept = true;
+            }
         }
     };
     if (salient.empty() && beside) {

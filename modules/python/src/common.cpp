@@ -101,15 +101,18 @@ int segmenterArg(const py::handle& obj) {
     return enumFromObject(obj, "segmenter", names, SEGMENTER_CLASSIC + 1);
 }
 
+std::string pathArg(const py::handle& v, const std::string& name, const std::string& accepted) {
+    if (!py::isinstance<py::str>(v) && !py::hasattr(v, "__fspath__"))
+        throw py::type_error(name + ": expected " + accepted + ", got " + shortValue(v));
+    const py::object path = py::module_::import("os").attr("fspath")(v);
+    if (!py::isinstance<py::str>(path))
+        throw py::type_error(name + ": expected a str path, got " + shortValue(path));
+    return path.cast<std::string>();
+}
+
 std::string segmenterModelArg(const py::handle& obj) {
     if (obj.is_none()) return std::string();
-    if (!py::isinstance<py::str>(obj) && !py::hasattr(obj, "__fspath__"))
-        throw py::type_error("segmenter_model: expected a path (str or os.PathLike) or None, got " +
-                             shortValue(obj));
-    const py::object path = py::module_::import("os").attr("fspath")(obj);
-    if (!py::isinstance<py::str>(path))
-        throw py::type_error("segmenter_model: expected a str path, got " + shortValue(path));
-    const std::string file = path.cast<std::string>();
+    const std::string file = pathArg(obj, "segmenter_model", "a path (str or os.PathLike) or None");
     if (file.empty())
         throw py::value_error("segmenter_model: an empty path (None: the installed model)");
     return file;

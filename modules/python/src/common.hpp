@@ -4,15 +4,15 @@
 #ifndef MULTICAGE_PYTHON_COMMON_HPP
 #define MULTICAGE_PYTHON_COMMON_HPP
 
-#include "convert.hpp"
-
-#include <opencv2/multicage.hpp>
 #include <pybind11/stl.h>  // in every binding file, as pybind11 asks: one set of STL casters
 
 #include <functional>
+#include <opencv2/multicage.hpp>
 #include <string>
 #include <utility>
 #include <vector>
+
+#include "convert.hpp"
 
 namespace multicage_py {
 
@@ -32,6 +32,11 @@ std::string shortValue(const py::handle& v);
 /** Python's int (or a numpy integer) as an int; bool, float and str are TypeErrors, as
 Python itself treats them where an index is needed. */
 int intArg(const py::handle& v, const std::string& name);
+
+/** A str or os.PathLike as a str (os.fspath); anything else is a TypeError saying that `name`
+expected `accepted`. */
+std::string pathArg(const py::handle& v, const std::string& name,
+                    const std::string& accepted = "a str or an os.PathLike");
 
 /** A real number (int, float, numpy scalar); str, bytes, bool and None are TypeErrors. */
 double numberArg(const py::handle& v, const std::string& name);

@@ -26,13 +26,7 @@ void defineImageIo(py::module_& m) {
     m.def(
         "imread",
         [](const py::object& path, const py::object& flags) {
-            if (!py::isinstance<py::str>(path) && !py::hasattr(path, "__fspath__"))
-                throw py::type_error("path: expected a str or an os.PathLike, got " +
-                                     shortValue(path));
-            const py::object fspath = py::module_::import("os").attr("fspath")(path);
-            if (!py::isinstance<py::str>(fspath))
-                throw py::type_error("path: expected a str path, got " + shortValue(fspath));
-            const std::string file = fspath.cast<std::string>();
+            const std::string file = pathArg(path, "path");
             const int f = intArg(flags, "flags");
             cv::Mat image;
             {
