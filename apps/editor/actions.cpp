@@ -125,6 +125,14 @@ void openCage(Editor& e, const std::string& path, Settings& s) {
 
 void saveCage(Editor& e, const std::string& path, const Settings& s) {
     if (!e.restOk) throw std::runtime_error("not saved: " + e.restWhy);
+    // As `multicage deform` and `animate` refuse them: a crossing pose folds the image.
+    for (int i = 0; i < e.doc.cage.poseCount() && !s.allowInvalid; ++i) {
+        std::string why;
+        const mc::Pose& pose = e.doc.cage.pose(i);
+        if (!mc::validatePose(e.doc.cage, pose.vertices, &why))
+            throw std::runtime_error("not saved: pose '" + pose.name + "' is invalid: " + why +
+                                     " (fix it, or start the editor with --allow-invalid)");
+    }
     Document d = e.doc;
     d.cage.setCoordinates(s.coordinates);
     d.cage.save(path);

@@ -335,6 +335,9 @@ void canvas(Editor& e, View& v, const Settings& s) {
                            ImGuiButtonFlags_MouseButtonLeft | ImGuiButtonFlags_MouseButtonRight |
                                ImGuiButtonFlags_MouseButtonMiddle);
     const bool hovered = ImGui::IsItemHovered() || ImGui::IsItemActive();
+    const cv::Size2f areaNow(area.x, area.y);
+    if (areaNow != e.canvasArea) e.fitPending = e.fitPending || e.canvasArea.area() > 0;
+    e.canvasArea = areaNow;
     if (!e.image.empty() && e.fitPending) fit(e, area);
     if (!e.image.empty()) canvasMouse(e, origin, hovered);
     advancePlayback(e);

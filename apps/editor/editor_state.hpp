@@ -33,6 +33,7 @@ struct Settings {
     int exportGridStep = 1;  // export: the paper's one node per pixel, as `multicage deform`
     bool showCage = true;
     bool showHelp = false;
+    bool allowInvalid = false;  // --allow-invalid: save poses whose polygons cross
 };
 
 enum class Drag { None, Vertices, Box, Pan, Frame };
@@ -71,6 +72,7 @@ struct Editor {
     float zoom = 1.f;
     cv::Point2f pan;
     bool fitPending = true;
+    cv::Size2f canvasArea;  // the canvas at the last frame: a change (window resized) refits
 };
 
 struct View {

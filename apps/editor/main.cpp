@@ -32,6 +32,7 @@ namespace {
 struct Options {
     std::vector<std::string> positional;  // IMAGE [CAGE.yml]
     std::string scriptPath;
+    bool allowInvalid = false;
 };
 
 /** Reads the command line; returns the exit code when the program should stop (--help, a
@@ -41,13 +42,17 @@ int parseArgs(int argc, char** argv, Options& o) {
         const std::string a = argv[i];
         if (a == "-h" || a == "--help") {
             std::printf(
-                "multicage-editor [IMAGE [CAGE.yml]] [--script FILE]\n"
+                "multicage-editor [IMAGE [CAGE.yml]] [--script FILE] [--allow-invalid]\n"
                 "Draw or propose a multicage over an image, drag its vertices, see the "
                 "deformation live.\n"
-                "Press H in the window for the keys.\n\nScript commands (one per line, # "
+                "Press H in the window for the keys.\n"
+                "--allow-invalid: save poses whose polygons cross, leave the frame or change "
+                "nesting (refused otherwise, as multicage deform refuses them).\n\nScript commands (one per line, # "
                 "comments):\n");
             for (const ScriptVerb& v : scriptVerbs()) std::printf("  %s\n", v.usage);
             return 0;
+        } else if (a == "--allow-invalid") {
+            o.allowInvalid = true;
         } else if (a == "--script" && i + 1 < argc) {
             o.scriptPath = argv[++i];
         } else if (!a.empty() && a[0] == '-') {
@@ -123,6 +128,7 @@ int main(int argc, char** argv) {
     Editor e;
     View v;
     Settings s;
+    s.allowInvalid = options.allowInvalid;
     int rc = 0;
     try {
         if (!options.positional.empty()) openImage(e, v, s, options.positional[0]);

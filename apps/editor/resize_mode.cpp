@@ -24,8 +24,9 @@ cv::Size clampResizeSize(cv::Size image, cv::Size wanted) {
                     std::min(std::max(wanted.height, 1), maxH));
 }
 
-void setResizeSize(Editor& e, cv::Size wanted) {
+void setResizeSize(Editor& e, cv::Size wanted, bool refit) {
     e.resizeTo = clampResizeSize(e.image.size(), wanted);
+    e.fitPending = e.fitPending || refit;
     e.message = cv::format("resize to %dx%d", e.resizeTo.width, e.resizeTo.height);
     if (e.resizeTo != wanted)
         e.message += cv::format(" (each side 1 to %.0fx the image's)", kMaxResizeScale);
@@ -54,11 +55,14 @@ bool resizeMouse(Editor& e, Point2f m, float radius, bool hovered) {
     const float right = e.resizeTo.width - 0.5f, bottom = e.resizeTo.height - 0.5f;
     if (e.drag == Drag::Frame) {
         // The dragged edge follows the mouse: the frame's right side is at W' - 0.5.
+        // The view holds still under the mouse while dragging, and refits on release.
         setResizeSize(
             e, cv::Size(e.frameEdges & kFrameRight ? cvRound(m.x + 0.5f) : e.resizeTo.width,
-                        e.frameEdges & kFrameBottom ? cvRound(m.y + 0.5f) : e.resizeTo.height));
+                        e.frameEdges & kFrameBottom ? cvRound(m.y + 0.5f) : e.resizeTo.height),
+            false);
         if (!ImGui::IsMouseDown(ImGuiMouseButton_Left)) {
             e.drag = Drag::None;
+            e.fitPending = true;
             e.message = cv::format("resized to %dx%d (Export saves it)", e.resizeTo.width,
                                    e.resizeTo.height);
         }

@@ -17,7 +17,7 @@ constexpr double kMaxResizeScale = 8.0;
 /** wanted with each side clamped to [1, kMaxResizeScale x the image's]. */
 cv::Size clampResizeSize(cv::Size image, cv::Size wanted);
 /** Sets the size resize mode shows (clamped, said in the message when it was). */
-void setResizeSize(Editor& e, cv::Size wanted);
+void setResizeSize(Editor& e, cv::Size wanted, bool refit = true);
 
 /** In resize mode, with v.deformer bound: v.resizePose for e.resizeTo, from the library's
 resizePose() on the deformer's binding, made again only for a new size or a new binding.

@@ -13,6 +13,7 @@ const std::vector<ScriptVerb>& scriptVerbs() {
         {"propose", 0, 0, "propose                faces, outlines, features (propose --protect all)"},
         {"mode", 1, 1, "mode rest|pose|resize  edit the rest polygons, the pose, or the size"},
         {"resize", 2, 2, "resize W H             resize mode, content-aware resize to W x H"},
+        {"window", 2, 2, "window W H             resize the window to W x H pixels"},
         {"drag", 3, 3, "drag I DX DY           move vertex I (vertices() order) by (DX, DY)"},
         {"drag-polygon", 3, 3, "drag-polygon P DX DY   move every vertex of polygon P"},
         {"add-polygon", 6, 1000, "add-polygon X0 Y0 X1 Y1 X2 Y2 ...   a new polygon (rest mode)"},

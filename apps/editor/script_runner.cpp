@@ -35,6 +35,7 @@ void writeStatus(const Editor& e, const View& v, const Settings& s, const std::s
       << "resize: " << e.resizeTo.width << " " << e.resizeTo.height << "\n"
       << "output: " << out.width << " " << out.height << "\n"
       << "view: " << e.zoom << " " << e.pan.x << " " << e.pan.y << "\n"
+      << "canvas: " << e.canvasArea.width << " " << e.canvasArea.height << "\n"
       << "render_ms: " << v.renderMs << "\nresize_pose_ms: " << v.resizePoseMs << "\n"
       << "rest_valid: " << e.restOk << "\nrest_reason: " << e.restWhy << "\n"
       << "pose_valid: " << e.poseOk << "\npose_reason: " << e.poseWhy << "\n"
@@ -371,6 +372,14 @@ const Command kCommands[] = {
      [](Session& r, const ScriptCommand& c) {
          writeStatus(r.e, r.v, r.s, c.args[0]);
          return Flow::Next;
+     }},
+    {"window",
+     [](Session& r, const ScriptCommand& c) {
+         const double w = numberArg(c, 0), h = numberArg(c, 1);
+         if (w < kPanelWidth + 64 || h < 64 || w > 16384 || h > 16384)
+             throw std::runtime_error("window: W at least the panel's width + 64, H at least 64");
+         glfwSetWindowSize(r.window, static_cast<int>(w), static_cast<int>(h));
+         return Flow::NextFrame;
      }},
     {"wait",
      [](Session& r, const ScriptCommand& c) {

@@ -24,8 +24,15 @@ std::string reasonOf(const cv::Exception& e) {
     return s;
 }
 
+void checkInputFile(const std::string& path) {
+    std::error_code error;
+    const std::filesystem::file_status status = std::filesystem::status(path, error);
+    if (!std::filesystem::exists(status)) throw Failure(path + ": no such file");
+    if (std::filesystem::is_directory(status)) throw Failure(path + ": is a folder, not a file");
+}
+
 cv::Mat readImage(const std::string& path) {
-    if (!std::filesystem::is_regular_file(path)) throw Failure(path + ": no such file");
+    checkInputFile(path);
     cv::Mat img;
     try {
         img = cv::multicage::readImage(path);  // refuses truncated JPEG and PNG files
@@ -58,9 +65,28 @@ void writeImage(const std::string& command, const std::string& path, const cv::M
 }
 
 cv::multicage::Multicage loadCage(const std::string& path, cv::Size imageSize) {
+    checkInputFile(path);
     cv::multicage::Multicage cage = cv::multicage::Multicage::load(path);
-    if (cage.imageSize() != imageSize) cage = cage.scaled(imageSize);
+    if (!imageSize.empty() && cage.imageSize() != imageSize) cage = cage.scaled(imageSize);
     return cage;
+}
+
+void addAllowInvalidFlag(CLI::App* cmd, bool& allow) {
+    cmd->add_flag("--allow-invalid", allow,
+                  "Deform poses whose polygons cross, leave the frame or change nesting (refused "
+                  "otherwise): the image folds over itself there; a warning says where");
+}
+
+void checkPose(const std::string& command, const std::string& cagePath,
+               const cv::multicage::Multicage& cage, int poseIndex, bool allowInvalid) {
+    std::string why;
+    const cv::multicage::Pose& pose = cage.pose(poseIndex);
+    if (cv::multicage::validatePose(cage, pose.vertices, &why)) return;
+    const std::string what = cagePath + ": pose '" + pose.name + "' is invalid: " + why;
+    if (!allowInvalid)
+        throw Failure(what + " (fix the pose, or add --allow-invalid to " +
+                      (command == "pose" ? "write" : "deform") + " it anyway)");
+    std::cerr << "multicage " << command << ": warning: " << what << std::endl;
 }
 
 size_t parseMemorySize(const std::string& text) {
@@ -77,7 +103,7 @@ size_t parseMemorySize(const std::string& text) {
     const std::string units = "KMGT";
     const size_t power = unit.empty() ? 0 : units.find(unit) + 1;
     if (value < 0 || used == 0 || unit.size() > 1 || (!unit.empty() && power == 0))
-        throw Failure("--memory-budget: '" + text +
+        throw UsageError("--memory-budget: '" + text +
                       "' is not a size (e.g. 2G, 512M, or 0 for no limit)");
     return static_cast<size_t>(value * std::pow(1024.0, double(power)));
 }
@@ -131,6 +157,8 @@ BindProgressLine::BindProgressLine(const std::string& command, bool quiet)
 BindProgressLine::~BindProgressLine() {
     std::signal(SIGINT, previous_ == SIG_ERR ? SIG_DFL : previous_);
     if (shown_ && tty_) std::fputc('\n', stderr);
+    // Without a terminal (logs, CI) progress is one line at the end, not a line every 10%.
+    if (shown_ && !tty_) std::fprintf(stderr, "multicage %s: bound in %.0f s\n", command_.c_str(), msSince(start_) / 1000);
 }
 
 cv::multicage::BindProgress BindProgressLine::callback() {
@@ -141,10 +169,8 @@ cv::multicage::BindProgress BindProgressLine::callback() {
         if (tty_) {
             std::fprintf(stderr, "\rmulticage %s: binding %3d%% (%.0f s; Ctrl-C stops)",
                          command_.c_str(), percent, msSince(start_) / 1000);
-        } else if (percent / 10 > lastDecile_) {
-            lastDecile_ = percent / 10;
-            std::fprintf(stderr, "multicage %s: binding %d%% (%.0f s)\n", command_.c_str(), percent,
-                         msSince(start_) / 1000);
+        } else if (!shown_) {
+            std::fprintf(stderr, "multicage %s: binding (Ctrl-C stops)\n", command_.c_str());
         }
         std::fflush(stderr);
         shown_ = true;
@@ -289,6 +315,8 @@ cv::multicage::DeformParams deformParams(const DeformOptions& o, const std::stri
     params.gridStep = chooseGridStep(command, imageSize, cage.vertexCount(), o.gridStep, typed,
                                      params.memoryBudget, stepChange);
     params.mapStep = o.mapStep;
+    if (o.border.size() == 2)
+        throw UsageError("--border: 2 values given; give 1 (every channel), 3 (B G R) or 4 (B G R A)");
     for (size_t i = 0; i < o.border.size() && i < 4; ++i)
         params.borderValue[static_cast<int>(i)] = o.border[i];
     return params;

@@ -15,11 +15,21 @@ struct Failure : std::runtime_error {
     using std::runtime_error::runtime_error;
 };
 
+/** A command line a user must change (a flag's value out of range, a bad count of values, text
+that is not a number): main() prints "multicage CMD: MESSAGE (see multicage CMD --help)" and
+exits 2, as for the errors CLI11 finds itself. MESSAGE starts with the flag. */
+struct UsageError : Failure {
+    using Failure::Failure;
+};
+
 /** A library error as the tools print it: without the library's "multicage: " and the name of
 the function or module that refused ("proposeMulticage: ", "resize: "), which the command line
 already says. */
 std::string reasonOf(const cv::Exception& e);
 
+/** Throws a Failure unless path names a file: "PATH: no such file", "PATH: is a folder, not a
+file" (the same words in every command). */
+void checkInputFile(const std::string& path);
 /** Reads an image as stored (depth and alpha kept), or throws a Failure that says why (a
 missing, undecodable or truncated file, an unsupported pixel type). */
 cv::Mat readImage(const std::string& path);
@@ -29,8 +39,17 @@ void checkImageOutput(const std::string& path);
 /** Writes image to path atomically, converted to a depth the format stores (float to .jpg:
 8 bits x255, ...); a conversion is said in one line on stderr, "multicage COMMAND: note: ...". */
 void writeImage(const std::string& command, const std::string& path, const cv::Mat& image);
-/** Loads a cage file and scales it to imageSize when it was made for another size. */
+/** Loads a cage file (checkInputFile() first) and scales it to imageSize when it was made for
+another size; an empty imageSize keeps the file's. */
 cv::multicage::Multicage loadCage(const std::string& path, cv::Size imageSize);
+
+/** Adds --allow-invalid to cmd (deform, animate), stored in allow. */
+void addAllowInvalidFlag(CLI::App* cmd, bool& allow);
+/** Throws a Failure naming the pose and what validatePose() finds (polygons that cross, leave
+the frame or change nesting) unless the pose keeps the multicage valid; with allowInvalid the
+reason is a warning on stderr instead, and the pose is deformed as asked. */
+void checkPose(const std::string& command, const std::string& cagePath,
+               const cv::multicage::Multicage& cage, int poseIndex, bool allowInvalid);
 
 /** Bytes from "2G", "512M", "1.5GiB", "300000000" (K, M, G, T: powers of 1024); "0": no limit.
 Throws a Failure naming the bad text. */
@@ -50,7 +69,7 @@ bind time; a no-op for cpu and gpu. */
 void probeAutoBackend(int backend);
 
 /** A progress line on stderr for bindings that take more than a second (redrawn in place on a
-terminal, every 10 % elsewhere), and Ctrl-C cancels the binding cleanly: the command then
+terminal; elsewhere a line when it starts and one when it is done), and Ctrl-C cancels the binding cleanly: the command then
 fails with "interrupted while binding; nothing written". Active while the object lives. */
 class BindProgressLine {
   public:
@@ -64,7 +83,6 @@ class BindProgressLine {
     std::string command_;
     bool quiet_, tty_;
     std::chrono::steady_clock::time_point start_;
-    int lastDecile_ = -1;
     bool shown_ = false;
     void (*previous_)(int) = nullptr;
 };
@@ -150,6 +168,7 @@ void addProposeCommand(CLI::App& app);
 void addBenchCommand(CLI::App& app);
 void addAnimateCommand(CLI::App& app);
 void addResizeCommand(CLI::App& app);
+void addPoseCommand(CLI::App& app);
 
 }  // namespace multicage_cli
 

@@ -13,11 +13,11 @@ namespace {
 struct AnimateOptions {
     std::string image, cage, output, interpolation = "catmull-rom";
     double fps = 25, duration = 0;
-    bool loop = false, quiet = false;
+    bool loop = false, quiet = false, allowInvalid = false;
     DeformOptions deform;
 };
 
-// A bar redrawn in place on a terminal; elsewhere (logs, CI) a line every 10%.
+// A bar redrawn in place on a terminal; elsewhere (logs, CI) one line at the end.
 class Progress {
 public:
     explicit Progress(bool quiet) : quiet_(quiet), tty_(::isatty(STDERR_FILENO) != 0) {}
@@ -30,8 +30,7 @@ public:
             std::fprintf(stderr, "\r[%s%s] %3d%% %d/%d frames, %.1f fps ", std::string(filled, '#').c_str(),
                          std::string(width - filled, '.').c_str(), percent, done, total, s > 0 ? done / s : 0.0);
             if (done == total) std::fputc('\n', stderr);
-        } else if (percent / 10 > lastDecile_ || done == total) {
-            lastDecile_ = percent / 10;
+        } else if (done == total) {
             std::fprintf(stderr, "multicage animate: %d%% (%d/%d frames)\n", percent, done, total);
         }
         std::fflush(stderr);
@@ -39,7 +38,6 @@ public:
 
 private:
     bool quiet_, tty_;
-    int lastDecile_ = 0;
     std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
 };
 
@@ -50,6 +48,7 @@ void runAnimate(const AnimateOptions& o) {
     const Multicage cage = loadCage(o.cage, image.size());
     std::string why;
     if (!validateKeyframes(cage, &why)) throw Failure(o.cage + ": " + why);
+    for (int i = 0; i < cage.poseCount(); ++i) checkPose("animate", o.cage, cage, i, o.allowInvalid);
 
     AnimationParams params;
     params.fps = o.fps;
@@ -113,6 +112,7 @@ void addAnimateCommand(CLI::App& app) {
     cmd->add_option("--interpolation", o->interpolation, "catmull-rom (smooth) or linear")
         ->capture_default_str()->check(CLI::IsMember({"linear", "catmull-rom"}));
     addDeformOptions(cmd, o->deform);
+    addAllowInvalidFlag(cmd, o->allowInvalid);
     cmd->add_flag("-q,--quiet", o->quiet, "No progress output");
     cmd->callback([o] { runAnimate(*o); });
 }

@@ -10,7 +10,7 @@ namespace {
 struct DeformCommandOptions {
     std::string image, cage, output, pose;
     DeformOptions deform;
-    bool quiet = false;
+    bool quiet = false, allowInvalid = false;
 };
 
 void runDeform(const DeformCommandOptions& o) {
@@ -33,6 +33,7 @@ void runDeform(const DeformCommandOptions& o) {
             throw Failure(o.cage + ": no pose named '" + o.pose + "' (it has: " + names + ")");
         }
     }
+    checkPose("deform", o.cage, cage, poseIndex, o.allowInvalid);
     std::string stepChange;
     DeformParams params = deformParams(o.deform, "deform", image.size(), cage, &stepChange);
 
@@ -90,6 +91,7 @@ void addDeformCommand(CLI::App& app) {
         ->required();
     cmd->add_option("--pose", o->pose, "Pose name in the cage file (default: the first pose)");
     addDeformOptions(cmd, o->deform);
+    addAllowInvalidFlag(cmd, o->allowInvalid);
     cmd->add_flag("-q,--quiet", o->quiet, "No progress line while binding");
     cmd->callback([o] { runDeform(*o); });
 }

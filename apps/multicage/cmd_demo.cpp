@@ -184,7 +184,7 @@ std::vector<cv::Point2f> chooseStretch(const Scene& s, const cv::multicage::Defo
                       << "; the pose folds nothing (0 mesh triangles over)\n";
             return pose;
         }
-    std::cout << "  note: every widening tried folds the mesh over; the pose 'stretch' is the "
+    std::cerr << "multicage demo: note: every widening tried folds the mesh over; the pose 'stretch' is the "
                  "rest pose (it folds nothing)\n";
     return std::vector<cv::Point2f>(rest.begin(), rest.begin() + s.cage.vertexCount());
 }

@@ -1,7 +1,14 @@
-// multicage propose IMAGE -o CAGE.yml: automatic multicage proposal.
+// multicage propose IMAGE -o CAGE.yml: automatic multicage proposal; with folders or several
+// images, one cage per image into a folder, in parallel (a dataset ahead of training).
+#include <unistd.h>
+
+#include <atomic>
 #include <filesystem>
 #include <iostream>
+#include <map>
+#include <mutex>
 #include <opencv2/imgproc.hpp>
+#include <thread>
 
 #include "cli_util.hpp"
 
@@ -9,7 +16,10 @@ namespace multicage_cli {
 
 namespace {
 struct ProposeOptions {
+    std::vector<std::string> inputs;  // IMAGE, or images and folders for a dataset
     std::string image, output, overlay, method = "auto";
+    int jobs = 0;           // dataset: images proposed at once (0: one per core)
+    bool overwrite = false;  // dataset: propose again where a cage file exists
     int maxVertices = 80, maxPolygonVertices = 32, maxPolygons = 12, maxDepth = 3,
         workingSize = 512;
     float margin = -1.f;
@@ -128,18 +138,16 @@ void writeOverlay(const std::string& path, const cv::Mat& image,
     cv::multicage::imwriteAtomic(path, overlay);
 }
 
-void runPropose(const ProposeOptions& o) {
+// The multicage of o.image with its pose 'rest', or a Failure naming the image. *image: the
+// image as read; *note: what the face search found, if it ran.
+cv::multicage::Multicage proposeFor(const ProposeOptions& o, const cv::multicage::ProposeParams& params,
+                                    cv::Mat* image, std::string* note) {
     using namespace cv::multicage;
-    const auto t0 = std::chrono::steady_clock::now();
-    checkCageOutput(o.output);
-    if (!o.overlay.empty()) checkImageOutput(o.overlay);
-    const cv::Mat image = readImage(o.image);
-    const ProposeParams params = proposeParams(o);
-    const cv::Mat input = proposalInput(o, image, params.method);
+    *image = readImage(o.image);
+    const cv::Mat input = proposalInput(o, *image, params.method);
     Multicage cage;
-    std::string note;
     try {
-        cage = proposeCage(o, params, image, input, &note);
+        cage = proposeCage(o, params, *image, input, note);
     } catch (const cv::Exception& e) {
         // A subject model that cannot be read names its file; nothing is written.
         throw Failure(o.image + ": " + reasonOf(e));
@@ -152,6 +160,124 @@ void runPropose(const ProposeOptions& o) {
         throw Failure("internal error: the proposed multicage is invalid: " + why);
     // A pose to start from: `deform` needs one, and the file shows the format to edit.
     cage.addPose("rest", cage.vertices(), 0.0);
+    return cage;
+}
+
+bool isImageFile(const std::filesystem::path& p) {
+    std::string ext = p.extension().string();
+    for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    for (const char* known : {".jpg", ".jpeg", ".png", ".bmp", ".tif", ".tiff", ".webp", ".ppm",
+                              ".pgm", ".pnm", ".jp2", ".exr", ".hdr", ".pfm", ".sr", ".ras"})
+        if (ext == known) return true;
+    return false;
+}
+
+// A dataset: the images of every folder (recursively, by extension, in name order) and every
+// file given, each to <output>/<stem>.yml, the name MulticageWarp(cage_dir=) reads.
+void runProposeDataset(const ProposeOptions& options) {
+    namespace fs = std::filesystem;
+    const auto t0 = std::chrono::steady_clock::now();
+    if (!options.overlay.empty()) throw UsageError("--overlay: one image at a time, not with a dataset");
+    std::vector<std::string> images;
+    for (const std::string& input : options.inputs) {
+        if (!fs::exists(input)) throw Failure(input + ": no such file");
+        if (!fs::is_directory(input)) {
+            images.push_back(input);
+            continue;
+        }
+        std::vector<std::string> found;
+        for (const auto& entry : fs::recursive_directory_iterator(input, fs::directory_options::skip_permission_denied))
+            if (entry.is_regular_file() && isImageFile(entry.path())) found.push_back(entry.path().string());
+        std::sort(found.begin(), found.end());
+        images.insert(images.end(), found.begin(), found.end());
+    }
+    if (images.empty()) throw Failure("no images found in " + options.inputs[0] + " (.jpg, .png, .tif, ...)");
+    const fs::path outDir(options.output);
+    std::error_code error;
+    fs::create_directories(outDir, error);
+    if (!fs::is_directory(outDir)) throw Failure("cannot write " + options.output + ": not a folder");
+
+    // Two images with one stem would write one cage file: the later one is refused by name.
+    struct Item {
+        std::string image, cage, problem;
+        bool skipped = false;
+    };
+    std::vector<Item> items;
+    std::map<std::string, std::string> byStem;
+    for (const std::string& image : images) {
+        Item item{image, (outDir / (fs::path(image).stem().string() + ".yml")).string(), ""};
+        const auto [it, fresh] = byStem.emplace(item.cage, image);
+        if (!fresh) item.problem = "has the name of " + it->second + " (both would be " + item.cage + ")";
+        item.skipped = item.problem.empty() && !options.overwrite && fs::exists(item.cage);
+        items.push_back(item);
+    }
+    const cv::multicage::ProposeParams params = proposeParams(options);
+    const int jobs = options.jobs > 0 ? options.jobs : std::max(1u, std::thread::hardware_concurrency());
+    const bool tty = ::isatty(STDERR_FILENO) != 0;
+    std::atomic<size_t> next{0};
+    std::atomic<int> done{0};
+    std::mutex print;
+    int todo = 0;
+    for (const Item& item : items) todo += !item.skipped && item.problem.empty();
+    auto work = [&] {
+        for (size_t i; (i = next++) < items.size();) {
+            Item& item = items[i];
+            if (item.skipped || !item.problem.empty()) continue;
+            ProposeOptions o = options;
+            o.image = item.image;
+            try {
+                cv::Mat image;
+                std::string note;
+                proposeFor(o, params, &image, &note).save(item.cage);
+            } catch (const std::exception& e) {
+                const cv::Exception* cv = dynamic_cast<const cv::Exception*>(&e);
+                item.problem = cv ? reasonOf(*cv) : e.what();
+                if (item.problem.rfind(item.image + ": ", 0) == 0) item.problem = item.problem.substr(item.image.size() + 2);
+            }
+            const int n = ++done;
+            if (tty) {
+                std::lock_guard<std::mutex> lock(print);
+                std::fprintf(stderr, "\rmulticage propose: %d/%d images (%.1f s)", n, todo, msSince(t0) / 1000);
+                if (n == todo) std::fputc('\n', stderr);
+                std::fflush(stderr);
+            }
+        }
+    };
+    std::vector<std::thread> workers;
+    for (int k = 0; k < std::min(jobs, std::max(todo, 1)); ++k) workers.emplace_back(work);
+    for (std::thread& t : workers) t.join();
+
+    int failed = 0, skipped = 0;
+    for (const Item& item : items) {
+        skipped += item.skipped;
+        if (item.problem.empty()) continue;
+        ++failed;
+        std::cerr << "multicage propose: skipped " << item.image << ": " << item.problem << std::endl;
+    }
+    const int written = static_cast<int>(items.size()) - failed - skipped;
+    std::cout << "wrote " << plural(written, "cage file") << " to " << options.output << " ("
+              << plural(static_cast<long long>(items.size()), "image") << "; " << skipped
+              << " had one already" << (skipped ? ", kept (--overwrite proposes again)" : "") << "; "
+              << failed << " failed; " << jobs << (jobs == 1 ? " job, " : " jobs, ")
+              << cv::format("%.1f s", msSince(t0) / 1000) << ")" << std::endl;
+    if (failed) throw Failure(plural(failed, "image") + " failed (named above); the other cage files are written");
+}
+
+void runPropose(const ProposeOptions& options) {
+    using namespace cv::multicage;
+    namespace fs = std::filesystem;
+    const bool dataset = options.inputs.size() > 1 || fs::is_directory(options.inputs[0]) ||
+                         fs::is_directory(options.output) || options.output.back() == '/';
+    if (dataset) return runProposeDataset(options);
+    ProposeOptions o = options;
+    o.image = o.inputs[0];
+    const auto t0 = std::chrono::steady_clock::now();
+    checkCageOutput(o.output);
+    if (!o.overlay.empty()) checkImageOutput(o.overlay);
+    const ProposeParams params = proposeParams(o);
+    cv::Mat image;
+    std::string note;
+    const Multicage cage = proposeFor(o, params, &image, &note);
     cage.save(o.output);
     if (!o.overlay.empty()) writeOverlay(o.overlay, image, cage, params.method);
     int deepest = 0;
@@ -161,12 +287,13 @@ void runPropose(const ProposeOptions& o) {
               << ", pose 'rest', " << cvRound(msSince(t0)) << " ms)";
     if (!o.overlay.empty()) std::cout << " and " << o.overlay;
     std::cout << std::endl;
-    if (!note.empty()) std::cout << note << std::endl;
+    if (!note.empty())
+        std::cerr << "multicage propose: " << (note.rfind("note: ", 0) == 0 ? "" : "note: ") << note << std::endl;
     // Which subject cue ran, when it is not what the options asked for or the default found
     // no model (a mask or label image is no photo: no cue runs).
     if (!isMaskMethod(params.method)) {
         const std::string cue = subjectCueNote(params);
-        if (!cue.empty()) std::cout << "note: " << cue << std::endl;
+        if (!cue.empty()) std::cerr << "multicage propose: note: " << cue << std::endl;
     }
 }
 }  // namespace
@@ -200,19 +327,31 @@ void addProposeCommand(CLI::App& app) {
         "only); --no-protect gives the outlines only.\n"
         "The cage file gets a pose named `rest` (every vertex at rest): edit it, or add poses, "
         "and `multicage deform` applies them.\n"
+        "A dataset: several images or folders, and -o a folder: one cage per image, "
+        "OUT/STEM.yml (what MulticageWarp(cage_dir=OUT) reads), proposed in parallel; cages "
+        "already there are kept (an interrupted run resumes); an image that fails is named and "
+        "skipped, and the exit status is 1 once the others are written.\n"
         "Examples:\n"
         "  multicage propose photo.jpg -o cage.yml --overlay check.png\n"
+        "  multicage propose dataset/images/ -o dataset/cages/\n"
         "  multicage propose photo.jpg -o cage.yml --method grabcut --rect 40 30 400 300\n"
         "  multicage propose mask.png -o cage.yml --method mask --margin 12 --max-vertices 40\n"
         "Then: multicage deform photo.jpg cage.yml -o out.png --pose NAME (or multicage-editor "
         "photo.jpg "
         "cage.yml to draw a pose).");
-    cmd->add_option("image", o->image,
-                    "Input image (or mask / label image with --method mask / labels)")
+    cmd->add_option("image", o->inputs,
+                    "Input image (or mask / label image with --method mask / labels); for a "
+                    "dataset, several images or folders (searched recursively)")
         ->required();
     cmd->add_option("-o,--output", o->output,
-                    "Cage file to write (.yml, .yaml or .json); written only on success")
+                    "Cage file to write (.yml, .yaml or .json), written only on success; for a "
+                    "dataset, a folder (created if needed) that gets STEM.yml per image")
         ->required();
+    cmd->add_option("-j,--jobs", o->jobs, "Dataset: images proposed at once (default: one per core)")
+        ->check(wholeNumber(1, 256));
+    cmd->add_flag("--overwrite", o->overwrite,
+                  "Dataset: propose again where a cage file exists (by default it is kept, so an "
+                  "interrupted run resumes where it stopped)");
     cmd->add_option("--overlay", o->overlay,
                     "Also write the image with the polygons drawn, coloured by depth");
     cmd->add_option("--method", o->method, "How objects are found (see above)")
@@ -247,11 +386,8 @@ void addProposeCommand(CLI::App& app) {
     cmd->add_option("--rect", o->rect, "GrabCut's starting rectangle: X Y WIDTH HEIGHT in pixels")
         ->expected(4);
     cmd->add_option("--protect", o->protect,
-                    "[DETECTOR] What the inner polygons protect: all, faces or saliency (see "
-                    "above). On by default except with --method mask or labels. Put it after "
-                    "IMAGE.")
-        ->expected(0, 1)
-        ->default_str("all")
+                    "What the inner polygons protect: all, faces or saliency (see above). On "
+                    "(all) by default except with --method mask or labels")
         ->check(CLI::IsMember({"all", "faces", "saliency"}));
     cmd->add_option("--cascade-dir", o->cascadeDir,
                     "Folder of the Haar face cascades (default: /usr/share/opencv4/haarcascades, "

@@ -17,7 +17,8 @@ struct ResizeCommandOptions {
     std::string aspect;
     DeformOptions deform;
     SegmenterOptions segmenter;  // the proposal's subject cue (no --cage)
-    bool quiet = false;
+    bool quiet = false, noProtect = false;
+    double maxScale = cv::multicage::ResizeParams().maxScale;
 };
 
 // "WxH" (also "W*H", "WXH"), each a positive whole number.
@@ -25,7 +26,7 @@ cv::Size parseSize(const std::string& text) {
     static const std::regex form(R"(\s*(\d{1,6})\s*[xX*]\s*(\d{1,6})\s*)");
     std::smatch m;
     if (!std::regex_match(text, m, form))
-        throw Failure("--size: '" + text + "' is not WxH (two whole numbers, e.g. 1280x720)");
+        throw UsageError("--size: '" + text + "' is not WxH (two whole numbers, e.g. 1280x720)");
     return cv::Size(std::stoi(m[1]), std::stoi(m[2]));
 }
 
@@ -40,7 +41,7 @@ double parseAspect(const std::string& text) {
     else if (std::regex_match(text, m, number))
         a = std::stod(m[1]);
     if (!(a > 0) || !std::isfinite(a))
-        throw Failure("--aspect: '" + text +
+        throw UsageError("--aspect: '" + text +
                       "' is not a ratio W:H (e.g. 16:9) or a number (e.g. 1.78)");
     return a;
 }
@@ -107,13 +108,19 @@ void runResize(const ResizeCommandOptions& o) {
             throw Failure("--protect: '" + o.protect + "' is not saliency, faces or all");
     }
     applySegmenterOptions(o.segmenter, &rp.segmenter, &rp.segmenterModel);
+    rp.maxScale = o.maxScale;
     // Every size and output checked before any work: a bad one writes nothing.
     const std::vector<cv::Size> sizes = targetSizes(o, image.size());
     for (const cv::Size& s : sizes) {
         try {
             checkResizeSize(image.size(), s, rp.maxScale);
         } catch (const cv::Exception& e) {
-            throw Failure(reasonOf(e));
+            const std::string library = "ResizeParams::maxScale sets the limit", reason = reasonOf(e);
+            const size_t at = reason.find(library);
+            throw UsageError("--size: " + (at == std::string::npos
+                                                ? reason
+                                                : reason.substr(0, at) + "--max-scale raises it" +
+                                                      reason.substr(at + library.size())));
         }
         checkImageOutput(outputFor(o.output, s, sizes.size() > 1));
     }
@@ -121,7 +128,14 @@ void runResize(const ResizeCommandOptions& o) {
 
     const auto tp = std::chrono::steady_clock::now();
     // A subject model that cannot be read fails here, naming its file: nothing is written.
-    const Multicage cage = o.cage.empty() ? resizeCage(image, rp) : loadCage(o.cage, image.size());
+    Multicage cage = o.cage.empty() ? resizeCage(image, rp) : loadCage(o.cage, image.size());
+    if (o.noProtect) {  // the outlines alone
+        Multicage outlines(cage.imageSize());
+        for (int p = 0; p < cage.polygonCount(); ++p)
+            if (cage.depth(p) == 1) outlines.addPolygon(cage.polygon(p));
+        outlines.orient();
+        cage = outlines;
+    }
     const double proposeMs = o.cage.empty() ? msSince(tp) : 0;
     std::string stepChange;
     DeformParams params = deformParams(o.deform, "resize", image.size(), cage, &stepChange);
@@ -163,7 +177,7 @@ void runResize(const ResizeCommandOptions& o) {
         propose.segmenter = rp.segmenter;
         propose.segmenterModel = rp.segmenterModel;
         const std::string cue = subjectCueNote(propose);
-        if (!cue.empty()) std::cout << "note: " << cue << std::endl;
+        if (!cue.empty()) std::cerr << "multicage resize: note: " << cue << std::endl;
     }
 }
 }  // namespace
@@ -187,7 +201,7 @@ void addResizeCommand(CLI::App& app) {
         "  multicage resize photo.jpg -o wide.png --aspect 16:9\n"
         "  multicage resize photo.jpg -o out.png --size 1536x768 --size 717x768 --overlay "
         "cage.png");
-    cmd->add_option("IMAGE", o->image, "Input image")->required()->check(CLI::ExistingFile);
+    cmd->add_option("IMAGE", o->image, "Input image")->required();
     cmd->add_option("-o,--output", o->output, "Output image (with several sizes: OUT_WxH.ext each)")
         ->required();
     cmd->add_option("--size", o->sizes, "Target size WxH; repeat for several sizes (one binding)");
@@ -197,13 +211,21 @@ void addResizeCommand(CLI::App& app) {
         ->check(wholeNumber(1, 1 << 20));
     cmd->add_option("--aspect", o->aspect, "Target aspect ratio W:H (e.g. 16:9); the height stays");
     cmd->add_option("--cage", o->cage,
-                    "Multicage file to use instead of the proposal (scaled to the image)")
-        ->check(CLI::ExistingFile);
+                    "Multicage file to use instead of the proposal (scaled to the image)");
     cmd->add_option("--overlay", o->overlay,
                     "Also write the cage at rest and resized, side by side (first size)");
     cmd->add_option("--protect", o->protect,
                     "What the proposal protects inside each outline: saliency, faces or all "
                     "(default: the proposal's)");
+    cmd->add_flag("--no-protect", o->noProtect,
+                  "Outlines only: the proposal without inner polygons (faces and features bend "
+                  "with their subject)")
+        ->excludes("--protect")
+        ->excludes("--cage");
+    cmd->add_option("--max-scale", o->maxScale,
+                    "Largest factor a side may grow by (a guard against a typo's huge output)")
+        ->capture_default_str()
+        ->check(CLI::Range(1.0, 1000.0));
     addSegmenterOptions(cmd, o->segmenter);
     addDeformOptions(cmd, o->deform, cv::multicage::ResizeParams().coordinates);
     cmd->add_flag("-q,--quiet", o->quiet, "Print only the files written");

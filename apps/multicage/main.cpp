@@ -17,6 +17,7 @@ int main(int argc, char** argv) {
     multicage_cli::addDeformCommand(app);
     multicage_cli::addProposeCommand(app);
     multicage_cli::addResizeCommand(app);
+    multicage_cli::addPoseCommand(app);
     multicage_cli::addAnimateCommand(app);
     multicage_cli::addBenchCommand(app);
     // "multicage deform: ..." names the subcommand that failed.
@@ -32,7 +33,7 @@ int main(int argc, char** argv) {
         known = known || sub->get_name() == argv[1];
     if (!known) {
         std::cerr << "multicage: unknown command '" << argv[1]
-                  << "' (demo, propose, resize, deform, animate, bench; see multicage --help)" << std::endl;
+                  << "' (demo, propose, resize, deform, pose, animate, bench; see multicage --help)" << std::endl;
         return 2;
     }
     try {
@@ -45,6 +46,8 @@ int main(int argc, char** argv) {
     } catch (const CLI::CallForAllHelp& e) {
         return app.exit(e);
     } catch (const CLI::ParseError& e) {
+        return fail(e.what(), 2);
+    } catch (const multicage_cli::UsageError& e) {
         return fail(e.what(), 2);
     } catch (const cv::Exception& e) {
         return fail(multicage_cli::reasonOf(e), 1);

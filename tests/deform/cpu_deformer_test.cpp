@@ -96,6 +96,28 @@ TEST(CpuDeformer, FoldOverIsCounted) {
     EXPECT_GT(d->foldedTriangles(pose), 0);
 }
 
+// What deform() documents: a pose validatePose() refuses is deformed as asked, not refused,
+// and the image folds over itself where the polygons cross.
+TEST(CpuDeformer, ACrossingPoseIsDeformedAsAskedAndFolds) {
+    const Mat image = multicage_testing::readSample("HappyFish.jpg");
+    Multicage cage(image.size());
+    cage.addPolygon(std::vector<Point2f>{{40, 40}, {40, 150}, {220, 150}, {220, 40}});
+    cage.addPolygon(std::vector<Point2f>{{100, 80}, {100, 110}, {150, 110}, {150, 80}});
+    cage.orient();
+    Ptr<Deformer> d = Deformer::create(image, cage, cpuParams(4));
+    std::vector<Point2f> pose = cage.vertices();
+    pose.resize(cage.vertexCount());
+    for (int i = 4; i < 8; ++i) pose[i].x += 100;  // the inner square across the outline's right edge
+    std::string why;
+    EXPECT_FALSE(validatePose(cage, pose, &why));
+    EXPECT_NE(why.find("polygon"), std::string::npos) << why;
+    EXPECT_GT(d->foldedTriangles(pose), 0);
+    Mat out;
+    ASSERT_NO_THROW(d->deform(pose, out));
+    EXPECT_EQ(out.size(), image.size());
+    EXPECT_EQ(out.type(), image.type());
+}
+
 TEST(CpuDeformer, BadInputIsRefusedWithAReason) {
     const Mat image = multicage_testing::readSample("HappyFish.jpg");
     const Multicage cage = [&] {

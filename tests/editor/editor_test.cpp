@@ -655,3 +655,37 @@ TEST(EditorWindow, ResizeModeFollowsTheFrameAndSavesTheNewSize) {
     EXPECT_NE(badLog.find("8x"), std::string::npos) << badLog;
     EXPECT_FALSE(std::ifstream(dir + "/bad.png").good());
 }
+
+// Issue 40 item 6: after a resize to a wider or taller size, and after the window is resized,
+// the whole image and the whole resized frame are inside the canvas.
+TEST(EditorWindow, TheViewRefitsAfterAResizeAndAWindowResize) {
+    ASSERT_FALSE(std::string(MULTICAGE_XVFB_RUN).empty())
+        << "xvfb-run not found: install xvfb (.ci/deps.sh)";
+    const std::string dir = multicage_testing::tempDir("editor_refit");
+    ASSERT_TRUE(imwrite(dir + "/in.png", texturedImage(Size(493, 356))));
+    twoOctagons().save(dir + "/cage.yml");
+    std::ostringstream s;
+    s << "load " << dir << "/in.png " << dir << "/cage.yml\n"
+      << "resize 910 512\nwait 2\nstatus " << dir << "/wide.txt\n"
+      << "window 800 500\nwait 3\nstatus " << dir << "/small_window.txt\n"
+      << "resize 493 700\nwait 2\nstatus " << dir << "/tall.txt\n"
+      << "quit\n";
+    const std::string log = runEditorScript(dir, s.str());
+    for (const char* name : {"wide", "small_window", "tall"}) {
+        const std::string status = readText(dir + "/" + name + ".txt");
+        float zoom = 0;
+        Point2f pan;
+        std::istringstream(field(status, "view")) >> zoom >> pan.x >> pan.y;
+        const std::vector<Point2f> canvas = points(field(status, "canvas"));
+        ASSERT_EQ(canvas.size(), 1u) << name << "\n" << status << log;
+        const Size resized = sizeField(status, "resize");
+        // screen = origin + zoom * (p + 0.5) + pan: the frame spans 0 .. zoom * size
+        const float w = zoom * std::max(493, resized.width), h = zoom * std::max(356, resized.height);
+        EXPECT_GT(zoom, 0.f) << name;
+        EXPECT_GE(pan.x, 0.f) << name << "\n" << status;
+        EXPECT_GE(pan.y, 0.f) << name << "\n" << status;
+        EXPECT_LE(pan.x + w, canvas[0].x + 0.5f) << name << "\n" << status;
+        EXPECT_LE(pan.y + h, canvas[0].y + 0.5f) << name << "\n" << status;
+        if (std::string(name) == "small_window") EXPECT_LT(canvas[0].x, 800.f) << status;
+    }
+}

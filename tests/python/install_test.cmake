@@ -36,4 +36,17 @@ run(${CMAKE_COMMAND} -E env PYTHONPATH=${site} PYTHONNOUSERSITE=1 ${PYTHON} ${sa
 if(NOT EXISTS ${WORK_DIR}/augmented/HappyFish_001.png OR NOT EXISTS ${WORK_DIR}/augmented/HappyFish_001_mask.png)
     message(FATAL_ERROR "the installed sample wrote no images into ${WORK_DIR}/augmented")
 endif()
+# Issue 40 item 2: the README's Python examples run as written from <prefix>/share/multicage,
+# with the installed module and the installed samples only.
+foreach(f samples/butterfly.yml samples/butterfly_flap.yml samples/data/butterfly.jpg
+        samples/python/train_loop.py samples/python/bench_batch.py samples/cpp/deform_example.cpp)
+    if(NOT EXISTS ${prefix}/${DATADIR}/multicage/${f})
+        message(FATAL_ERROR "the install lacks ${DATADIR}/multicage/${f}")
+    endif()
+endforeach()
+run(${CMAKE_COMMAND} -E env PYTHONPATH=${site}:${SOURCE_DIR}/tests/python PYTHONNOUSERSITE=1
+    MULTICAGE_SOURCE_DIR=${SOURCE_DIR} MULTICAGE_README_CWD=${prefix}/${DATADIR}/multicage
+    PYTHONDONTWRITEBYTECODE=1
+    ${PYTHON} -m pytest -q -p no:cacheprovider ${SOURCE_DIR}/tests/python/test_readme.py
+    -k "readme_python_block")
 message(STATUS "installed Python module OK")

@@ -1,10 +1,13 @@
-// Cage files: the multicage and its poses as YAML or JSON through cv::FileStorage.
+// Cage files: the multicage and its poses as YAML or JSON, read and written as the standards
+// have them (cage_text.cpp), and as cv::FileStorage nodes (write(), read()).
 #include <opencv2/multicage/multicage.hpp>
 
 #include <algorithm>
 #include <cctype>
 #include <fstream>
 #include <iterator>
+
+#include "cage_text.hpp"
 
 namespace cv {
 namespace multicage {
@@ -85,13 +88,16 @@ void checkYamlLayout(const std::string& text, const std::string& where) {
 
 }  // namespace
 
+// The file spells mean value coordinates out (parseCoordinateType reads both spellings).
+static const char* coordinatesKeyword(int coordinates) {
+    return coordinates == HARMONIC           ? "harmonic"
+           : coordinates == LOCAL_MEAN_VALUE ? "local_mean_value"
+                                             : "mean_value";
+}
+
 void Multicage::write(FileStorage& fs) const {
     fs << "image_size" << "[:" << imageSize_.width << imageSize_.height << "]";
-    // The file spells mean value coordinates out (parseCoordinateType reads both spellings).
-    fs << "coordinates"
-       << (coordinates_ == HARMONIC           ? "harmonic"
-           : coordinates_ == LOCAL_MEAN_VALUE ? "local_mean_value"
-                                              : "mean_value");
+    fs << "coordinates" << coordinatesKeyword(coordinates_);
     fs << "polygons" << "[";
     for (const auto& polygon : polygons_) writeCoordinates(fs, polygon);
     fs << "]";
@@ -185,16 +191,17 @@ Multicage Multicage::load(const String& path) {
     if (nul != std::string::npos)
         CV_Error(Error::StsParseError, format("cage file %s: not valid YAML/JSON: a NUL byte at offset "
                                               "%d (not a text file)", path.c_str(), static_cast<int>(nul)));
+    if (text.empty()) CV_Error(Error::StsParseError, "cage file " + path + ": the file is empty");
     if (ext != ".json") checkYamlLayout(text, "cage file " + path);
-    // OpenCV's YAML reader insists on its "%YAML:1.0" first line, which other YAML writers do
-    // not emit: add it (error line numbers are given back in the user's file).
-    const bool addHeader = ext != ".json" && text.rfind("%YAML", 0) != 0;
-    const std::string parsed = addHeader ? "%YAML:1.0\n" + text : text;
+    // YAML goes through yaml-cpp to JSON: cv::FileStorage's YAML reader takes only the subset
+    // FileStorage writes. Files that FileStorage wrote (its "%YAML:1.0" first line; "name:rest"
+    // in them is one key to any other reader) are still read by it.
+    const bool fileStorageYaml = ext != ".json" && text.rfind("%YAML:", 0) == 0;
+    const std::string parsed = ext == ".json" || fileStorageYaml ? text : yamlAsJson(text, "cage file " + path);
     FileStorage fs;
     try {
         const int flags = FileStorage::READ | FileStorage::MEMORY |
-                          (ext == ".json" ? FileStorage::FORMAT_JSON : FileStorage::FORMAT_YAML);
-        if (text.empty()) CV_Error(Error::StsParseError, "cage file " + path + ": the file is empty");
+                          (fileStorageYaml ? FileStorage::FORMAT_YAML : FileStorage::FORMAT_JSON);
         if (!fs.open(parsed, flags)) CV_Error(Error::StsParseError, "cage file " + path + ": not valid YAML/JSON");
     } catch (const cv::Exception& e) {
         if (e.err.rfind("cage file", 0) == 0) throw;
@@ -203,7 +210,7 @@ Multicage Multicage::load(const String& path) {
         std::string reason = e.func.find(':') != std::string::npos ? e.func : e.err;
         const size_t close = reason.find("): ");
         if (reason[0] == '(' && close != std::string::npos)  // "(4): why" -> "line 4: why"
-            reason = "line " + std::to_string(std::atoi(reason.c_str() + 1) - (addHeader ? 1 : 0)) + ": " +
+            reason = "line " + std::to_string(std::atoi(reason.c_str() + 1)) + ": " +
                      reason.substr(close + 3);
         CV_Error(Error::StsParseError, "cage file " + path + ": not valid YAML/JSON: " + reason);
     } catch (const std::exception& e) {
@@ -223,10 +230,8 @@ Multicage Multicage::load(const String& path) {
 }
 
 void Multicage::save(const String& path) const {
-    const std::string ext = checkedFormat(path);
-    FileStorage fs(ext == ".json" ? ".json" : ".yml", FileStorage::WRITE | FileStorage::MEMORY);
-    write(fs);
-    writeFileAtomic(path, fs.releaseAndGetString());
+    const bool json = checkedFormat(path) == ".json";
+    writeFileAtomic(path, cageText(imageSize_, coordinatesKeyword(coordinates_), polygons_, poses_, json));
 }
 
 }  // namespace multicage

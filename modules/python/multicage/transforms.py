@@ -13,11 +13,40 @@ boxes as the bounds of their moved outline sampled every pixel (so a box follows
 it matches the box of the moved mask of the box within 1 px, where the box of four moved
 corners is too small).
 
-Conventions are the package's: images as cv2 gives them (HxW, HxWxC; uint8, uint16, float32),
-points (x, y) with pixel (x, y) at its centre, so the image spans [-0.5, w - 0.5) in x; boxes
-are pascal_voc (x_min, y_min, x_max, y_max) in pixel edges (the box of mask pixels x0..x1-1 is
-x0..x1), as albumentations has them; columns after the first 2 (keypoints) or 4 (boxes) are
-carried along unchanged (labels, angles...).
+Conventions are the package's: images as cv2 gives them (HxW, HxWxC; uint8, uint16, float32;
+float64 is warped as float32 and returned as float64), points (x, y) with pixel (x, y) at its
+centre, so the image spans [-0.5, w - 0.5) in x; boxes are pascal_voc (x_min, y_min, x_max,
+y_max) in pixel edges (the box of mask pixels x0..x1-1 is x0..x1), as albumentations has them;
+columns after the first 2 (keypoints) or 4 (boxes) are carried along unchanged (labels...).
+
+Boxes and keypoints as albumentations users give them (its BboxParams and KeypointParams, as
+keywords of the transform; boxes and keypoints come back in the format they were given in):
+
+    warp = multicage.MulticageWarp(amplitude=12, bbox_format="coco", label_fields=["classes"],
+                                   keypoint_format="xyas", remove_invisible=True, seed=0)
+    out = warp(image=image, bboxes=[(300, 50, 100, 100)], classes=["cat"],
+               keypoints=[(120, 80, 45.0, 10.0)], index=i)
+    out["bboxes"], out["classes"]  # a class per box still there
+
+bbox_format: 'pascal_voc' (the default, above), 'coco' (x_min, y_min, width, height in
+pixels), 'yolo' (x_center, y_center, width, height divided by the image's width and height) or
+'albumentations' (pascal_voc divided by the image's width and height). A box is moved as its
+pascal_voc pixel box is; a box the warp leaves where it was comes back exactly as given.
+Errors speak the format's terms (a coco box with a negative width says so), and a normalised
+box reaching outside [0, 1] is refused (it is a box in pixels under a normalised name).
+
+label_fields / keypoint_label_fields: names of the call's keywords holding one label per box /
+keypoint (a list or an array); with remove_invisible they lose the items of dropped boxes /
+keypoints, so labels and boxes stay in step.
+
+keypoint_format: 'xy' (the default), 'yx', 'xya', 'xys', 'xyas' or 'xysa'. An angle (degrees by
+default, angle_in_degrees=False for radians) is a direction (cos a, sin a) in image axes (x
+right, y down: positive angles turn clockwise on screen, as albumentations' Affine has them); it
+is carried by the deformation's local linear map at the keypoint (central differences of
+transform_points half a pixel either side), so an arrow drawn at the keypoint points the same
+way after the warp, and comes back in [0, 360) ([0, 2 pi)): a region moved by a rotation adds
+that rotation. A scale is multiplied by the local scale, the square root of that map's
+determinant (the factor of a scaled region). Columns after the format's pass through unchanged.
 
 Seeding: a call with index=i (a dataset index) draws from SeedSequence([seed, i]): the same
 sample gets the same augmentation in one process, in DataLoader workers (fork or spawn) and
@@ -51,6 +80,36 @@ _BORDER_MODES = {
 }
 
 NO_SUBJECT_CHOICES = ("default", "skip", "raise")
+
+# Box formats (albumentations' names): what the four coordinates are, as error messages say it.
+BBOX_FORMATS = {
+    "pascal_voc": "x_min, y_min, x_max, y_max",
+    "coco": "x_min, y_min, width, height in pixels",
+    "yolo": "x_center, y_center, width, height divided by the image's width and height",
+    "albumentations": "x_min, y_min, x_max, y_max divided by the image's width and height",
+}
+
+# Keypoint formats (albumentations' names): the column of x, y, angle and scale (None: absent).
+KEYPOINT_FORMATS = {
+    "xy": (0, 1, None, None),
+    "yx": (1, 0, None, None),
+    "xya": (0, 1, 2, None),
+    "xys": (0, 1, None, 2),
+    "xyas": (0, 1, 2, 3),
+    "xysa": (0, 1, 3, 2),
+}
+
+# Normalised boxes may overshoot [0, 1] by this much: the rounding of label files written with
+# 6 decimals, far below what a box in pixels given by mistake shows.
+_NORMALISED_SLACK = 1e-4
+
+# Half the step of the finite differences that find the local linear map at a keypoint: well
+# inside one mesh triangle's size, well above float32's resolution of a pixel coordinate.
+_JACOBIAN_STEP = 0.5
+
+# The call's own keywords: a label field of one of these names would shadow it.
+_CALL_KEYWORDS = ("image", "mask", "masks", "keypoints", "bboxes", "name", "index", "seed", "return_params",
+                  "keypoints_visible", "bboxes_visible", "replay")
 
 
 # What cv2.remap carries unchanged: other mask dtypes go through their indices (_move_mask).
@@ -95,6 +154,26 @@ def box_outline(box, spacing=1.0):
     return np.concatenate([top, right, bottom, left]).astype(np.float32)
 
 
+def _field_names(names, what):
+    """A tuple of label field names (one name may be given as a str), none shadowing a call
+    keyword."""
+    names = (names,) if isinstance(names, str) else tuple(names or ())
+    for n in names:
+        if not isinstance(n, str) or not n:
+            raise TypeError(f"{what}: names of the call's keywords (str), got {n!r}")
+        if n in _CALL_KEYWORDS:
+            raise ValueError(f"{what}: {n!r} is a keyword of the call itself; name the labels otherwise")
+    if len(set(names)) != len(names):
+        raise ValueError(f"{what}: a name appears twice in {names!r}")
+    return names
+
+
+def _float32(image):
+    """The image a float64 image is warped as: float32, what cv2.remap and the deformer take
+    (other dtypes as given)."""
+    return image.astype(np.float32) if image.dtype == np.float64 else image
+
+
 def _cage_digest(cage):
     """A key for a multicage's content (size, polygons, coordinates): bindings are cached by it,
     so that a replay with another transform's cage never meets a binding of a different cage."""
@@ -118,7 +197,9 @@ class MulticageWarp:
                   cage=None, cages=None, cage_dir=None, propose=True, protect=True,
                   propose_options=None, no_subject='default', border_mode='constant',
                   border_value=0, mask_value=0, remove_invisible=False, backend='cpu',
-                  pose_options=None)
+                  pose_options=None, fold_check='coarse', cache_size=16,
+                  bbox_format='pascal_voc', label_fields=(), keypoint_format='xy',
+                  keypoint_label_fields=(), angle_in_degrees=True)
 
     amplitude       most pixels a cage vertex moves (multicage.random_pose)
     grid_step       a mesh node every grid_step pixels (1: the paper's per-pixel method;
@@ -154,6 +235,17 @@ class MulticageWarp:
                     deformed with (slower at fine grid steps: every node, every draw)
     cache_size      bindings (and deformers) kept, the most recently used: a binding is made
                     once per cage and image size and reused while it stays in the cache
+    bbox_format     how bboxes= are given and returned: 'pascal_voc' (x_min, y_min, x_max,
+                    y_max in pixels), 'coco' (x_min, y_min, width, height in pixels), 'yolo'
+                    (x_center, y_center, width, height) or 'albumentations' (x_min, y_min,
+                    x_max, y_max), those two divided by the image's width and height
+    label_fields    names of call keywords with one label per box (albumentations' BboxParams
+                    label_fields): filtered with the boxes when remove_invisible drops some
+    keypoint_format how keypoints= are given and returned: 'xy', 'yx', 'xya', 'xys', 'xyas',
+                    'xysa' (a: angle, turned with the deformation's local linear map; s: scale,
+                    multiplied by the local scale; see the module's doc)
+    keypoint_label_fields  names of call keywords with one label per keypoint, filtered with them
+    angle_in_degrees keypoint angles in degrees (True, albumentations' default) or radians
 
     The transform pickles (without its caches) for workers.
     """
@@ -162,7 +254,8 @@ class MulticageWarp:
                  cages=None, cage_dir=None, propose=True, protect=True, propose_options=None,
                  no_subject="default", border_mode="constant", border_value=0, mask_value=0,
                  remove_invisible=False, backend="cpu", pose_options=None, fold_check="coarse",
-                 cache_size=16):
+                 cache_size=16, bbox_format="pascal_voc", label_fields=(), keypoint_format="xy",
+                 keypoint_label_fields=(), angle_in_degrees=True):
         if not (float(amplitude) >= 0):
             raise ValueError(f"amplitude: must be >= 0, got {amplitude!r}")
         if int(grid_step) < 1:
@@ -177,6 +270,16 @@ class MulticageWarp:
             raise ValueError(f"fold_check: 'coarse' or 'exact', got {fold_check!r}")
         if no_subject not in NO_SUBJECT_CHOICES:
             raise ValueError(f"no_subject: one of {NO_SUBJECT_CHOICES}, got {no_subject!r}")
+        if bbox_format not in BBOX_FORMATS:
+            raise ValueError(f"bbox_format: one of {tuple(BBOX_FORMATS)}, got {bbox_format!r}")
+        if keypoint_format not in KEYPOINT_FORMATS:
+            raise ValueError(f"keypoint_format: one of {tuple(KEYPOINT_FORMATS)}, got {keypoint_format!r}")
+        label_fields = _field_names(label_fields, "label_fields")
+        keypoint_label_fields = _field_names(keypoint_label_fields, "keypoint_label_fields")
+        both = sorted(set(label_fields) & set(keypoint_label_fields))
+        if both:
+            raise ValueError(f"label_fields and keypoint_label_fields both name {both[0]!r}: a list is "
+                             "filtered by the boxes or by the keypoints, not both")
         if isinstance(border_mode, str):
             if border_mode not in _BORDER_MODES:
                 raise ValueError(f"border_mode: one of {sorted(_BORDER_MODES)} or a cv2.BORDER_*, got {border_mode!r}")
@@ -202,6 +305,11 @@ class MulticageWarp:
         self.pose_options = dict(pose_options or {})
         self.fold_check = fold_check
         self.cache_size = max(1, int(cache_size))
+        self.bbox_format = bbox_format
+        self.label_fields = label_fields
+        self.keypoint_format = keypoint_format
+        self.keypoint_label_fields = keypoint_label_fields
+        self.angle_in_degrees = bool(angle_in_degrees)
         self._init_caches()
 
     def _init_caches(self):
@@ -222,6 +330,9 @@ class MulticageWarp:
     def __setstate__(self, state):
         self.__dict__.update(state)
         self.__dict__.setdefault("map_step", 1)  # pickled before map_step: every pixel, as then
+        for key, value in (("bbox_format", "pascal_voc"), ("label_fields", ()), ("keypoint_format", "xy"),
+                           ("keypoint_label_fields", ()), ("angle_in_degrees", True)):
+            self.__dict__.setdefault(key, value)  # pickled before the formats: today's behaviour
         self._init_caches()
 
     def __repr__(self):
@@ -347,10 +458,11 @@ class MulticageWarp:
     def __call__(self, *, image=None, mask=None, masks=None, keypoints=None, bboxes=None, name=None,
                  index=None, seed=None, return_params=False, **other):
         """The targets moved by one random deformation: a dict with the keys given (other keys
-        are passed through unchanged), plus 'keypoints_visible' / 'bboxes_visible' (a bool per
-        input keypoint / box: inside the output) when keypoints / boxes were given, and
-        'replay' when return_params. name: the image's name (cage mapping, proposal cache);
-        index: the sample's index (seeding, see the module's doc); seed: this call's seed."""
+        are passed through unchanged, label fields filtered with their boxes or keypoints),
+        plus 'keypoints_visible' / 'bboxes_visible' (a bool per input keypoint / box: inside
+        the output) when keypoints / boxes were given, and 'replay' when return_params.
+        name: the image's name (cage mapping, proposal cache); index: the sample's index
+        (seeding, see the module's doc); seed: this call's seed."""
         if image is None:
             raise ValueError("MulticageWarp: image= is required (the deformation is drawn for its size)")
         image = np.asarray(image)
@@ -359,7 +471,7 @@ class MulticageWarp:
                   "image_size": (image.shape[1], image.shape[0]), "grid_step": self.grid_step,
                   "map_step": self.map_step, "amplitude": self.amplitude}
         if applied:
-            key, cage = self._cage_for(image, name)
+            key, cage = self._cage_for(_float32(image), name)
             if cage is not None:
                 scaled, binding = self._binding(key, cage, params["image_size"])
                 check = {"binding": binding} if self.fold_check == "exact" else {}
@@ -389,10 +501,11 @@ class MulticageWarp:
     def _apply(self, params, image, mask, masks, keypoints, bboxes, other, return_params):
         out = dict(other)
         h, w = image.shape[:2]
+        work = _float32(image)
         deformer = pose = None
         if params["applied"]:
             key, cage = params["cage_key"], params["cage"]  # the cage travels with the params
-            deformer = self._deformer(key, cage, image)
+            deformer = self._deformer(key, cage, work)
             pose = params["pose"]
         need_maps = deformer is not None and (mask is not None or masks is not None
                                               or self.border_mode != cv2.BORDER_CONSTANT)
@@ -400,22 +513,44 @@ class MulticageWarp:
         if deformer is None:
             out["image"] = image.copy()
         elif maps is None:
-            out["image"] = deformer.deform(pose, image=image)
+            out["image"] = deformer.deform(pose, image=work)
         else:
-            out["image"] = cv2.remap(image, maps[0], maps[1], cv2.INTER_LINEAR, borderMode=self.border_mode,
+            out["image"] = cv2.remap(work, maps[0], maps[1], cv2.INTER_LINEAR, borderMode=self.border_mode,
                                      borderValue=self._cv_border(self.border_value))
+        if out["image"].dtype != image.dtype:
+            out["image"] = out["image"].astype(image.dtype)  # a float64 image, warped in float32
         if mask is not None:
             out["mask"] = self._move_mask(np.asarray(mask), maps, (w, h))
         if masks is not None:
             out["masks"] = [self._move_mask(np.asarray(m), maps, (w, h)) for m in masks]
         if keypoints is not None:
             out["keypoints"], out["keypoints_visible"] = self._move_keypoints(keypoints, deformer, pose, w, h)
+            self._filter_labels(out, self.keypoint_label_fields, out["keypoints_visible"], "keypoints")
         if bboxes is not None:
             out["bboxes"], out["bboxes_visible"] = self._move_boxes(bboxes, deformer, pose, w, h)
+            self._filter_labels(out, self.label_fields, out["bboxes_visible"], "bboxes")
         if return_params:
             params["pose"] = None if params["pose"] is None else np.array(params["pose"], np.float32)
             out["replay"] = params
         return out
+
+    def _filter_labels(self, out, fields, visible, what):
+        """Each label field's list, one item per box (keypoint), kept where its box (keypoint) is
+        kept: albumentations' label_fields."""
+        keep = visible if self.remove_invisible else np.ones(len(visible), bool)
+        which = "label_fields" if what == "bboxes" else "keypoint_label_fields"
+        for field in fields:
+            if field not in out:
+                raise ValueError(f"{which}: {field}= was not passed with {what}= (one label per item of {what})")
+            labels = out[field]
+            if len(labels) != len(visible):
+                raise ValueError(f"{which}: {field}= has {len(labels)} items for {len(visible)} {what}")
+            if keep.all():
+                continue  # given back as given
+            if isinstance(labels, np.ndarray):
+                out[field] = labels[keep]
+            else:
+                out[field] = [v for v, k in zip(labels, keep) if k]
 
     @staticmethod
     def _cv_border(value):
@@ -470,27 +605,107 @@ class MulticageWarp:
             raise ValueError(f"{what}: {item} {i} is not finite {tuple(coords[i].tolist())}")
 
     def _move_keypoints(self, keypoints, deformer, pose, w, h):
-        k, extras = self._split(keypoints, 2, "keypoints")
-        self._check_finite(k[:, :2], "keypoints", "keypoint")
+        fmt = self.keypoint_format
+        ix, iy, ia, js = KEYPOINT_FORMATS[fmt]
+        width = len(fmt)
+        what = "keypoints" if fmt == "xy" else f"keypoints (keypoint_format {fmt!r})"
+        k, extras = self._split(keypoints, width, what)
+        self._check_finite(k[:, :width], what, "keypoint")
+        xy = k[:, [ix, iy]]
         moved = k.copy()
         if deformer is not None and len(k):
-            moved[:, :2] = deformer.transform_points(pose, k[:, :2].astype(np.float32))
-        x, y = moved[:, 0], moved[:, 1]
+            new = deformer.transform_points(pose, xy.astype(np.float32)).astype(np.float64)
+            if ia is not None or js is not None:
+                jac = self._local_maps(deformer, pose, xy)
+                if ia is not None:
+                    moved[:, ia] = self._turn_angles(k[:, ia], jac)
+                if js is not None:
+                    moved[:, js] = k[:, js] * np.sqrt(np.abs(np.linalg.det(jac)))
+            moved[:, ix], moved[:, iy] = new[:, 0], new[:, 1]
+            xy = new
+        x, y = xy[:, 0], xy[:, 1]
         visible = (x >= -0.5) & (x < w - 0.5) & (y >= -0.5) & (y < h - 0.5)
         keep = visible if self.remove_invisible else np.ones(len(k), bool)
-        return self._join(keypoints, moved if extras is None else moved[:, :2], extras, keep), visible
+        return self._join(keypoints, moved if extras is None else moved[:, :width], extras, keep), visible
+
+    @staticmethod
+    def _local_maps(deformer, pose, xy):
+        """N x 2 x 2 Jacobians of the deformation at the points: central differences of
+        transform_points a fraction of a pixel either side in x and in y."""
+        e = _JACOBIAN_STEP
+        offsets = np.array([[e, 0], [-e, 0], [0, e], [0, -e]])
+        around = (xy[:, None, :] + offsets[None]).reshape(-1, 2)
+        t = deformer.transform_points(pose, around.astype(np.float32)).astype(np.float64).reshape(-1, 4, 2)
+        # Columns: where a step along x and a step along y go (dT/dx, dT/dy).
+        return np.stack([(t[:, 0] - t[:, 1]) / (2 * e), (t[:, 2] - t[:, 3]) / (2 * e)], axis=2)
+
+    def _turn_angles(self, angles, jac):
+        """The direction (cos a, sin a) (x right, y down) carried by the local linear map, as an
+        angle in [0, 360) degrees or [0, 2 pi) radians: where an arrow drawn at the keypoint points
+        after the warp (a similarity's rotation is added to it)."""
+        a = np.radians(angles) if self.angle_in_degrees else angles
+        d = np.einsum("nij,nj->ni", jac, np.stack([np.cos(a), np.sin(a)], axis=1))
+        turned = np.mod(np.arctan2(d[:, 1], d[:, 0]), 2 * np.pi)
+        if self.angle_in_degrees:
+            turned = np.mod(np.degrees(turned), 360.0)
+        return turned
+
+    def _boxes_to_pixels(self, b, w, h):
+        """pascal_voc pixel boxes (x_min, y_min, x_max, y_max in pixel edges) of N boxes in the
+        transform's bbox_format, checked in that format's own terms."""
+        fmt = self.bbox_format
+        terms = f"({fmt} boxes are {BBOX_FORMATS[fmt]})"
+        if fmt in ("coco", "yolo"):
+            negative = (b[:, 2] < 0) | (b[:, 3] < 0)
+            if negative.any():
+                i = int(np.flatnonzero(negative)[0])
+                side = "width" if b[i, 2] < 0 else "height"
+                raise ValueError(f"bboxes: box {i} {tuple(b[i, :4].tolist())} has a negative {side} {terms}")
+        else:
+            inverted = (b[:, 2] < b[:, 0]) | (b[:, 3] < b[:, 1])
+            if inverted.any():
+                i = int(np.flatnonzero(inverted)[0])
+                raise ValueError(f"bboxes: box {i} {tuple(b[i, :4].tolist())} has its maximum before its "
+                                 f"minimum {terms}")
+        if fmt == "coco":
+            return np.stack([b[:, 0], b[:, 1], b[:, 0] + b[:, 2], b[:, 1] + b[:, 3]], axis=1)
+        if fmt == "pascal_voc":
+            return b[:, :4].copy()
+        if fmt == "yolo":
+            edges = np.stack([b[:, 0] - b[:, 2] / 2, b[:, 1] - b[:, 3] / 2,
+                              b[:, 0] + b[:, 2] / 2, b[:, 1] + b[:, 3] / 2], axis=1)
+        else:
+            edges = b[:, :4]
+        # Normalised boxes lie in the image (as albumentations requires): beyond it is a box in
+        # pixels given under a normalised format's name.
+        outside = ((edges < -_NORMALISED_SLACK) | (edges > 1 + _NORMALISED_SLACK)).any(axis=1)
+        if outside.any():
+            i = int(np.flatnonzero(outside)[0])
+            raise ValueError(f"bboxes: box {i} {tuple(b[i, :4].tolist())} reaches outside the image "
+                             f"(edges outside [0, 1]) {terms}; boxes in pixels are bbox_format='pascal_voc' "
+                             "or 'coco'")
+        return edges * np.array([w, h, w, h], np.float64)
+
+    def _boxes_from_pixels(self, p, w, h):
+        """N pascal_voc pixel boxes in the transform's bbox_format."""
+        fmt = self.bbox_format
+        if fmt == "pascal_voc":
+            return p.copy()
+        if fmt == "coco":
+            return np.stack([p[:, 0], p[:, 1], p[:, 2] - p[:, 0], p[:, 3] - p[:, 1]], axis=1)
+        n = p / np.array([w, h, w, h], np.float64)
+        if fmt == "albumentations":
+            return n
+        return np.stack([(n[:, 0] + n[:, 2]) / 2, (n[:, 1] + n[:, 3]) / 2, n[:, 2] - n[:, 0], n[:, 3] - n[:, 1]],
+                        axis=1)
 
     def _move_boxes(self, bboxes, deformer, pose, w, h):
         b, extras = self._split(bboxes, 4, "bboxes")
         self._check_finite(b[:, :4], "bboxes", "box")
-        inverted = (b[:, 2] < b[:, 0]) | (b[:, 3] < b[:, 1])
-        if inverted.any():
-            i = int(np.flatnonzero(inverted)[0])
-            raise ValueError(f"bboxes: box {i} {tuple(b[i, :4].tolist())} has its maximum before its "
-                             "minimum (pascal_voc boxes are x_min, y_min, x_max, y_max)")
-        moved = b.copy()
+        given = self._boxes_to_pixels(b, w, h)
+        moved = given.copy()
         if deformer is not None and len(b):
-            outlines = [box_outline(box) for box in b]
+            outlines = [box_outline(box) for box in given]
             points = deformer.transform_points(pose, np.concatenate(outlines))
             start = 0
             for i, outline in enumerate(outlines):
@@ -502,16 +717,22 @@ class MulticageWarp:
         moved[:, 1:4:2] = np.clip(moved[:, 1:4:2], 0, h)
         visible = (moved[:, 2] > moved[:, 0]) & (moved[:, 3] > moved[:, 1])
         keep = visible if self.remove_invisible else np.ones(len(b), bool)
-        if extras is None:
-            return self._join(bboxes, moved, None, keep), visible
-        return self._join(bboxes, moved[:, :4], extras, keep), visible
+        result = b.copy()
+        result[:, :4] = self._boxes_from_pixels(moved, w, h)
+        # A box the warp leaves where it was comes back as given, not through two conversions'
+        # rounding (x + width - x is not always width in floating point).
+        same = (moved == given).all(axis=1)
+        result[same, :4] = b[same, :4]
+        return self._join(bboxes, result if extras is None else result[:, :4], extras, keep), visible
 
 
 class TorchMulticageWarp:
     """MulticageWarp for torchvision pipelines: inside a torchvision.transforms.Compose, on a
     CHW tensor (uint8 or float, 1, 3 or 4 channels) or a dict of tensors ('image', 'mask' HxW,
-    'keypoints' Nx2+, 'boxes' Nx4+; a str 'name' names the image for the cage cache; other keys
-    pass through), giving the same type back.
+    'keypoints' Nx2+, 'boxes' Nx4+; a str 'name' names the image for the cage cache; the
+    wrapped warp's label_fields and keypoint_label_fields, tensors or lists, are filtered with
+    the boxes and keypoints; other keys pass through), giving the same type back. Boxes and
+    keypoints are in the warp's bbox_format and keypoint_format.
 
     Its seed comes from torch's generator (torch.randint), so the usual pattern of seeding
     torch per sample (torch.manual_seed(f(index)) in Dataset.__getitem__) makes every random
@@ -539,6 +760,10 @@ class TorchMulticageWarp:
                 kwargs["bboxes"] = sample["boxes"].numpy()
             if isinstance(sample.get("name"), str):
                 kwargs["name"] = sample["name"]  # the cage cache's key (else the image's content)
+            labels = [f for f in self.warp.label_fields + self.warp.keypoint_label_fields if f in sample]
+            for field in labels:
+                value = sample[field]
+                kwargs[field] = value.numpy() if isinstance(value, torch.Tensor) else value
             out = self.warp(seed=seed, **kwargs)
             result = dict(sample)
             result["image"] = self._to_tensor(out["image"], image)
@@ -549,6 +774,11 @@ class TorchMulticageWarp:
                 result["keypoints_visible"] = torch.from_numpy(out["keypoints_visible"])
             if "boxes" in sample:
                 result["boxes"] = torch.from_numpy(np.ascontiguousarray(out["bboxes"]))
+            for field in labels:
+                value = out[field]
+                if isinstance(value, np.ndarray):
+                    value = torch.from_numpy(np.ascontiguousarray(value))
+                result[field] = value
             return result
         return self._to_tensor(self.warp(image=self._to_numpy(sample), seed=seed)["image"], sample)
 
@@ -557,8 +787,6 @@ class TorchMulticageWarp:
         if tensor.ndim != 3:
             raise ValueError(f"TorchMulticageWarp: expected a CHW tensor, got shape {tuple(tensor.shape)}")
         a = tensor.detach().cpu().numpy()
-        if a.dtype == np.float64:
-            a = a.astype(np.float32)
         return np.ascontiguousarray(a.transpose(1, 2, 0) if a.shape[0] > 1 else a[0])
 
     @staticmethod

@@ -99,7 +99,10 @@ public:
     static Ptr<Deformer> create(InputArray image, const Binding& binding,
                                 const DeformParams& params = DeformParams());
 
-    /** The image deformed to pose. */
+    /** The image deformed to pose. The pose is not validated: one whose polygons cross, leave
+    the frame or change nesting (validatePose() says which) is deformed as asked, and the image
+    folds over itself where the mesh inverts (foldedTriangles() counts it); the multicage tools
+    refuse such poses unless told --allow-invalid. */
     virtual void deform(InputArray pose, OutputArray dst) = 0;
     /** Inverse maps for cv::remap: for each output pixel, the source position (CV_32F,
     image size); pixels no triangle covers get -1e4. Remap masks with INTER_NEAREST. */
