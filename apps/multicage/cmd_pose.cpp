@@ -98,20 +98,20 @@ void runPose(const PoseOptions& o,
              const std::vector<std::pair<std::string, std::vector<std::string>>>& ops) {
     using namespace cv::multicage;
     Multicage cage = loadCage(o.cage, cv::Size());
-    if (o.name.empty()) throw Failure("--name: a pose needs a name");
+    if (o.name.empty()) throw UsageError("--name: a pose needs a name");
     const std::string problem = poseNameProblem(o.name);
-    if (!problem.empty()) throw Failure("--name: " + problem + " (a cage file could not keep it)");
+    if (!problem.empty()) throw UsageError("--name: " + problem + " (a cage file could not keep it)");
     std::vector<cv::Point2f> pose = cage.vertices();
     pose.resize(cage.vertexCount());
     double time = o.time;
     if (!o.from.empty()) {
         const int from = cage.findPose(o.from);
-        if (from < 0) throw Failure("--from: " + o.cage + " has no pose named '" + o.from + "'");
+        if (from < 0) throw UsageError("--from: " + o.cage + " has no pose named '" + o.from + "'");
         pose = cage.pose(from).vertices;
     }
     const int existing = cage.findPose(o.name);
     if (existing >= 0 && !o.replace)
-        throw Failure("--name: " + o.cage + " already has a pose named '" + o.name +
+        throw UsageError("--name: " + o.cage + " already has a pose named '" + o.name +
                       "' (add --replace to overwrite it, or choose another name)");
     if (std::isnan(time)) {  // a new keyframe after the others; a replaced pose keeps its time
         time = existing >= 0 ? cage.pose(existing).time : 0.0;
@@ -211,7 +211,8 @@ void addPoseCommand(CLI::App& app) {
     cmd->add_option("--from", o->from, "Start from this pose instead of the rest polygons");
     cmd->add_option("--time", o->time,
                     "Keyframe time in seconds (default: a replaced pose keeps its own; a new one "
-                    "comes a second after the last whole second of the others)");
+                    "comes a second after the last whole second of the others)")
+        ->check(CLI::Range(-1e9, 1e9));
     cmd->add_flag("--replace", o->replace, "Overwrite a pose of the same name");
     addAllowInvalidFlag(cmd, o->allowInvalid);
     auto op = [&](const char* flag, Values& values, int count, const char* names,

@@ -4,7 +4,10 @@
 #include <opencv2/imgproc.hpp>
 #include <opencv2/multicage/resize.hpp>
 
+#include <sys/wait.h>
+
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 
@@ -345,14 +348,16 @@ bool hasPoint(const std::vector<Point2f>& list, Point2f p, float tol = 1.f) {
     return false;
 }
 
-std::string runEditorScript(const std::string& dir, const std::string& script) {
+// The editor's log; expects its exit status to be `expectedStatus` (a failed script line: 1).
+std::string runEditorScript(const std::string& dir, const std::string& script,
+                            const std::string& options = "", int expectedStatus = 0) {
     std::ofstream(dir + "/script.txt") << script;
     const std::string cmd = "MESA_SHADER_CACHE_DIR='" MULTICAGE_SHADER_CACHE "' '" MULTICAGE_XVFB_RUN
-                            "' -a -s '-screen 0 1280x800x24' '" MULTICAGE_EDITOR "' --script '" + dir +
+                            "' -a -s '-screen 0 1280x800x24' '" MULTICAGE_EDITOR "' " + options + " --script '" + dir +
                             "/script.txt' > '" + dir + "/log.txt' 2>&1";
     const int rc = std::system(cmd.c_str());
     const std::string log = readText(dir + "/log.txt");
-    EXPECT_EQ(rc, 0) << log;
+    EXPECT_EQ(WIFEXITED(rc) ? WEXITSTATUS(rc) : -1, expectedStatus) << log;
     return log;
 }
 }  // namespace
@@ -688,4 +693,27 @@ TEST(EditorWindow, TheViewRefitsAfterAResizeAndAWindowResize) {
         EXPECT_LE(pan.y + h, canvas[0].y + 0.5f) << name << "\n" << status;
         if (std::string(name) == "small_window") EXPECT_LT(canvas[0].x, 800.f) << status;
     }
+}
+
+// Issue 40 item 3: Save refuses a cage whose pose crosses (a file opened with one, as `multicage
+// deform` refuses it), naming the pose and the polygons; --allow-invalid saves it.
+TEST(EditorWindow, SaveRefusesACrossingPoseUnlessAllowed) {
+    ASSERT_FALSE(std::string(MULTICAGE_XVFB_RUN).empty())
+        << "xvfb-run not found: install xvfb (.ci/deps.sh)";
+    const std::string dir = multicage_testing::tempDir("editor_crossing");
+    ASSERT_TRUE(imwrite(dir + "/in.png", texturedImage(Size(493, 356))));
+    Multicage cage = twoOctagons();
+    std::vector<Point2f> pose = cage.vertices();
+    pose.resize(cage.vertexCount());
+    for (int i = 8; i < 16; ++i) pose[i].x -= 150;  // the right octagon onto the left one
+    cage.addPose("crossing", pose);
+    cage.save(dir + "/cage.yml");
+    const std::string script = "load " + dir + "/in.png " + dir + "/cage.yml\nsave " + dir + "/out.yml\nquit\n";
+    const std::string log = runEditorScript(dir, script, "", 1);
+    EXPECT_NE(log.find("not saved: pose 'crossing' is invalid: posed: polygon"), std::string::npos) << log;
+    EXPECT_NE(log.find("--allow-invalid"), std::string::npos) << log;
+    EXPECT_FALSE(std::filesystem::exists(dir + "/out.yml"));
+    runEditorScript(dir, script, "--allow-invalid");
+    ASSERT_TRUE(std::filesystem::exists(dir + "/out.yml"));
+    EXPECT_EQ(Multicage::load(dir + "/out.yml").pose(0).vertices, pose);
 }

@@ -1,9 +1,10 @@
-// libFuzzer target: the cage file reader. Bytes are a YAML or JSON document, read twice:
-// through Multicage::load (a file, the library's entry point: a cage or a cv::Exception, never
-// a crash, a hang or another exception), and from memory through cv::FileStorage and
-// Multicage::read, then validate and orient. What read() accepts, write() writes back so that
-// read() gives the same multicage again, in YAML and in JSON: image size, coordinate type,
-// polygons, and every pose's name, time and vertices.
+// libFuzzer target: the cage file reader. Bytes are a YAML or JSON document, read through
+// Multicage::load (a file, the library's entry point: a cage or a cv::Exception, never a crash,
+// a hang or another exception); JSON and cv::FileStorage's own YAML ("%YAML:" first) also from
+// memory through cv::FileStorage and Multicage::read, the parser load() uses for them. Then
+// validate and orient. What is read, write() writes back so that read() gives the same
+// multicage again, and save() too so that load() does, in YAML and in JSON: image size,
+// coordinate type, polygons, and every pose's name, time and vertices.
 #include <opencv2/core/utility.hpp>
 #include <opencv2/core/utils/logger.hpp>
 #include <opencv2/multicage.hpp>
@@ -56,8 +57,11 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     if (!f) return 0;
     std::fwrite(data, 1, size, f);
     std::fclose(f);
+    Multicage cage;
+    bool loaded = false;
     try {
-        Multicage::load(path);  // anything but a cv::Exception escapes and is a finding
+        cage = Multicage::load(path);  // anything but a cv::Exception escapes and is a finding
+        loaded = true;
     } catch (const cv::Exception& e) {
         // What load() refuses as text never reaches OpenCV's parser directly below: that
         // parser hangs on some layouts load() screens out (docs/robustness.md).
@@ -65,13 +69,17 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
             e.err.find("the file is empty") != std::string::npos)
             return 0;
     }
-    Multicage cage;
-    try {
-        FileStorage fs(text, FileStorage::READ | FileStorage::MEMORY |
-                                 (json ? FileStorage::FORMAT_JSON : FileStorage::FORMAT_YAML));
-        cage.read(fs.root());
-    } catch (const cv::Exception&) {
-        return 0;  // malformed: refused with a message
+    // Other YAML is read by yaml-cpp in load(): OpenCV's YAML parser never sees it.
+    const bool fileStorageText = json || text.rfind("%YAML:", 0) == 0;
+    if (!loaded && !fileStorageText) return 0;
+    if (!loaded) {
+        try {
+            FileStorage fs(text, FileStorage::READ | FileStorage::MEMORY |
+                                     (json ? FileStorage::FORMAT_JSON : FileStorage::FORMAT_YAML));
+            cage.read(fs.root());
+        } catch (const cv::Exception&) {
+            return 0;  // malformed: refused with a message
+        }
     }
     std::string why;
     const bool geometry = cage.validateGeometry(&why);
@@ -112,6 +120,35 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
                 std::fprintf(stderr, "%s\n", written.c_str());
                 finding("round trip changed a pose");
             }
+    }
+
+    // Round trip through the files save() writes (standard YAML 1.2 and JSON), read by load().
+    if (geometry) {
+        for (const char* ext : {".yml", ".json"}) {
+            const std::string saved = stem + ".saved" + ext;
+            try {
+                cage.save(saved);
+            } catch (const cv::Exception& e) {
+                if (std::string(ext) == ".json" && e.err.find("JSON cannot hold") != std::string::npos)
+                    continue;  // NaN or infinity: said, and nothing written
+                std::fprintf(stderr, "%s\n", e.what());
+                finding("save() refused a multicage read() accepted");
+            }
+            Multicage again;
+            try {
+                again = Multicage::load(saved);
+            } catch (const cv::Exception& e) {
+                std::fprintf(stderr, "%s\n", e.what());
+                finding("save() wrote a file load() refuses");
+            }
+            bool same = again.imageSize() == cage.imageSize() && again.polygonCount() == cage.polygonCount() &&
+                        again.poseCount() == cage.poseCount() && again.coordinates() == cage.coordinates();
+            for (int p = 0; same && p < cage.polygonCount(); ++p) same = samePoints(again.polygon(p), cage.polygon(p));
+            for (int i = 0; same && i < cage.poseCount(); ++i)
+                same = samePoints(again.pose(i).vertices, cage.pose(i).vertices) &&
+                       again.pose(i).name == cage.pose(i).name && sameFloat(again.pose(i).time, cage.pose(i).time);
+            if (!same) finding("save() and load() changed the multicage");
+        }
     }
 
     if (geometry) {

@@ -6,6 +6,7 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <cctype>
 #include <charconv>
 #include <cmath>
 #include <cstdlib>
@@ -74,6 +75,13 @@ void appendJsonString(std::string& out, const std::string& text) {
 // YAML numbers and not JSON ones); false for anything else.
 bool appendIfNumber(std::string& out, const std::string& text) {
     if (text.empty() || text.find_first_of(" \t\n") != std::string::npos) return false;
+    // YAML's not-a-number and infinities, in the spelling cv::FileStorage's JSON reader takes.
+    std::string lower = text;
+    for (char& c : lower) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    if (lower == ".nan" || lower == ".inf" || lower == "+.inf" || lower == "-.inf") {
+        out += lower == ".nan" ? ".nan" : lower == "-.inf" ? "-.inf" : ".inf";
+        return true;
+    }
     const char* begin = text.c_str();
     char* end = nullptr;
     const bool hex = text.find("0x") == 0 || text.find("0X") == 0;
