@@ -71,10 +71,10 @@ cv::multicage::Multicage loadCage(const std::string& path, cv::Size imageSize) {
     return cage;
 }
 
-void addAllowInvalidFlag(CLI::App* cmd, bool& allow) {
+void addAllowInvalidFlag(CLI::App* cmd, bool& allow, const std::string& verb) {
     cmd->add_flag("--allow-invalid", allow,
-                  "Deform poses whose polygons cross, leave the frame or change nesting (refused "
-                  "otherwise): the image folds over itself there; a warning says where");
+                  verb + " poses whose polygons cross, leave the frame or change nesting (refused "
+                  "otherwise; the image folds over itself there), with a warning saying where");
 }
 
 void checkPose(const std::string& command, const std::string& cagePath,

@@ -43,8 +43,9 @@ void writeImage(const std::string& command, const std::string& path, const cv::M
 another size; an empty imageSize keeps the file's. */
 cv::multicage::Multicage loadCage(const std::string& path, cv::Size imageSize);
 
-/** Adds --allow-invalid to cmd (deform, animate), stored in allow. */
-void addAllowInvalidFlag(CLI::App* cmd, bool& allow);
+/** Adds --allow-invalid to cmd (deform, animate: what it does with such a pose is `verb`,
+"Deform"; pose: "Write"), stored in allow. */
+void addAllowInvalidFlag(CLI::App* cmd, bool& allow, const std::string& verb = "Deform");
 /** Throws a Failure naming the pose and what validatePose() finds (polygons that cross, leave
 the frame or change nesting) unless the pose keeps the multicage valid; with allowInvalid the
 reason is a warning on stderr instead, and the pose is deformed as asked. */

@@ -167,7 +167,8 @@ void runPose(const PoseOptions& o,
         cage.addPose(made.name, made.vertices, made.time);
     const int at = existing >= 0 ? existing : cage.poseCount() - 1;
     checkPose("pose", o.cage, cage, at, o.allowInvalid);
-    cage.save(o.output);
+    const std::string output = o.output.empty() ? o.cage : o.output;
+    cage.save(output);
     int moved = 0;
     double most = 0;
     for (size_t i = 0; i < pose.size(); ++i) {
@@ -175,7 +176,7 @@ void runPose(const PoseOptions& o,
         moved += d > 0;
         most = std::max(most, d);
     }
-    std::cout << "wrote " << o.output << " (pose '" << o.name << "' at " << time << " s, "
+    std::cout << "wrote " << output << " (pose '" << o.name << "' at " << time << " s, "
               << (existing >= 0 ? "replaced" : "added") << "; "
               << plural(long(ops.size()), "operation") << " moved " << moved << " of "
               << plural(long(pose.size()), "vertex", "vertices") << ", up to "
@@ -188,8 +189,8 @@ void addPoseCommand(CLI::App& app) {
     auto o = std::make_shared<PoseOptions>();
     CLI::App* cmd = app.add_subcommand(
         "pose",
-        "Make a pose of CAGE.yml from moves of its polygons and vertices, check it, and write the "
-        "cage file with it to OUT (a pose for `multicage deform --pose NAME` or a keyframe for "
+        "Make a pose of CAGE.yml from moves of its polygons and vertices, check it, and write it "
+        "into the cage file (CAGE itself, or -o OUT) (a pose for `multicage deform --pose NAME` or a keyframe for "
         "`multicage animate`, without the editor).\n"
         "Operations run in the order given, starting from the rest polygons (or --from POSE). "
         "TARGET is P (polygon P, counted from 0 in the file's order), P+ (polygon P and every "
@@ -201,12 +202,11 @@ void addPoseCommand(CLI::App& app) {
         "Examples:\n"
         "  multicage pose cage.yml --name wide --stretch 0 1.3 1 -o posed.yml\n"
         "  multicage pose cage.yml --name nod --rotate 1+ -10 --translate 1+ 0 8 -o posed.yml\n"
-        "  multicage pose cage.yml --name tip --move-vertex 0:3 250 40 --time 0.5 -o cage.yml");
-    cmd->add_option("cage", o->cage, "Cage file (.yml, .yaml or .json)")->required();
+        "  multicage pose cage.yml --name tip --move-vertex 0:3 250 40 --time 0.5   (into cage.yml)");
+    cmd->add_option("CAGE", o->cage, "Cage file (.yml, .yaml or .json)")->required();
     cmd->add_option("-o,--output", o->output,
-                    "Cage file to write (may be CAGE itself; comments in it are not kept); written "
-                    "only when the pose is valid")
-        ->required();
+                    "Cage file to write, only when the pose is valid (default: CAGE itself, "
+                    "rewritten atomically; comments in it are not kept)");
     cmd->add_option("--name", o->name, "Name of the pose")->required();
     cmd->add_option("--from", o->from, "Start from this pose instead of the rest polygons");
     cmd->add_option("--time", o->time,
@@ -214,7 +214,7 @@ void addPoseCommand(CLI::App& app) {
                     "comes a second after the last whole second of the others)")
         ->check(CLI::Range(-1e9, 1e9));
     cmd->add_flag("--replace", o->replace, "Overwrite a pose of the same name");
-    addAllowInvalidFlag(cmd, o->allowInvalid);
+    addAllowInvalidFlag(cmd, o->allowInvalid, "Write");
     auto op = [&](const char* flag, Values& values, int count, const char* names,
                   const char* help) {
         cmd->add_option(flag, values, help)

@@ -34,7 +34,7 @@ std::string sample(const std::string& name) { return multicage_testing::samplePa
 
 TEST(Cli, HelpOnEveryCommandExitsZero) {
     const std::string dir = multicage_testing::tempDir("cli_help");
-    for (const char* cmd : {"--help", "demo --help", "deform --help", "propose --help", "animate --help", "bench --help"}) {
+    for (const char* cmd : {"--help", "demo --help", "deform --help", "propose --help", "resize --help", "pose --help", "animate --help", "bench --help"}) {
         const Result r = run(cmd, dir);
         EXPECT_EQ(r.code, 0) << cmd << ": " << r.err;
         EXPECT_NE(r.out.find("Usage"), std::string::npos) << cmd;

@@ -110,8 +110,9 @@ def test_pose_command_moves_targets_in_order_and_refuses_crossings(cli, tmp_path
     np.testing.assert_allclose(turned[2], [360, 260])
     np.testing.assert_array_equal(turned[[0, 1, 3]], cage.polygon(0)[[0, 1, 3]])
     assert posed.pose("turn").time == 0  # the first keyframe at 0 s, the next one second later
-    # --about and --scale of a nested target: both polygons scale about the given point
-    cli("pose", out, "--name", "small", "--about", "200", "150", "--scale", "0+", "0.5", "-o", out)
+    # --about and --scale of a nested target: both polygons scale about the given point; no -o:
+    # into the file itself
+    cli("pose", out, "--name", "small", "--about", "200", "150", "--scale", "0+", "0.5")
     assert mc.Multicage.load(str(out)).pose("small").time == 1
     small = mc.Multicage.load(str(out)).pose("small").vertices
     np.testing.assert_allclose(small, 200 + (cage.vertices()[:8] - [200, 150]) * 0.5 + [0, -50], atol=1e-3)
