@@ -20,7 +20,8 @@ set(CPACK_DEBIAN_PACKAGE_SECTION graphics)
 # itself is found in this build, not in an installed package.
 set(CPACK_DEBIAN_PACKAGE_SHLIBDEPS ON)
 set(CPACK_DEBIAN_PACKAGE_SHLIBDEPS_PRIVATE_DIRS ${CMAKE_BINARY_DIR}/lib)
-set(CPACK_DEBIAN_PACKAGE_GENERATE_SHLIBS ON)
+# ... so the packages that link it depend on it by name: CPACK_COMPONENT_<C>_DEPENDS below.
+set(CPACK_DEBIAN_ENABLE_COMPONENT_DEPENDS ON)
 
 set(CPACK_DEBIAN_LIBRARY_PACKAGE_NAME libmulticage-dev)
 # The public headers include OpenCV's; GPU work needs Mesa's EGL (a GPU's own driver, or
