@@ -15,6 +15,7 @@
 #include "actions.hpp"
 #include "canvas.hpp"
 #include "resize_mode.hpp"
+#include "stats.hpp"
 #include "script_runner.hpp"
 #include "view.hpp"
 
@@ -115,11 +116,7 @@ void queueInput(Script& sc, const ScriptCommand& c) {
     frame(a, false);  // one quiet frame, so the release is handled before the next command
 }
 
-double median(std::vector<double> v) {
-    if (v.empty()) return 0;
-    std::sort(v.begin(), v.end());
-    return v[v.size() / 2];
-}
+using multicage_apps::median;
 
 /** One bench-drag frame: drag one pose vertex along a circle, one position per frame. */
 void benchStep(Script& sc, Editor& e) {

@@ -399,11 +399,4 @@ double msSince(std::chrono::steady_clock::time_point start) {
         .count();
 }
 
-double median(std::vector<double> samples) {
-    if (samples.empty()) return 0.0;
-    std::sort(samples.begin(), samples.end());
-    const size_t n = samples.size();
-    return n % 2 ? samples[n / 2] : 0.5 * (samples[n / 2 - 1] + samples[n / 2]);
-}
-
 }  // namespace multicage_cli

@@ -8,6 +8,8 @@
 #include <string>
 #include <vector>
 
+#include "stats.hpp"
+
 namespace multicage_cli {
 
 /** A user error: main() prints "multicage CMD: MESSAGE" on one line and exits 1. */
@@ -160,8 +162,7 @@ std::string subjectCueNote(const cv::multicage::ProposeParams& params);
 std::string plural(long long n, const std::string& one, const std::string& many = "");
 /** Milliseconds since `start` (std::chrono::steady_clock). */
 double msSince(std::chrono::steady_clock::time_point start);
-/** Median of samples (copied and sorted). */
-double median(std::vector<double> samples);
+using multicage_apps::median;  // stats.hpp
 
 void addDemoCommand(CLI::App& app);
 void addDeformCommand(CLI::App& app);

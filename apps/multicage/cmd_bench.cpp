@@ -143,11 +143,9 @@ PipelineFigures pipelineFigures(const BenchOptions& o, const cv::Mat& image,
     return f;
 }
 
-// Keeps the GPU busy with poses for at least `seconds` before anything is timed. An idle
-// NVIDIA GPU clocks its SMs down (an H200 at 345 MHz against 1980 MHz under load, 2026-11-28)
-// and takes a few hundred milliseconds of work to clock up again: the first 4096x3072 run after
-// idle measured 4.3-7.6 ms of GPU time per pose on two machines, every stage slower at once,
-// and 2.36 ms once the clock was up (the same binary). On llvmpipe this costs one pose.
+// Keeps the GPU busy with poses for at least `seconds` before anything is timed: an idle GPU
+// clocks down and takes a few hundred milliseconds of work to clock up again, which the first
+// timed poses would pay (docs/gpu/README.md has the H200 figures). On llvmpipe this costs one pose.
 void warmUpGpu(const cv::Mat& image, const cv::multicage::Multicage& cage,
                const std::vector<cv::Point2f>& pose, const cv::multicage::GLDeformerParams& params,
                double seconds) {

@@ -176,6 +176,8 @@ def test_torch_wrapper_filters_label_fields(butterfly, cage):
     assert out["image"].dtype == torch.float64 and out["image"].shape == sample["image"].shape
     assert out["labels"].tolist() == [1, 3] and out["boxes"].shape == (2, 4)
     assert out["boxes"].dtype == torch.float32 and float(out["boxes"].max()) <= 1.0
+    # issue 41: the wrapper keeps which boxes were visible, one flag per box given
+    assert out["boxes_visible"].tolist() == [True, False, True]
 
 
 # --- keypoint angle and scale ------------------------------------------------------------------

@@ -1,7 +1,7 @@
 // The headless GPU Deformer: a GLDeformer in the process's shared context, read back.
 #include "gpu_deformer.hpp"
 
-#include "cpu_deformer.hpp"
+#include "batch.hpp"
 
 #include <opencv2/multicage/internal/point_input.hpp>
 

@@ -5,9 +5,8 @@
 // kernel, mesh_pull.hpp, walking to the lattice's points instead of pixels) and interpolated
 // bilinearly in between: exact wherever a lattice cell lies inside one triangle, off by the
 // bend of the map across the triangles' edges elsewhere. That is the same kind of error a grid
-// step makes, on the other side of the map: with random poses of 12 px on 512x512, mapStep 4 at
-// grid step 4 is at most 0.91 px and on average 0.0036 px from the exact maps, where grid step 4
-// itself is 0.82 px and 0.0031 px from grid step 1 (README, "Maps on a lattice").
+// step makes, on the other side of the map, and of about its size (docs/performance.md, "Maps on
+// a lattice", has the figures).
 #ifndef MULTICAGE_MESH_LATTICE_HPP
 #define MULTICAGE_MESH_LATTICE_HPP
 

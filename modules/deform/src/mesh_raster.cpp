@@ -27,25 +27,6 @@
 namespace cv {
 namespace multicage {
 
-Mat hugePageMat(Size size, int type, std::vector<Mat>& owners) {
-    const size_t bytes = size_t(size.area()) * CV_ELEM_SIZE(type);
-#if defined(__linux__) && defined(MADV_HUGEPAGE)
-    constexpr size_t kHuge = size_t(2) << 20;
-    if (bytes >= kHuge) {
-        const size_t span = (bytes + kHuge - 1) & ~(kHuge - 1);
-        Mat block(1, static_cast<int>(std::min<size_t>(span + kHuge, INT_MAX)), CV_8U);
-        if (block.total() == span + kHuge) {
-            uchar* aligned = alignPtr(block.data, static_cast<int>(kHuge));
-            madvise(aligned, span, MADV_HUGEPAGE);
-            owners.push_back(block);
-            return Mat(size, type, aligned);
-        }
-    }
-#endif
-    (void)owners;
-    return Mat(size, type);
-}
-
 template <typename RestNode>
 void RasterMesh::resetWith(Size grid, Size outputSize, bool separable, RestNode&& rest) {
     CV_Assert(grid.width >= 2 && grid.height >= 2 && outputSize.area() > 0);

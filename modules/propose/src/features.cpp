@@ -6,6 +6,7 @@
 
 #include "eyes.hpp"
 #include "faces.hpp"
+#include "masks.hpp"
 #include "polygons.hpp"
 #include "segment.hpp"
 #include "texture.hpp"

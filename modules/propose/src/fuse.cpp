@@ -23,7 +23,8 @@
 #include <opencv2/core/utility.hpp>
 #include <opencv2/imgproc.hpp>
 
-#include "segment.hpp"
+#include "grabcut.hpp"
+#include "masks.hpp"
 #include "subject.hpp"
 #include "work.hpp"
 
@@ -71,7 +72,8 @@ double frameShare(const Mat& mask) {
 
 }  // namespace
 
-Mat fusedSubject(const Mat& img, const Mat& map, const Mat& person, const ProposeParams& params) {
+Mat fusedSubject(const Mat& img, const Mat& map, const Mat& person, const ProposeParams& params,
+                 const std::function<Mat(const Mat& small, bool* reopened)>& frameInward) {
     CV_Assert(map.type() == CV_32FC1 && !map.empty());
     Mat color;
     if (img.channels() == 1)
@@ -105,7 +107,7 @@ Mat fusedSubject(const Mat& img, const Mat& map, const Mat& person, const Propos
                 if (i == 0)
                     seededGrabCut(small, labels, params.grabCutIterations, kSettleWithin);
                 else
-                    inward = frameInwardLabels(small, params, {}, &reopened);
+                    inward = frameInward(small, &reopened);
         });
         // GrabCut from the map may follow colours the background shares with the subject (a
         // kangaroo's fur and the sunlit path): where it no longer agrees with the map, the map

@@ -225,6 +225,31 @@ void GrabCut::iterate(Mat& labels) {
         }
 }
 
+void seededGrabCut(const Mat& img, Mat& labels, int iterations, int settleWithin) {
+    // GrabCut seeds its colour models with k-means++ from cv::theRNG(): a fixed seed makes
+    // the proposal a function of the image (not of what ran before on this thread), and the
+    // caller's generator is put back as it was.
+    struct SeededRng {
+        RNG saved = theRNG();
+        SeededRng() { theRNG() = RNG(0x6d756c7469636167ULL); }
+        ~SeededRng() { theRNG() = saved; }
+    } seeded;
+    GrabCut grabCut(img, labels);
+    // When settling, the `iterations`-th iteration and those after it are each compared with
+    // the labels before them.
+    constexpr double kSettled = 0.01;  // of the pixels changing side in an iteration
+    const bool settle = settleWithin > iterations;
+    Mat before;
+    for (int done = 1; done <= std::max(iterations, settleWithin); ++done) {
+        const bool check = settle && done >= iterations;
+        if (check) labels.copyTo(before);
+        grabCut.iterate(labels);
+        // GC_FGD (1) and GC_PR_FGD (3) have bit 0 set, GC_BGD (0) and GC_PR_BGD (2) do not.
+        if (check && countNonZero((before ^ labels) & Scalar(1)) <= kSettled * labels.total())
+            break;
+    }
+}
+
 }  // namespace propose_detail
 }  // namespace multicage
 }  // namespace cv

@@ -45,6 +45,13 @@ class GrabCut {
     std::unique_ptr<GridCut> graph_;
 };
 
+/** GrabCut (the class above: cv::grabCut's labels, in less time) from `labels`, its k-means
+seeded with a fixed number so that the result is a function of the image alone; `labels` is
+updated in place. It runs `iterations` iterations, then, when `settleWithin` is more, goes on
+until one moves at most 1% of the pixels between subject and background (the `iterations`-th
+included), `settleWithin` in all at most. */
+void seededGrabCut(const Mat& img, Mat& labels, int iterations, int settleWithin = 0);
+
 }  // namespace propose_detail
 }  // namespace multicage
 }  // namespace cv

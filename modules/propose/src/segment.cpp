@@ -8,6 +8,7 @@
 
 #include "fuse.hpp"
 #include "grabcut.hpp"
+#include "masks.hpp"
 #include "subject.hpp"
 
 namespace cv {
@@ -158,46 +159,6 @@ Mat saliencyMap(const Mat& img, bool spectralResidual) {
     normalize(f, f, 0, 255, NORM_MINMAX);
     f.convertTo(out, CV_8U);
     if (out.size() != img.size()) resize(out, out, img.size(), 0, 0, INTER_LINEAR);
-    return out;
-}
-
-void seededGrabCut(const Mat& img, Mat& labels, int iterations, int settleWithin) {
-    // GrabCut seeds its colour models with k-means++ from cv::theRNG(): a fixed seed makes
-    // the proposal a function of the image (not of what ran before on this thread), and the
-    // caller's generator is put back as it was.
-    struct SeededRng {
-        RNG saved = theRNG();
-        SeededRng() { theRNG() = RNG(0x6d756c7469636167ULL); }
-        ~SeededRng() { theRNG() = saved; }
-    } seeded;
-    GrabCut grabCut(img, labels);
-    // When settling, the `iterations`-th iteration and those after it are each compared with
-    // the labels before them.
-    constexpr double kSettled = 0.01;  // of the pixels changing side in an iteration
-    const bool settle = settleWithin > iterations;
-    Mat before;
-    for (int done = 1; done <= std::max(iterations, settleWithin); ++done) {
-        const bool check = settle && done >= iterations;
-        if (check) labels.copyTo(before);
-        grabCut.iterate(labels);
-        // GC_FGD (1) and GC_PR_FGD (3) have bit 0 set, GC_BGD (0) and GC_PR_BGD (2) do not.
-        if (check && countNonZero((before ^ labels) & Scalar(1)) <= kSettled * labels.total())
-            break;
-    }
-}
-
-Mat piecesHolding(const Mat& mask, const Mat& sure) {
-    Mat ids;
-    const int n = connectedComponents(mask, ids, 8, CV_32S);
-    std::vector<char> keep(n, 0);
-    for (int y = 0; y < ids.rows; ++y)
-        for (int x = 0; x < ids.cols; ++x)
-            if (sure.at<uchar>(y, x)) keep[ids.at<int>(y, x)] = 1;
-    keep[0] = 0;
-    Mat out = mask.clone();
-    for (int y = 0; y < ids.rows; ++y)
-        for (int x = 0; x < ids.cols; ++x)
-            if (!keep[ids.at<int>(y, x)]) out.at<uchar>(y, x) = 0;
     return out;
 }
 
@@ -358,39 +319,6 @@ Mat segmentImage(const Mat& img, int method, const ProposeParams& params, double
     }
 }
 
-Mat cleanMask(const Mat& mask, int radius, double minArea) {
-    Mat out = mask.clone();
-    if (radius > 0) {
-        const Mat disk = getStructuringElement(MORPH_ELLIPSE, Size(2 * radius + 1, 2 * radius + 1));
-        morphologyEx(out, out, MORPH_OPEN, disk);
-        // Close with a zero border of the kernel's size so objects cut by the image edge are
-        // not glued to it (the default border of morphologyEx would count as object).
-        Mat padded;
-        copyMakeBorder(out, padded, radius + 1, radius + 1, radius + 1, radius + 1, BORDER_CONSTANT,
-                       0);
-        morphologyEx(padded, padded, MORPH_CLOSE, disk, Point(-1, -1), 1, BORDER_CONSTANT, 0);
-        out = padded(Rect(radius + 1, radius + 1, mask.cols, mask.rows)).clone();
-    }
-    // Drop small regions, then fill small holes (a hole is a region of the background).
-    for (int pass = 0; pass < 2; ++pass) {
-        Mat subject = pass == 0 ? out : ~out;
-        Mat labels, stats, centroids;
-        const int n = connectedComponentsWithStats(subject, labels, stats, centroids, 8, CV_32S);
-        std::vector<uchar> small(n, 0);
-        bool any = false;
-        for (int i = 1; i < n; ++i)
-            if (stats.at<int>(i, CC_STAT_AREA) < minArea) small[i] = 1, any = true;
-        if (!any) continue;
-        for (int y = 0; y < out.rows; ++y) {
-            const int* l = labels.ptr<int>(y);
-            uchar* o = out.ptr<uchar>(y);
-            for (int x = 0; x < out.cols; ++x)
-                if (small[l[x]]) o[x] = pass == 0 ? 0 : 255;
-        }
-    }
-    return out;
-}
-
 Segmentation segmentForProposal(const Mat& image, const Work& w, const ProposeParams& params,
                                 const Mat& person, const std::function<bool(bool)>& beside,
                                 const Mat& subject) {
@@ -429,7 +357,9 @@ Segmentation segmentForProposal(const Mat& image, const Work& w, const ProposePa
     if (!subject.empty() && params.method == PROPOSE_AUTO && params.rect.area() == 0) {
         if (beside && !beside(true)) return s;
         // A map with no subject, or whose subject is all specks, leaves it to the classic cues.
-        const Mat fused = fusedSubject(work, subject, person, params);
+        const Mat fused = fusedSubject(work, subject, person, params, [&](const Mat& small, bool* reopened) {
+            return frameInwardLabels(small, params, {}, reopened);
+        });
         if (!fused.empty()) s.objects = cleanMask(fused, w.radius, w.minArea);
         if (!s.objects.empty() && countNonZero(s.objects) > 0) return s;
     }

@@ -35,23 +35,11 @@ bool plainBackground(const Mat& img);
 spectral residual static saliency. */
 Mat saliencyMap(const Mat& img, bool spectralResidual);
 
-/** GrabCut (grabcut.hpp: cv::grabCut's labels, in less time) from `labels`, its k-means
-seeded with a fixed number so that the result is a function of the image alone; `labels` is
-updated in place. It runs `iterations` iterations, then, when `settleWithin` is more, goes on
-until one moves at most 1% of the pixels between subject and background (the `iterations`-th
-included), `settleWithin` in all at most. */
-void seededGrabCut(const Mat& img, Mat& labels, int iterations, int settleWithin = 0);
-
 /** GrabCut's labels of the subject of `small` (CV_8UC3 at GrabCut's working size) from the
 frame inward, checked against the salient part's (frameInwardSubject in subject.hpp, with the
 same `beside` and `reopened`). */
 Mat frameInwardLabels(const Mat& small, const ProposeParams& params,
                       const std::function<bool(bool)>& beside = {}, bool* reopened = nullptr);
-
-/** The pieces (8-connected components) of `mask` holding a non-zero pixel of `sure`: the
-person is what holds a face, so a candle on the table or a lit patch of the wall that GrabCut
-found apart from every face is not the subject. */
-Mat piecesHolding(const Mat& mask, const Mat& sure);
 
 /** Raw segmentation (before cleaning) of an 8-bit work image: CV_8UC1, 255 on objects.
 `method` is one of the image-based methods (threshold, adaptive, grabcut, saliency,
@@ -59,9 +47,6 @@ spectral); `region` (optional) restricts thresholds to the pixels inside it. */
 Mat segmentImage(const Mat& img, int method, const ProposeParams& params, double scale,
                  const Mat& region = Mat());
 
-/** Opening then closing with a disk of `radius`, then regions and holes smaller than
-minArea pixels removed. */
-Mat cleanMask(const Mat& mask, int radius, double minArea);
 
 /** What the outlines enclose. */
 struct Segmentation {

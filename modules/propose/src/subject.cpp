@@ -1,50 +1,33 @@
-// What a person drawing a cage around the subject of a photo assumes: the subject is in the
-// picture, usually in its middle, and the frame runs through the background, except where the
-// subject is too big for the picture and the frame cuts it (a close-up of a cat or a baboon).
+// The subject of a photo from the frame inward: what a person drawing a cage assumes (the
+// subject is in the picture, the frame runs through the background), except where the subject
+// is too big for the picture and the frame cuts it (a close-up of a cat or a baboon). The
+// measurements behind each threshold are in docs/propose/history.md ("The frame-inward subject").
 //
-// First pass: a strip along the frame (3% of the longer side) is sure background and
-// everything inside it probable subject; GrabCut learns the background's colours from the
-// frame and keeps what does not look like them. GrabCut from a rectangle around the spectral
-// residual saliency alone lit up an eye or a nose and left the rest of the animal outside
-// (outline IoU 0.28 and 0.38 on the benchmark's cat and baboon); it is still run first, and
-// the frame-inward subject must hold what it found (frameInwardSubject, below).
+// First pass: a strip along the frame (3% of the longer side) is sure background, the rest
+// probable subject; GrabCut keeps what does not look like the frame. It must hold what GrabCut
+// from a rectangle around the spectral residual salient part found (that alone lights up an eye
+// or a nose and leaves the rest of the animal out).
 //
-// Second pass, only where the first found the subject cut by the frame: the subject reaches
-// the strip (more than 30% of the band just inside it, per twelfth of a side) and the strip
-// there is in focus. Photographers focus on the subject and let the background blur, so a
-// piece of the strip as sharp as the picture's middle (its mean Laplacian at least half the
-// middle's) continuing a piece the subject reaches is the subject going on past the frame.
-// Such runs of the strip become probable background instead of sure background, and GrabCut
-// runs again: the subject may now take them. A sharp background the subject does not reach
-// (leaves behind a squirrel) stays sure background.
+// Second pass, only where the first found the subject cut by the frame: the subject covers more
+// than 30% of the band just inside the strip (per twelfth of a side) and the strip there is in
+// focus (its mean Laplacian at least half the middle's: photographers let the background blur).
+// Those runs of the strip become probable background and GrabCut runs again. The pass is kept
+// only when what it adds goes on inward (at least half of it deeper than three strips, and at
+// least 5% of the picture: not a table in focus along the bottom), and it is not run where
+// every piece would be reopened (no sure background would be left to learn from).
 //
-// The second pass is kept only when what it adds goes on inward: at least half of it deeper
-// than three strips from the frame, and at least 5% of the picture. A subject cut by the
-// frame continues into the picture (the baboon's fur around its face: 31% of the picture);
-// a table an apple stands on, in focus along the bottom, adds a strip along the frame (2.7%
-// of the picture, half of it near the frame), and keeping it cost the apple 0.05 and the
-// orange 0.07 of outline IoU.
-//
-// Nor does a second pass run where every piece would be reopened: with no sure background
-// left, the frame no longer says what the background is, and GrabCut's start is only the
-// probable labels of the whole picture. Of the 13 benchmark photos and opencv-doc's 91 example
-// pictures, three reopened every piece (the apple, the orange, pic4.png) and their second
-// passes were all refused; the four kept reopened 40-46 of the 48 pieces (the baboon, board.jpg,
-// right02.jpg, right11.jpg). Not running it took the orange's proposal from 260 to 187 ms (at
-// 1024 px, on a 2-core AMD EPYC).
-//
-// The salient part's GrabCut needs nothing from the frame-inward passes until the end: the two
-// run side by side (frameInwardSubject); where there is no salient part's GrabCut (its
-// rectangle is the strip's inside), the proposal's profile face searches take the second core
-// (`beside`). Each GrabCut is seeded by itself (seededGrabCut), so the result does not depend
-// on which runs first or on how many threads there are.
+// The salient part's GrabCut runs beside the frame-inward passes, or the proposal's profile
+// face searches take the second core (`beside`). Each GrabCut is seeded by itself
+// (seededGrabCut), so the result does not depend on which runs first or on the thread count.
+
 #include "subject.hpp"
 
 #include <algorithm>
 #include <opencv2/core/utility.hpp>
 #include <opencv2/imgproc.hpp>
 
-#include "segment.hpp"
+#include "grabcut.hpp"
+#include "work.hpp"
 
 namespace cv {
 namespace multicage {

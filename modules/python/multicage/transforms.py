@@ -394,7 +394,7 @@ class MulticageWarp:
         size = (image.shape[1], image.shape[0])
         return "default:%dx%d" % size, default_multicage(size)
 
-    def _binding(self, key, cage, size):
+    def _binding(self, cage, size):
         """The cage scaled to the image size and its Binding, made once per (cage, size)."""
         bkey = (_cage_digest(cage), size)
         with self._lock:
@@ -410,7 +410,7 @@ class MulticageWarp:
                     self._bindings.popitem(last=False)
         return found
 
-    def _deformer(self, key, cage, image):
+    def _deformer(self, cage, image):
         dkey = (_cage_digest(cage), image.shape, image.dtype.str)
         with self._lock:
             d = self._deformers.get(dkey)
@@ -418,7 +418,7 @@ class MulticageWarp:
                 self._deformers.move_to_end(dkey)
         if d is None:
             size = (image.shape[1], image.shape[0])
-            _, binding = self._binding(key, cage, size)
+            _, binding = self._binding(cage, size)
             d = _mc.Deformer(image, binding, backend=self.backend, border_value=self._border_tuple(),
                              map_step=self.map_step)
             with self._lock:
@@ -452,6 +452,8 @@ class MulticageWarp:
         seed = int(seed)
         if self.p >= 1.0:  # always applied: no draw (a generator costs a tenth of a warp)
             return True, seed
+        # The draw of p has a stream of its own beside the pose's (0x6d63: "mc" in ASCII), so a
+        # pose is the same whether p is 1 or not.
         rng = np.random.default_rng(np.random.SeedSequence([seed, 0x6d63]))
         return rng.random() < self.p, seed
 
@@ -473,7 +475,7 @@ class MulticageWarp:
         if applied:
             key, cage = self._cage_for(_float32(image), name)
             if cage is not None:
-                scaled, binding = self._binding(key, cage, params["image_size"])
+                scaled, binding = self._binding(cage, params["image_size"])
                 check = {"binding": binding} if self.fold_check == "exact" else {}
                 pose = _mc.random_pose(scaled, self.amplitude, seed=call_seed, **check, **self.pose_options)
                 params.update(applied=True, pose=pose, cage_key=key, cage=cage)
@@ -505,7 +507,7 @@ class MulticageWarp:
         deformer = pose = None
         if params["applied"]:
             key, cage = params["cage_key"], params["cage"]  # the cage travels with the params
-            deformer = self._deformer(key, cage, work)
+            deformer = self._deformer(cage, work)
             pose = params["pose"]
         need_maps = deformer is not None and (mask is not None or masks is not None
                                               or self.border_mode != cv2.BORDER_CONSTANT)
@@ -774,6 +776,7 @@ class TorchMulticageWarp:
                 result["keypoints_visible"] = torch.from_numpy(out["keypoints_visible"])
             if "boxes" in sample:
                 result["boxes"] = torch.from_numpy(np.ascontiguousarray(out["bboxes"]))
+                result["boxes_visible"] = torch.from_numpy(out["bboxes_visible"])
             for field in labels:
                 value = out[field]
                 if isinstance(value, np.ndarray):

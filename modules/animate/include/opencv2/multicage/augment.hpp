@@ -61,8 +61,8 @@ grid can miss a fold at a vertex; (2) the mesh of a binding (the one given, or o
 nodes along the longer side, bound once per thread and multicage) must have no reversed
 triangle (countFoldedTriangles). A rejected draw is drawn again (RandomPoseParams::attempts
 times), then the amplitude is halved (RandomPoseParams::scaleDowns times), and at last the rest
-pose is returned. On the sample cages (tests/animate/random_pose_test.cpp) 1,000 draws each
-give no invalid pose and no fold-over at grid steps 1 and 2, in about 0.2-1 ms per draw.
+pose is returned. On the sample cages 1,000 draws each give no invalid pose and no fold-over at
+grid steps 1 and 2 (tests/animate/random_pose_test.cpp).
 
 The same rng state gives the same pose: seed a cv::RNG for reproducible augmentation. Returns
 vertexCount() points (no frame corners: the frame stays fixed). Throws cv::Exception

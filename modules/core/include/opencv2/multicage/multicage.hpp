@@ -151,7 +151,8 @@ public:
     (c + 0.5) * newSize / imageSize - 0.5, so the frame maps onto the new frame. */
     Multicage scaled(Size newSize) const;
 
-    /** Writes image_size, coordinates, polygons and poses (the cage file schema, README.md). */
+    /** Writes image_size, coordinates, polygons and poses (the cage file schema, docs/cli.md)
+    into a cv::FileStorage; save() writes the same fields as standard YAML 1.2 or JSON. */
     void write(FileStorage& fs) const;
     /** Reads what write() writes. A malformed node throws a cv::Exception naming the field
     and the polygon or pose ("polygons[2]: odd number of coordinates (7)"). */

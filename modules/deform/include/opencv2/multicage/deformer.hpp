@@ -47,11 +47,9 @@ struct CV_EXPORTS DeformParams {
     64), where the pose folds the mesh nowhere, they are found exactly on a lattice of points at
     most mapStep pixels apart (the first and last on the border pixels) and interpolated
     bilinearly in between; a pose that folds is drawn at every pixel as with 1. The error is of
-    the kind a grid step makes: 12 px random poses on 512x512, mapStep 4 at grid step 4, were
-    0.0036 px from the exact maps on average (at most 0.91 px, where the deformation bends
-    sharply), where grid step 4 itself is 0.0031 px from grid step 1 (at most 0.82 px). The maps
-    then cost a fraction of the pixels' walks: for augmentation, where speed matters more than
-    the last hundredth of a pixel. The GPU backend finds every pixel whatever it says. */
+    the kind and size a grid step of mapStep makes (tests/deform/map_lattice_test.cpp bounds it),
+    and the maps cost a fraction of the pixels' walks: for augmentation, where speed matters
+    more than the last hundredth of a pixel. The GPU backend finds every pixel whatever it says. */
     int mapStep = 1;
     /** The largest mapStep: past it a lattice saves nothing more. */
     static constexpr int kMaxMapStep = 64;
