@@ -319,23 +319,30 @@ const char* const kUsage =
     "scores the photos at those sizes too, a table each (times at scale 1 only): what is tuned\n"
     "to these photos at their own size shows there.\n";
 
-int main(int argc, char** argv) {
+namespace {
+
+struct Options {
     std::string dir = MULTICAGE_SAMPLES_DIR "/propose_bench", sheet;
     int runs = 5;
     bool time = true, harmonic = false;
     std::vector<double> scales = {1.0};
+};
+
+// The command line into o (and gParams, gCoordinates); returns the exit code when the program
+// should stop (--help: 0, a bad option: 2), -1 to go on.
+int parseArgs(int argc, char** argv, Options& o) {
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
         if (a == "--runs" && i + 1 < argc)
-            runs = std::max(1, std::atoi(argv[++i]));
+            o.runs = std::max(1, std::atoi(argv[++i]));
         else if (a == "--sheet" && i + 1 < argc)
-            sheet = argv[++i];
+            o.sheet = argv[++i];
         else if (a == "--no-time")
-            time = false;
+            o.time = false;
         else if (a == "--harmonic")
-            harmonic = true;
+            o.harmonic = true;
         else if (a == "--scales" && i + 1 < argc) {
-            scales.clear();
+            o.scales.clear();
             std::stringstream list(argv[++i]);
             for (std::string item; std::getline(list, item, ',');) {
                 char* end = nullptr;
@@ -346,7 +353,7 @@ int main(int argc, char** argv) {
                               << argv[i] << "\n";
                     return 2;
                 }
-                scales.push_back(v);
+                o.scales.push_back(v);
             }
         } else if (a == "--coordinates" && i + 1 < argc) {
             if (!parseCoordinateType(argv[++i], gCoordinates)) {
@@ -368,77 +375,92 @@ int main(int argc, char** argv) {
             std::cerr << "bench_propose_scores: unknown option " << a << " (--help lists them)\n";
             return 2;
         } else
-            dir = a;
+            o.dir = a;
     }
+    return -1;
+}
+
+// The tiles four to a row, on a dark ground.
+void writeSheet(const std::string& path, const std::vector<cv::Mat>& tiles) {
+    const size_t cols = 4;
+    std::vector<cv::Mat> rows;
+    for (size_t i = 0; i < tiles.size(); i += cols) {
+        std::vector<cv::Mat> row(tiles.begin() + i, tiles.begin() + std::min(tiles.size(), i + cols));
+        while (row.size() < cols) row.push_back(cv::Mat(tiles[0].size(), CV_8UC3, cv::Scalar(32, 32, 32)));
+        cv::Mat r;
+        cv::hconcat(row, r);
+        rows.push_back(r);
+    }
+    cv::Mat sheet;
+    cv::vconcat(rows, sheet);
+    cv::imwrite(path, sheet);
+    std::printf("wrote %s\n", path.c_str());
+}
+
+// One table: every photo at `scale` scored (and timed at scale 1), then the totals; the tiles
+// of the contact sheet in *tiles.
+void scoreAtScale(const Options& o, const std::vector<Reference>& originals, double scale,
+                  std::vector<cv::Mat>* tiles) {
+    std::printf(
+        "| photo | size | outline IoU | ceiling | faces hugged | eyes hugged "
+        "| face residual (px) | inner polygons | protecting nothing | ms at 1024 px | CPU ms "
+        "| model ms |\n|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+    Totals all, tuned, added;
+    for (const Reference& original : originals) {
+        const Reference r = scaled(original, scale);
+        const Multicage cage = proposeProtectedMulticage(r.image, gParams);
+        Score s = score(r, cage, o.harmonic);
+        if (o.time && scale == 1.0) {
+            const double k = 1024.0 / std::max(r.image.cols, r.image.rows);
+            cv::Mat big;
+            cv::resize(r.image, big, cv::Size(), k, k, cv::INTER_LINEAR);
+            std::tie(s.ms, s.cpuMs) = medianMs(big, o.runs);
+            s.modelMs = modelMs(big, o.runs);
+        }
+        all.add(s);
+        (r.added ? added : tuned).add(s);
+        char residual[32] = "-";
+        if (s.faces > 0) std::snprintf(residual, sizeof residual, "%.2f", s.residual);
+        std::printf(
+            "| %s%s | %dx%d | %.3f | %.3f | %d of %d | %d of %d | %s | %d | %d | %.0f | %.0f "
+            "| %.0f |\n",
+            r.name.c_str(), r.added ? " (added)" : "", r.image.cols, r.image.rows, s.iou, s.ceiling,
+            s.hugged, s.faces, s.eyesHugged, s.eyes, residual, s.inner, s.stray, s.ms, s.cpuMs,
+            s.modelMs);
+        if (o.harmonic && s.faces > 0)
+            std::printf(
+                "|   harmonic coordinates, grid step 2: face residual %.3f px, binding %.0f ms |\n",
+                s.harmonicResidual, s.harmonicMs);
+        std::fflush(stdout);
+        tiles->push_back(tile(r, cage, s));
+    }
+    std::printf("\n");
+    all.print("all photos");
+    if (added.photos > 0) {
+        tuned.print("the photos tuned on");
+        added.print("the photos added (not tuned on)");
+    }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    Options o;
+    const int stop = parseArgs(argc, argv, o);
+    if (stop >= 0) return stop;
     std::error_code ec;
-    if (!std::filesystem::is_directory(dir, ec)) {
-        std::cerr << "bench_propose_scores: " << dir << " is not a folder of NAME.jpg, "
+    if (!std::filesystem::is_directory(o.dir, ec)) {
+        std::cerr << "bench_propose_scores: " << o.dir << " is not a folder of NAME.jpg, "
                   << "NAME_mask.png and NAME.ref.json\n";
         return 2;
     }
-    const std::vector<Reference> originals = readReferences(dir);
-    for (const double scale : scales) {
-        if (scales.size() > 1)
-            std::printf("%sscale %g\n\n", scale == scales.front() ? "" : "\n", scale);
-        std::vector<Reference> refs;
-        for (const Reference& r : originals) refs.push_back(scaled(r, scale));
-        std::printf(
-            "| photo | size | outline IoU | ceiling | faces hugged | eyes hugged "
-            "| face residual (px) | inner polygons | protecting nothing | ms at 1024 px | CPU ms "
-            "| model ms |\n|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+    const std::vector<Reference> originals = readReferences(o.dir);
+    for (const double scale : o.scales) {
+        if (o.scales.size() > 1)
+            std::printf("%sscale %g\n\n", scale == o.scales.front() ? "" : "\n", scale);
         std::vector<cv::Mat> tiles;
-        Totals all, tuned, added;
-        for (const Reference& r : refs) {
-            const Multicage cage = proposeProtectedMulticage(r.image, gParams);
-            Score s = score(r, cage, harmonic);
-            if (time && scale == 1.0) {
-                const double k = 1024.0 / std::max(r.image.cols, r.image.rows);
-                cv::Mat big;
-                cv::resize(r.image, big, cv::Size(), k, k, cv::INTER_LINEAR);
-                std::tie(s.ms, s.cpuMs) = medianMs(big, runs);
-                s.modelMs = modelMs(big, runs);
-            }
-            all.add(s);
-            (r.added ? added : tuned).add(s);
-            char residual[32] = "-";
-            if (s.faces > 0) std::snprintf(residual, sizeof residual, "%.2f", s.residual);
-            std::printf(
-                "| %s%s | %dx%d | %.3f | %.3f | %d of %d | %d of %d | %s | %d | %d | %.0f | %.0f "
-                "| %.0f |\n",
-                r.name.c_str(), r.added ? " (added)" : "", r.image.cols, r.image.rows, s.iou,
-                s.ceiling, s.hugged, s.faces, s.eyesHugged, s.eyes, residual, s.inner, s.stray,
-                s.ms, s.cpuMs, s.modelMs);
-            if (harmonic && s.faces > 0)
-                std::printf(
-                    "|   harmonic coordinates, grid step 2: face residual %.3f px, binding %.0f ms "
-                    "|\n",
-                    s.harmonicResidual, s.harmonicMs);
-            std::fflush(stdout);
-            tiles.push_back(tile(r, cage, s));
-        }
-        std::printf("\n");
-        all.print("all photos");
-        if (added.photos > 0) {
-            tuned.print("the photos tuned on");
-            added.print("the photos added (not tuned on)");
-        }
-        if (!sheet.empty() && !tiles.empty() && scale == scales.front()) {
-            const int cols = 4;
-            std::vector<cv::Mat> rows;
-            for (size_t i = 0; i < tiles.size(); i += cols) {
-                std::vector<cv::Mat> row(tiles.begin() + i,
-                                         tiles.begin() + std::min(tiles.size(), i + cols));
-                while (row.size() < cols)
-                    row.push_back(cv::Mat(tiles[0].size(), CV_8UC3, cv::Scalar(32, 32, 32)));
-                cv::Mat r;
-                cv::hconcat(row, r);
-                rows.push_back(r);
-            }
-            cv::Mat all;
-            cv::vconcat(rows, all);
-            cv::imwrite(sheet, all);
-            std::printf("wrote %s\n", sheet.c_str());
-        }
+        scoreAtScale(o, originals, scale, &tiles);
+        if (!o.sheet.empty() && !tiles.empty() && scale == o.scales.front()) writeSheet(o.sheet, tiles);
     }
     return 0;
 }

@@ -422,37 +422,32 @@ Binding emptyBinding(const Multicage& multicage, int coordinates, int gridStep) 
     return b;
 }
 
-Binding bind(const Multicage& multicage, int coordinates, int gridStep) {
-    std::string why;
-    if (!multicage.validateGeometry(&why)) CV_Error(Error::StsBadArg, "multicage: cannot bind: " + why);
-    coordinates = resolveCoordinates(multicage, coordinates);
-    if (coordinates == HARMONIC) return bindHarmonic(multicage, gridStep);
-    if (coordinates != MEAN_VALUE && coordinates != LOCAL_MEAN_VALUE)
-        CV_Error_(Error::StsOutOfRange, ("multicage: unknown coordinate type %d", coordinates));
-    const bool local = coordinates == LOCAL_MEAN_VALUE;
-    Binding b = emptyBinding(multicage, coordinates, gridStep);
-    const int c = b.coefficientCount(), m = b.gridSize.width, N = b.nodeCount();
+namespace {
 
-    // The frame is a polygon like the others (depth 0, A > 0), its corners the last 4 slots.
+// The frame is a polygon like the others (depth 0, A > 0), its corners the last 4 slots (c is
+// the coefficient count); *maxN: the most vertices of one polygon, at least 4.
+std::vector<BoundPolygon> boundPolygons(const Multicage& multicage, int c, int* maxN) {
     std::vector<BoundPolygon> polygons;
-    int maxN = 4;
     for (int p = 0; p < multicage.polygonCount(); ++p) {
         BoundPolygon bp{multicage.polygon(p), multicage.polygonOffset(p), 1.f};
         bp.sign = static_cast<float>(orientationSign(multicage, p));
-        maxN = std::max(maxN, static_cast<int>(bp.v.size()));
+        *maxN = std::max(*maxN, static_cast<int>(bp.v.size()));
         polygons.push_back(std::move(bp));
     }
     polygons.push_back(BoundPolygon{multicage.frame(), c - 4, 1.f});
+    return polygons;
+}
 
-    const VertexMoments moments(b.restVertices);
-    // Local mean value coordinates: per region, the polygons bounding it (their raw weights are
-    // the only ones summed there), their vertices, and those vertices' moments.
+// Local mean value coordinates: per region, the polygons bounding it (their raw weights are the
+// only ones summed there), their vertices, and those vertices' moments.
+struct LocalBinding {
     std::unique_ptr<LocalRegions> regions;
     std::vector<std::vector<bool>> boundingPolygons;
     std::vector<std::vector<unsigned char>> activeVertices;
     std::vector<VertexMoments> regionMoments;
-    if (local) {
-        regions.reset(new LocalRegions(multicage));
+
+    LocalBinding(const Multicage& multicage, const std::vector<BoundPolygon>& polygons, int c)
+        : regions(new LocalRegions(multicage)) {
         const int R = regions->frame() + 1;
         boundingPolygons.assign(R, std::vector<bool>(polygons.size()));
         activeVertices.assign(R, std::vector<unsigned char>(c));
@@ -467,6 +462,27 @@ Binding bind(const Multicage& multicage, int coordinates, int gridStep) {
                 }
             }
     }
+};
+
+}  // namespace
+
+Binding bind(const Multicage& multicage, int coordinates, int gridStep) {
+    std::string why;
+    if (!multicage.validateGeometry(&why)) CV_Error(Error::StsBadArg, "multicage: cannot bind: " + why);
+    coordinates = resolveCoordinates(multicage, coordinates);
+    if (coordinates == HARMONIC) return bindHarmonic(multicage, gridStep);
+    if (coordinates != MEAN_VALUE && coordinates != LOCAL_MEAN_VALUE)
+        CV_Error_(Error::StsOutOfRange, ("multicage: unknown coordinate type %d", coordinates));
+    const bool local = coordinates == LOCAL_MEAN_VALUE;
+    Binding b = emptyBinding(multicage, coordinates, gridStep);
+    const int c = b.coefficientCount(), m = b.gridSize.width, N = b.nodeCount();
+
+    int maxN = 4;
+    const std::vector<BoundPolygon> polygons = boundPolygons(multicage, c, &maxN);
+    const VertexMoments moments(b.restVertices);
+    std::unique_ptr<LocalBinding> localBinding;
+    if (local) localBinding.reset(new LocalBinding(multicage, polygons, c));
+    const LocalRegions* regions = local ? localBinding->regions.get() : nullptr;
     b.coefficients.create(c, N, CV_32F);
     adviseHugePages(b.coefficients);
     std::mutex worstLock;
@@ -523,17 +539,17 @@ Binding bind(const Multicage& multicage, int coordinates, int gridStep) {
                     int e = a + 1;
                     while (e < K && region[k0 + e] == r) ++e;
                     for (int j = 0; j < c; ++j) runOut[j] = chunkOut[j] + a;
-                    normalizeAndProject(runOut.data(), c, b.restVertices.data(), regionMoments[r], y,
+                    normalizeAndProject(runOut.data(), c, b.restVertices.data(), localBinding->regionMoments[r], y,
                                         e - a, SumsAt(sums, k0 + a), nearSingular.data() + k0 + a,
                                         kappa.data() + k0 + a, inv.data(), l0.data(), l1.data(),
-                                        l2.data(), activeVertices[r].data());
+                                        l2.data(), localBinding->activeVertices[r].data());
                     a = e;
                 }
             }
             for (int k = 0; k < m; ++k) {
                 if (nearSingular[k]) {
                     kappa[k] = bindNodeExact(polygons, Point2d(xs[k], y), exact.data(), c,
-                                             local ? boundingPolygons[region[k]] : std::vector<bool>());
+                                             local ? localBinding->boundingPolygons[region[k]] : std::vector<bool>());
                     for (int j = 0; j < c; ++j) out[j][k] = static_cast<float>(exact[j]);
                 }
                 if (kappa[k] < localWorst) localWorst = kappa[k], localAt = Point2f(xs[k], float(y));

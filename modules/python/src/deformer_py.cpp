@@ -306,8 +306,8 @@ made (backend='gpu' in a process without a GPU).)doc";
 
 using DeformerClass = py::class_<PyDeformer>;
 
-/** What a pose gives: the deformed image, the remap maps, the fold-over count. */
-void defineDeformerCalls(DeformerClass& cls) {
+/** The deformed image: of one pose, of many, and of another image on the same binding. */
+void defineDeformerImageCalls(DeformerClass& cls) {
     cls.def(
            "deform",
            [](PyDeformer& d, const py::object& pose, const py::object& image) {
@@ -362,8 +362,12 @@ void defineDeformerCalls(DeformerClass& cls) {
             },
             py::arg("image"),
             "Replaces the image this deformer deforms by another of the same shape and dtype, "
-            "keeping the binding (no rebinding).")
-        .def(
+            "keeping the binding (no rebinding).");
+}
+
+/** What a pose does to points and pixels: moved points, the remap maps, the fold-over count. */
+void defineDeformerPoseCalls(DeformerClass& cls) {
+    cls.def(
             "transform_points",
             [](PyDeformer& d, const py::object& pose, const py::object& points) {
                 const std::vector<cv::Point2f> p = d.pose(pose);
@@ -504,7 +508,8 @@ void defineDeformer(py::module_& m) {
                     py::arg("half_float") = false, py::arg("gpu_binding") = py::none(),
                     py::arg("memory_budget") = py::none(), py::arg("map_step") = 1,
                     "Same as Deformer(...).");
-    defineDeformerCalls(cls);
+    defineDeformerImageCalls(cls);
+    defineDeformerPoseCalls(cls);
     defineDeformerProperties(cls);
     cls.def(py::pickle([](PyDeformer& d) { return deformerState(d); },
                        [](const py::tuple& state) { return deformerFromState(state); }))
