@@ -130,3 +130,29 @@ def test_relative_links_of_the_readme_and_docs_resolve():
             elif fragment and dest.suffix == ".md" and fragment not in heading_anchors(dest.read_text()):
                 broken.append(f"{where}: no heading #{fragment}")
     assert not broken, "\n".join(broken)
+
+
+def cpp_blocks():
+    return [(page, number, line, code) for page in pages()
+            for number, (line, code) in enumerate(
+                [(text.count("\n", 0, m.start(1)) + 1, m.group(1))
+                 for text in [(SOURCE_DIR / page).read_text()]
+                 for m in re.finditer(r"^```cpp\n(.*?)^```", text, re.S | re.M)], 1)]
+
+
+@pytest.mark.parametrize("page, number, line, code", cpp_blocks(),
+                         ids=[f"{p}-block{n}-line{l}" for p, n, l, _ in cpp_blocks()])
+def test_cpp_block_compiles_as_written(tmp_path, page, number, line, code):
+    """Issue 40 item 2: a C++ example is complete: its #include and using lines, then statements
+    that compile as the body of main() against the public headers (g++ -fsyntax-only)."""
+    lines = code.splitlines()
+    head = 0
+    while head < len(lines) and (lines[head].startswith(("#include", "using ")) or not lines[head].strip()):
+        head += 1
+    source = "\n".join(lines[:head]) + "\nint main() {\n" + "\n".join(lines[head:]) + "\nreturn 0;\n}\n"
+    (tmp_path / "block.cpp").write_text(source)
+    includes = [f"-I{SOURCE_DIR / 'modules' / 'include'}", "-I/usr/include/opencv4"]
+    includes += [f"-I{d}" for d in sorted((SOURCE_DIR / "modules").glob("*/include"))]
+    r = subprocess.run(["g++", "-std=c++17", "-fsyntax-only", *includes, str(tmp_path / "block.cpp")],
+                       capture_output=True, text=True, timeout=300)
+    assert r.returncode == 0, f"{page}, block {number} (line {line}) does not compile as written:\n{source}\n{r.stderr[-3000:]}"
