@@ -22,7 +22,8 @@ using namespace cv;
 const char* const kPhotos[] = {"baboon", "squirrel", "messi5"};
 
 Mat photo240(int i) {
-    const std::string path = std::string(MULTICAGE_SAMPLES_DIR) + "/propose_bench/" + kPhotos[i] + ".jpg";
+    const std::string path =
+        std::string(MULTICAGE_SAMPLES_DIR) + "/propose_bench/" + kPhotos[i] + ".jpg";
     const Mat img = imread(path, IMREAD_COLOR);
     if (img.empty()) throw std::runtime_error("cannot read " + path);
     Mat small;
@@ -34,9 +35,9 @@ Mat photo240(int i) {
 Mat start(Size size, bool fromFrame) {
     Mat labels(size, CV_8U, Scalar(GC_BGD));
     const int b = cvRound(0.03 * std::max(size.width, size.height));
-    const Rect inner = fromFrame ? Rect(b, b, size.width - 2 * b, size.height - 2 * b)
-                                 : Rect(size.width / 5, size.height / 6, size.width / 2,
-                                        size.height * 2 / 3);
+    const Rect inner =
+        fromFrame ? Rect(b, b, size.width - 2 * b, size.height - 2 * b)
+                  : Rect(size.width / 5, size.height / 6, size.width / 2, size.height * 2 / 3);
     labels(inner).setTo(GC_PR_FGD);
     return labels;
 }
@@ -60,7 +61,8 @@ void BM_GrabCut(benchmark::State& state, bool ours) {
         }
         benchmark::DoNotOptimize(labels.data);
     }
-    state.SetLabel(std::string(kPhotos[state.range(0)]) + (fromFrame ? ", frame, 5 it" : ", rect, 2 it"));
+    state.SetLabel(std::string(kPhotos[state.range(0)]) +
+                   (fromFrame ? ", frame, 5 it" : ", rect, 2 it"));
     setNumThreads(-1);
 }
 

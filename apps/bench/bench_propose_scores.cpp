@@ -385,8 +385,10 @@ void writeSheet(const std::string& path, const std::vector<cv::Mat>& tiles) {
     const size_t cols = 4;
     std::vector<cv::Mat> rows;
     for (size_t i = 0; i < tiles.size(); i += cols) {
-        std::vector<cv::Mat> row(tiles.begin() + i, tiles.begin() + std::min(tiles.size(), i + cols));
-        while (row.size() < cols) row.push_back(cv::Mat(tiles[0].size(), CV_8UC3, cv::Scalar(32, 32, 32)));
+        std::vector<cv::Mat> row(tiles.begin() + i,
+                                 tiles.begin() + std::min(tiles.size(), i + cols));
+        while (row.size() < cols)
+            row.push_back(cv::Mat(tiles[0].size(), CV_8UC3, cv::Scalar(32, 32, 32)));
         cv::Mat r;
         cv::hconcat(row, r);
         rows.push_back(r);
@@ -460,7 +462,8 @@ int main(int argc, char** argv) {
             std::printf("%sscale %g\n\n", scale == o.scales.front() ? "" : "\n", scale);
         std::vector<cv::Mat> tiles;
         scoreAtScale(o, originals, scale, &tiles);
-        if (!o.sheet.empty() && !tiles.empty() && scale == o.scales.front()) writeSheet(o.sheet, tiles);
+        if (!o.sheet.empty() && !tiles.empty() && scale == o.scales.front())
+            writeSheet(o.sheet, tiles);
     }
     return 0;
 }

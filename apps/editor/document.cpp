@@ -1,9 +1,8 @@
 #include "document.hpp"
 
-#include <opencv2/imgproc.hpp>
-
 #include <algorithm>
 #include <cmath>
+#include <opencv2/imgproc.hpp>
 #include <set>
 
 namespace multicage_editor {
@@ -21,7 +20,8 @@ Document makeDocument(const Multicage& cage) {
     Document doc;
     doc.cage = cage;
     doc.pose = cage.poseCount() > 0 ? cage.pose(0).vertices : positions(doc, Mode::Rest);
-    if (static_cast<int>(doc.pose.size()) != cage.vertexCount()) doc.pose = positions(doc, Mode::Rest);
+    if (static_cast<int>(doc.pose.size()) != cage.vertexCount())
+        doc.pose = positions(doc, Mode::Rest);
     return doc;
 }
 
@@ -134,11 +134,14 @@ int addPose(Document& doc, const std::string& name) {
         doc.cage.setPose(existing, p);
         return existing;
     }
-    const double time = doc.cage.poseCount() > 0 ? doc.cage.pose(doc.cage.poseCount() - 1).time + 1.0 : 0.0;
+    const double time =
+        doc.cage.poseCount() > 0 ? doc.cage.pose(doc.cage.poseCount() - 1).time + 1.0 : 0.0;
     return doc.cage.addPose(name, doc.pose, time);
 }
 
-bool restValid(const Document& doc, std::string* why) { return doc.cage.validateGeometry(why); }
+bool restValid(const Document& doc, std::string* why) {
+    return doc.cage.validateGeometry(why);
+}
 
 bool poseValid(const Document& doc, std::string* why) {
     // A pose may leave the image frame, so check it in a frame three times as large, shifted.
@@ -202,8 +205,9 @@ int hitPolygon(const Multicage& cage, const std::vector<Point2f>& pts, Point2f p
     int best = -1, bestDepth = -1;
     for (int i = 0; i < cage.polygonCount(); ++i) {
         const int offset = cage.polygonOffset(i);
-        const std::vector<Point2f> poly(pts.begin() + offset,
-                                        pts.begin() + offset + static_cast<std::ptrdiff_t>(cage.polygon(i).size()));
+        const std::vector<Point2f> poly(
+            pts.begin() + offset,
+            pts.begin() + offset + static_cast<std::ptrdiff_t>(cage.polygon(i).size()));
         if (poly.size() < 3 || cv::pointPolygonTest(poly, p, false) < 0) continue;
         const int d = cage.depth(i);
         if (d > bestDepth) {

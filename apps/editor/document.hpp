@@ -3,9 +3,8 @@
 #ifndef MULTICAGE_EDITOR_DOCUMENT_HPP
 #define MULTICAGE_EDITOR_DOCUMENT_HPP
 
-#include <opencv2/multicage.hpp>
-
 #include <deque>
+#include <opencv2/multicage.hpp>
 #include <string>
 #include <vector>
 

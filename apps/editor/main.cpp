@@ -47,7 +47,8 @@ int parseArgs(int argc, char** argv, Options& o) {
                 "deformation live.\n"
                 "Press H in the window for the keys.\n"
                 "--allow-invalid: save poses whose polygons cross, leave the frame or change "
-                "nesting (refused otherwise, as multicage deform refuses them).\n\nScript commands (one per line, # "
+                "nesting (refused otherwise, as multicage deform refuses them).\n\nScript commands "
+                "(one per line, # "
                 "comments):\n");
             for (const ScriptVerb& v : scriptVerbs()) std::printf("  %s\n", v.usage);
             return 0;

@@ -57,8 +57,9 @@ bool resizeMouse(Editor& e, Point2f m, float radius, bool hovered) {
         // The dragged edge follows the mouse: the frame's right side is at W' - 0.5.
         // The view holds still under the mouse while dragging, and refits on release.
         setResizeSize(
-            e, cv::Size(e.frameEdges & kFrameRight ? cvRound(m.x + 0.5f) : e.resizeTo.width,
-                        e.frameEdges & kFrameBottom ? cvRound(m.y + 0.5f) : e.resizeTo.height),
+            e,
+            cv::Size(e.frameEdges & kFrameRight ? cvRound(m.x + 0.5f) : e.resizeTo.width,
+                     e.frameEdges & kFrameBottom ? cvRound(m.y + 0.5f) : e.resizeTo.height),
             false);
         if (!ImGui::IsMouseDown(ImGuiMouseButton_Left)) {
             e.drag = Drag::None;

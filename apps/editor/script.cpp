@@ -10,7 +10,8 @@ const std::vector<ScriptVerb>& scriptVerbs() {
     static const std::vector<ScriptVerb> verbs = {
         {"load", 1, 2, "load IMAGE [CAGE]      open an image (and a cage file)"},
         {"load-cage", 1, 1, "load-cage CAGE         open a cage file for the current image"},
-        {"propose", 0, 0, "propose                faces, outlines, features (propose --protect all)"},
+        {"propose", 0, 0,
+         "propose                faces, outlines, features (propose --protect all)"},
         {"mode", 1, 1, "mode rest|pose|resize  edit the rest polygons, the pose, or the size"},
         {"resize", 2, 2, "resize W H             resize mode, content-aware resize to W x H"},
         {"window", 2, 2, "window W H             resize the window to W x H pixels"},
@@ -28,18 +29,26 @@ const std::vector<ScriptVerb>& scriptVerbs() {
         {"redo", 0, 0, "redo"},
         {"add-pose", 1, 1, "add-pose NAME          store the current pose"},
         {"set-pose", 1, 1, "set-pose NAME          make a saved pose the current one"},
-        {"add-keyframe", 1, 1, "add-keyframe T         store the current pose as the keyframe at T seconds"},
+        {"add-keyframe", 1, 1,
+         "add-keyframe T         store the current pose as the keyframe at T seconds"},
         {"play", 1, 1, "play 0|1               play the keyframes (Catmull-Rom, looped) or stop"},
         {"save", 1, 1, "save CAGE              write rest polygons and poses"},
-        {"export", 1, 1, "export OUT             full-resolution deformed image (as multicage deform; resize mode: resized)"},
+        {"export", 1, 1,
+         "export OUT             full-resolution deformed image (as multicage deform; resize mode: "
+         "resized)"},
         {"screenshot", 1, 1, "screenshot OUT         the window as drawn this frame"},
-        {"status", 1, 1, "status FILE            write the status (valid, reason, folds, ...) to FILE"},
+        {"status", 1, 1,
+         "status FILE            write the status (valid, reason, folds, ...) to FILE"},
         {"wait", 1, 1, "wait N                 let N frames pass"},
-        {"click", 2, 3, "click X Y [shift|ctrl]  a mouse click on the canvas at image point (X, Y)"},
+        {"click", 2, 3,
+         "click X Y [shift|ctrl]  a mouse click on the canvas at image point (X, Y)"},
         {"double-click", 2, 2, "double-click X Y       (on an edge in rest mode: insert a vertex)"},
         {"mouse-drag", 4, 5, "mouse-drag X0 Y0 X1 Y1 [shift|ctrl]  press, move, release"},
-        {"key", 1, 2, "key NAME [shift|ctrl]  delete, backspace, enter, escape, tab, f1 or a letter"},
-        {"bench-drag", 1, 2, "bench-drag N [I]       drag vertex I (default 0) for N frames, print the median frame time"},
+        {"key", 1, 2,
+         "key NAME [shift|ctrl]  delete, backspace, enter, escape, tab, f1 or a letter"},
+        {"bench-drag", 1, 2,
+         "bench-drag N [I]       drag vertex I (default 0) for N frames, print the median frame "
+         "time"},
         {"quit", 0, 0, "quit"},
     };
     return verbs;
@@ -65,8 +74,9 @@ std::vector<ScriptCommand> parseScript(const std::string& text, const std::strin
         const int n = static_cast<int>(c.args.size());
         if (n < known->minArgs || n > known->maxArgs)
             throw std::runtime_error(where + c.verb + " takes " +
-                                     (known->minArgs == known->maxArgs ? std::to_string(known->minArgs)
-                                                                       : std::to_string(known->minArgs) + "+") +
+                                     (known->minArgs == known->maxArgs
+                                          ? std::to_string(known->minArgs)
+                                          : std::to_string(known->minArgs) + "+") +
                                      " arguments: " + known->usage);
         out.push_back(c);
     }
@@ -91,7 +101,8 @@ double numberArg(const ScriptCommand& c, size_t i) {
         used = 0;
     }
     if (used != s.size() || s.empty())
-        throw std::runtime_error("line " + std::to_string(c.line) + ": '" + s + "' is not a number");
+        throw std::runtime_error("line " + std::to_string(c.line) + ": '" + s +
+                                 "' is not a number");
     return v;
 }
 

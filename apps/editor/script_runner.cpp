@@ -15,8 +15,8 @@
 #include "actions.hpp"
 #include "canvas.hpp"
 #include "resize_mode.hpp"
-#include "stats.hpp"
 #include "script_runner.hpp"
+#include "stats.hpp"
 #include "view.hpp"
 
 namespace multicage_editor {

@@ -73,8 +73,9 @@ cv::multicage::Multicage loadCage(const std::string& path, cv::Size imageSize) {
 
 void addAllowInvalidFlag(CLI::App* cmd, bool& allow, const std::string& verb) {
     cmd->add_flag("--allow-invalid", allow,
-                  verb + " poses whose polygons cross, leave the frame or change nesting (refused "
-                  "otherwise; the image folds over itself there), with a warning saying where");
+                  verb +
+                      " poses whose polygons cross, leave the frame or change nesting (refused "
+                      "otherwise; the image folds over itself there), with a warning saying where");
 }
 
 void checkPose(const std::string& command, const std::string& cagePath,
@@ -104,7 +105,7 @@ size_t parseMemorySize(const std::string& text) {
     const size_t power = unit.empty() ? 0 : units.find(unit) + 1;
     if (value < 0 || used == 0 || unit.size() > 1 || (!unit.empty() && power == 0))
         throw UsageError("--memory-budget: '" + text +
-                      "' is not a size (e.g. 2G, 512M, or 0 for no limit)");
+                         "' is not a size (e.g. 2G, 512M, or 0 for no limit)");
     return static_cast<size_t>(value * std::pow(1024.0, double(power)));
 }
 
@@ -158,7 +159,9 @@ BindProgressLine::~BindProgressLine() {
     std::signal(SIGINT, previous_ == SIG_ERR ? SIG_DFL : previous_);
     if (shown_ && tty_) std::fputc('\n', stderr);
     // Without a terminal (logs, CI) progress is one line at the end, not a line every 10%.
-    if (shown_ && !tty_) std::fprintf(stderr, "multicage %s: bound in %.0f s\n", command_.c_str(), msSince(start_) / 1000);
+    if (shown_ && !tty_)
+        std::fprintf(stderr, "multicage %s: bound in %.0f s\n", command_.c_str(),
+                     msSince(start_) / 1000);
 }
 
 cv::multicage::BindProgress BindProgressLine::callback() {
@@ -316,7 +319,8 @@ cv::multicage::DeformParams deformParams(const DeformOptions& o, const std::stri
                                      params.memoryBudget, stepChange);
     params.mapStep = o.mapStep;
     if (o.border.size() == 2)
-        throw UsageError("--border: 2 values given; give 1 (every channel), 3 (B G R) or 4 (B G R A)");
+        throw UsageError(
+            "--border: 2 values given; give 1 (every channel), 3 (B G R) or 4 (B G R A)");
     for (size_t i = 0; i < o.border.size() && i < 4; ++i)
         params.borderValue[static_cast<int>(i)] = o.border[i];
     return params;
@@ -378,8 +382,9 @@ std::string subjectCueNote(const cv::multicage::ProposeParams& params) {
     const bool modelMethod = params.method == PROPOSE_AUTO && params.rect.area() <= 0;
     if (!modelMethod) {
         if (params.segmenter == SEGMENTER_MODEL || !params.segmenterModel.empty())
-            return std::string("the subject model did not run: it runs with --method auto and "
-                               "no --rect (this was --method ") +
+            return std::string(
+                       "the subject model did not run: it runs with --method auto and "
+                       "no --rect (this was --method ") +
                    proposeMethodName(params.method) +
                    (params.rect.area() > 0 ? " with --rect)" : ")");
         return "";

@@ -72,8 +72,9 @@ bind time; a no-op for cpu and gpu. */
 void probeAutoBackend(int backend);
 
 /** A progress line on stderr for bindings that take more than a second (redrawn in place on a
-terminal; elsewhere a line when it starts and one when it is done), and Ctrl-C cancels the binding cleanly: the command then
-fails with "interrupted while binding; nothing written". Active while the object lives. */
+terminal; elsewhere a line when it starts and one when it is done), and Ctrl-C cancels the binding
+cleanly: the command then fails with "interrupted while binding; nothing written". Active while the
+object lives. */
 class BindProgressLine {
   public:
     BindProgressLine(const std::string& command, bool quiet);

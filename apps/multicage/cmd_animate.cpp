@@ -19,16 +19,18 @@ struct AnimateOptions {
 
 // A bar redrawn in place on a terminal; elsewhere (logs, CI) one line at the end.
 class Progress {
-public:
+  public:
     explicit Progress(bool quiet) : quiet_(quiet), tty_(::isatty(STDERR_FILENO) != 0) {}
     void operator()(int done, int total) {
         if (quiet_) return;
         const int percent = 100 * done / total;
         if (tty_) {
             const int width = 30, filled = width * done / total;
-            const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
-            std::fprintf(stderr, "\r[%s%s] %3d%% %d/%d frames, %.1f fps ", std::string(filled, '#').c_str(),
-                         std::string(width - filled, '.').c_str(), percent, done, total, s > 0 ? done / s : 0.0);
+            const double s =
+                std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+            std::fprintf(stderr, "\r[%s%s] %3d%% %d/%d frames, %.1f fps ",
+                         std::string(filled, '#').c_str(), std::string(width - filled, '.').c_str(),
+                         percent, done, total, s > 0 ? done / s : 0.0);
             if (done == total) std::fputc('\n', stderr);
         } else if (done == total) {
             std::fprintf(stderr, "multicage animate: %d%% (%d/%d frames)\n", percent, done, total);
@@ -36,7 +38,7 @@ public:
         std::fflush(stderr);
     }
 
-private:
+  private:
     bool quiet_, tty_;
     std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
 };
@@ -48,7 +50,8 @@ void runAnimate(const AnimateOptions& o) {
     const Multicage cage = loadCage(o.cage, image.size());
     std::string why;
     if (!validateKeyframes(cage, &why)) throw Failure(o.cage + ": " + why);
-    for (int i = 0; i < cage.poseCount(); ++i) checkPose("animate", o.cage, cage, i, o.allowInvalid);
+    for (int i = 0; i < cage.poseCount(); ++i)
+        checkPose("animate", o.cage, cage, i, o.allowInvalid);
 
     AnimationParams params;
     params.fps = o.fps;
@@ -82,7 +85,8 @@ void runAnimate(const AnimateOptions& o) {
         backendName(s.backend), coordinateTypeDescription(deformation.coordinates),
         deformation.gridStep, stepChange.empty() ? "" : (" (" + stepChange + ")").c_str(), s.fps(),
         s.totalMs, s.bindMs, s.sampleMs / n, s.deformMs / n, s.writeMs / n);
-    if (!s.note.empty()) std::fprintf(stderr, "multicage animate: note: %s: %s\n", o.output.c_str(), s.note.c_str());
+    if (!s.note.empty())
+        std::fprintf(stderr, "multicage animate: note: %s: %s\n", o.output.c_str(), s.note.c_str());
 }
 }  // namespace
 
@@ -91,26 +95,36 @@ void addAnimateCommand(CLI::App& app) {
     CLI::App* cmd = app.add_subcommand(
         "animate",
         "Animate IMAGE through the timed poses (keyframes) of CAGE.yml and write OUT.\n"
-        "Each pose's `time:` (seconds) says when it is reached; between keyframes the vertices move "
-        "along Catmull-Rom splines (or straight lines). The image is bound once; every frame is one "
-        "deformation. OUT is a video (.mp4: H.264, .avi: Motion JPEG), a .gif, or a folder ending in / "
+        "Each pose's `time:` (seconds) says when it is reached; between keyframes the vertices "
+        "move "
+        "along Catmull-Rom splines (or straight lines). The image is bound once; every frame is "
+        "one "
+        "deformation. OUT is a video (.mp4: H.264, .avi: Motion JPEG), a .gif, or a folder ending "
+        "in / "
         "for PNG frames (frame_0000.png, ...); it is written completely or not at all.\n"
         "Example: multicage animate butterfly.jpg butterfly_flap.yml -o flap.gif --loop --fps 20");
-    cmd->add_option("image", o->image, "Input image (8/16-bit or float, 1, 3 or 4 channels)")->required();
-    cmd->add_option("cage", o->cage, "Cage file with at least two timed poses (.yml, .yaml or .json)")
+    cmd->add_option("image", o->image, "Input image (8/16-bit or float, 1, 3 or 4 channels)")
         ->required();
-    cmd->add_option("-o,--output", o->output, "OUT.mp4, OUT.avi, OUT.gif or FRAMES_DIR/")->required();
-    cmd->add_option("--fps", o->fps, "Frames per second of the output")->capture_default_str()
+    cmd->add_option("cage", o->cage,
+                    "Cage file with at least two timed poses (.yml, .yaml or .json)")
+        ->required();
+    cmd->add_option("-o,--output", o->output, "OUT.mp4, OUT.avi, OUT.gif or FRAMES_DIR/")
+        ->required();
+    cmd->add_option("--fps", o->fps, "Frames per second of the output")
+        ->capture_default_str()
         ->check(CLI::Range(0.1, 1000.0));
-    cmd->add_option("--duration", o->duration,
-                    "Seconds of output (default: from the first keyframe to the last, or one cycle with "
-                    "--loop); longer holds the last pose, or repeats the cycle with --loop")
+    cmd->add_option(
+           "--duration", o->duration,
+           "Seconds of output (default: from the first keyframe to the last, or one cycle with "
+           "--loop); longer holds the last pose, or repeats the cycle with --loop")
         ->check(CLI::Range(0.001, 36000.0));
-    cmd->add_flag("--loop", o->loop,
-                  "Cycle: after the last keyframe, move back to the first (taking the mean keyframe "
-                  "spacing), so the output can play on repeat without a jump");
+    cmd->add_flag(
+        "--loop", o->loop,
+        "Cycle: after the last keyframe, move back to the first (taking the mean keyframe "
+        "spacing), so the output can play on repeat without a jump");
     cmd->add_option("--interpolation", o->interpolation, "catmull-rom (smooth) or linear")
-        ->capture_default_str()->check(CLI::IsMember({"linear", "catmull-rom"}));
+        ->capture_default_str()
+        ->check(CLI::IsMember({"linear", "catmull-rom"}));
     addDeformOptions(cmd, o->deform);
     addAllowInvalidFlag(cmd, o->allowInvalid);
     cmd->add_flag("-q,--quiet", o->quiet, "No progress output");

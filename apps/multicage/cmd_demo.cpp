@@ -128,8 +128,8 @@ std::vector<cv::Point2f> widenPose(const cv::multicage::Multicage& cage, int out
     for (int i = begin; i < begin + static_cast<int>(cage.polygon(outline).size()); ++i) {
         float f = fade({rest[i]});
         for (const int other : others) {
-            const float gap = static_cast<float>(
-                -cv::pointPolygonTest(cage.polygon(other), rest[i], true));
+            const float gap =
+                static_cast<float>(-cv::pointPolygonTest(cage.polygon(other), rest[i], true));
             f = std::min(f, std::min(1.f, std::max(0.f, (gap - near) / near)));
         }
         pose[i].x = rest[i].x + f * shift(rest[i].x);
@@ -179,12 +179,12 @@ std::vector<cv::Point2f> chooseStretch(const Scene& s, const cv::multicage::Defo
                       << (nested > 0 ? "the " + plural(nested, "polygon") +
                                            " nested in it moved along rigidly"
                                      : std::string("no polygon nested in it to keep rigid"))
-                      << (others > 0 ? ", the " + plural(others, "other polygon") + " at rest"
-                                     : "")
+                      << (others > 0 ? ", the " + plural(others, "other polygon") + " at rest" : "")
                       << "; the pose folds nothing (0 mesh triangles over)\n";
             return pose;
         }
-    std::cerr << "multicage demo: note: every widening tried folds the mesh over; the pose 'stretch' is the "
+    std::cerr << "multicage demo: note: every widening tried folds the mesh over; the pose "
+                 "'stretch' is the "
                  "rest pose (it folds nothing)\n";
     return std::vector<cv::Point2f>(rest.begin(), rest.begin() + s.cage.vertexCount());
 }
@@ -214,10 +214,9 @@ std::string describeNesting(const cv::multicage::Multicage& cage, int outline,
     for (const int child : children) {
         bool face = false;
         for (const cv::Rect& f : faces)
-            face = face || cv::pointPolygonTest(cage.polygon(child),
-                                                cv::Point2f(f.x + 0.5f * f.width,
-                                                            f.y + 0.5f * f.height),
-                                                false) > 0;
+            face = face || cv::pointPolygonTest(
+                               cage.polygon(child),
+                               cv::Point2f(f.x + 0.5f * f.width, f.y + 0.5f * f.height), false) > 0;
         const int inside = nestedCount(cage, child);
         if (face)
             ++facePolygons, inFaces += inside;

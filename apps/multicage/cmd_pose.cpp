@@ -100,7 +100,8 @@ void runPose(const PoseOptions& o,
     Multicage cage = loadCage(o.cage, cv::Size());
     if (o.name.empty()) throw UsageError("--name: a pose needs a name");
     const std::string problem = poseNameProblem(o.name);
-    if (!problem.empty()) throw UsageError("--name: " + problem + " (a cage file could not keep it)");
+    if (!problem.empty())
+        throw UsageError("--name: " + problem + " (a cage file could not keep it)");
     std::vector<cv::Point2f> pose = cage.vertices();
     pose.resize(cage.vertexCount());
     double time = o.time;
@@ -112,7 +113,7 @@ void runPose(const PoseOptions& o,
     const int existing = cage.findPose(o.name);
     if (existing >= 0 && !o.replace)
         throw UsageError("--name: " + o.cage + " already has a pose named '" + o.name +
-                      "' (add --replace to overwrite it, or choose another name)");
+                         "' (add --replace to overwrite it, or choose another name)");
     if (std::isnan(time)) {  // a new keyframe after the others; a replaced pose keeps its time
         time = existing >= 0 ? cage.pose(existing).time : 0.0;
         if (existing < 0)
@@ -190,7 +191,8 @@ void addPoseCommand(CLI::App& app) {
     CLI::App* cmd = app.add_subcommand(
         "pose",
         "Make a pose of CAGE.yml from moves of its polygons and vertices, check it, and write it "
-        "into the cage file (CAGE itself, or -o OUT) (a pose for `multicage deform --pose NAME` or a keyframe for "
+        "into the cage file (CAGE itself, or -o OUT) (a pose for `multicage deform --pose NAME` or "
+        "a keyframe for "
         "`multicage animate`, without the editor).\n"
         "Operations run in the order given, starting from the rest polygons (or --from POSE). "
         "TARGET is P (polygon P, counted from 0 in the file's order), P+ (polygon P and every "
@@ -202,7 +204,8 @@ void addPoseCommand(CLI::App& app) {
         "Examples:\n"
         "  multicage pose cage.yml --name wide --stretch 0 1.3 1 -o posed.yml\n"
         "  multicage pose cage.yml --name nod --rotate 1+ -10 --translate 1+ 0 8 -o posed.yml\n"
-        "  multicage pose cage.yml --name tip --move-vertex 0:3 250 40 --time 0.5   (into cage.yml)");
+        "  multicage pose cage.yml --name tip --move-vertex 0:3 250 40 --time 0.5   (into "
+        "cage.yml)");
     cmd->add_option("CAGE", o->cage, "Cage file (.yml, .yaml or .json)")->required();
     cmd->add_option("-o,--output", o->output,
                     "Cage file to write, only when the pose is valid (default: CAGE itself, "

@@ -18,7 +18,7 @@ namespace {
 struct ProposeOptions {
     std::vector<std::string> inputs;  // IMAGE, or images and folders for a dataset
     std::string image, output, overlay, method = "auto";
-    int jobs = 0;           // dataset: images proposed at once (0: one per core)
+    int jobs = 0;            // dataset: images proposed at once (0: one per core)
     bool overwrite = false;  // dataset: propose again where a cage file exists
     int maxVertices = 80, maxPolygonVertices = 32, maxPolygons = 12, maxDepth = 3,
         workingSize = 512;
@@ -140,8 +140,9 @@ void writeOverlay(const std::string& path, const cv::Mat& image,
 
 // The multicage of o.image with its pose 'rest', or a Failure naming the image. *image: the
 // image as read; *note: what the face search found, if it ran.
-cv::multicage::Multicage proposeFor(const ProposeOptions& o, const cv::multicage::ProposeParams& params,
-                                    cv::Mat* image, std::string* note) {
+cv::multicage::Multicage proposeFor(const ProposeOptions& o,
+                                    const cv::multicage::ProposeParams& params, cv::Mat* image,
+                                    std::string* note) {
     using namespace cv::multicage;
     *image = readImage(o.image);
     const cv::Mat input = proposalInput(o, *image, params.method);
@@ -177,7 +178,8 @@ bool isImageFile(const std::filesystem::path& p) {
 void runProposeDataset(const ProposeOptions& options) {
     namespace fs = std::filesystem;
     const auto t0 = std::chrono::steady_clock::now();
-    if (!options.overlay.empty()) throw UsageError("--overlay: one image at a time, not with a dataset");
+    if (!options.overlay.empty())
+        throw UsageError("--overlay: one image at a time, not with a dataset");
     std::vector<std::string> images;
     for (const std::string& input : options.inputs) {
         if (!fs::exists(input)) throw Failure(input + ": no such file");
@@ -186,16 +188,20 @@ void runProposeDataset(const ProposeOptions& options) {
             continue;
         }
         std::vector<std::string> found;
-        for (const auto& entry : fs::recursive_directory_iterator(input, fs::directory_options::skip_permission_denied))
-            if (entry.is_regular_file() && isImageFile(entry.path())) found.push_back(entry.path().string());
+        for (const auto& entry :
+             fs::recursive_directory_iterator(input, fs::directory_options::skip_permission_denied))
+            if (entry.is_regular_file() && isImageFile(entry.path()))
+                found.push_back(entry.path().string());
         std::sort(found.begin(), found.end());
         images.insert(images.end(), found.begin(), found.end());
     }
-    if (images.empty()) throw Failure("no images found in " + options.inputs[0] + " (.jpg, .png, .tif, ...)");
+    if (images.empty())
+        throw Failure("no images found in " + options.inputs[0] + " (.jpg, .png, .tif, ...)");
     const fs::path outDir(options.output);
     std::error_code error;
     fs::create_directories(outDir, error);
-    if (!fs::is_directory(outDir)) throw Failure("cannot write " + options.output + ": not a folder");
+    if (!fs::is_directory(outDir))
+        throw Failure("cannot write " + options.output + ": not a folder");
 
     // Two images with one stem would write one cage file: the later one is refused by name.
     struct Item {
@@ -207,12 +213,14 @@ void runProposeDataset(const ProposeOptions& options) {
     for (const std::string& image : images) {
         Item item{image, (outDir / (fs::path(image).stem().string() + ".yml")).string(), ""};
         const auto [it, fresh] = byStem.emplace(item.cage, image);
-        if (!fresh) item.problem = "has the name of " + it->second + " (both would be " + item.cage + ")";
+        if (!fresh)
+            item.problem = "has the name of " + it->second + " (both would be " + item.cage + ")";
         item.skipped = item.problem.empty() && !options.overwrite && fs::exists(item.cage);
         items.push_back(item);
     }
     const cv::multicage::ProposeParams params = proposeParams(options);
-    const int jobs = options.jobs > 0 ? options.jobs : std::max(1u, std::thread::hardware_concurrency());
+    const int jobs =
+        options.jobs > 0 ? options.jobs : std::max(1u, std::thread::hardware_concurrency());
     const bool tty = ::isatty(STDERR_FILENO) != 0;
     std::atomic<size_t> next{0};
     std::atomic<int> done{0};
@@ -232,12 +240,14 @@ void runProposeDataset(const ProposeOptions& options) {
             } catch (const std::exception& e) {
                 const cv::Exception* cv = dynamic_cast<const cv::Exception*>(&e);
                 item.problem = cv ? reasonOf(*cv) : e.what();
-                if (item.problem.rfind(item.image + ": ", 0) == 0) item.problem = item.problem.substr(item.image.size() + 2);
+                if (item.problem.rfind(item.image + ": ", 0) == 0)
+                    item.problem = item.problem.substr(item.image.size() + 2);
             }
             const int n = ++done;
             if (tty) {
                 std::lock_guard<std::mutex> lock(print);
-                std::fprintf(stderr, "\rmulticage propose: %d/%d images (%.1f s)", n, todo, msSince(t0) / 1000);
+                std::fprintf(stderr, "\rmulticage propose: %d/%d images (%.1f s)", n, todo,
+                             msSince(t0) / 1000);
                 if (n == todo) std::fputc('\n', stderr);
                 std::fflush(stderr);
             }
@@ -252,15 +262,18 @@ void runProposeDataset(const ProposeOptions& options) {
         skipped += item.skipped;
         if (item.problem.empty()) continue;
         ++failed;
-        std::cerr << "multicage propose: skipped " << item.image << ": " << item.problem << std::endl;
+        std::cerr << "multicage propose: skipped " << item.image << ": " << item.problem
+                  << std::endl;
     }
     const int written = static_cast<int>(items.size()) - failed - skipped;
     std::cout << "wrote " << plural(written, "cage file") << " to " << options.output << " ("
               << plural(static_cast<long long>(items.size()), "image") << "; " << skipped
-              << " had one already" << (skipped ? ", kept (--overwrite proposes again)" : "") << "; "
-              << failed << " failed; " << jobs << (jobs == 1 ? " job, " : " jobs, ")
+              << " had one already" << (skipped ? ", kept (--overwrite proposes again)" : "")
+              << "; " << failed << " failed; " << jobs << (jobs == 1 ? " job, " : " jobs, ")
               << cv::format("%.1f s", msSince(t0) / 1000) << ")" << std::endl;
-    if (failed) throw Failure(plural(failed, "image") + " failed (named above); the other cage files are written");
+    if (failed)
+        throw Failure(plural(failed, "image") +
+                      " failed (named above); the other cage files are written");
 }
 
 void runPropose(const ProposeOptions& options) {
@@ -288,7 +301,8 @@ void runPropose(const ProposeOptions& options) {
     if (!o.overlay.empty()) std::cout << " and " << o.overlay;
     std::cout << std::endl;
     if (!note.empty())
-        std::cerr << "multicage propose: " << (note.rfind("note: ", 0) == 0 ? "" : "note: ") << note << std::endl;
+        std::cerr << "multicage propose: " << (note.rfind("note: ", 0) == 0 ? "" : "note: ") << note
+                  << std::endl;
     // Which subject cue ran, when it is not what the options asked for or the default found
     // no model (a mask or label image is no photo: no cue runs).
     if (!isMaskMethod(params.method)) {
@@ -303,42 +317,45 @@ void addProposeCommand(CLI::App& app) {
     CLI::App* cmd = app.add_subcommand(
         "propose",
         std::string() +
-        "Propose a multicage for IMAGE: find its objects, put one polygon around each (a margin "
-        "away), nest polygons where objects sit inside others, and simplify them to a vertex "
-        "budget. The result is always valid: simple, disjoint polygons inside the image, "
-        "oriented by depth.\n"
-        "Methods: auto (threshold on a plain background, else grabcut), "
-        "threshold (Otsu on the "
-        "distance from the border colour), adaptive (local threshold, uneven light), grabcut "
-        "(from --rect, or from the image frame inward where that holds the salient part), "
-        "saliency (fine grained), spectral "
-        "(spectral residual saliency, coarse and fast), mask (IMAGE is a mask: non-zero is "
-        "object), labels (IMAGE is a label image: each label its own polygon).\n"
-        "With --method auto the subject of a photo comes from a learned subject model "
-        "(U^2-Net-P, docs/models.md) fused with the faces and GrabCut, when the model is "
-        "installed (--segmenter auto, when no other is given), else from the classic cues alone; "
-        "--segmenter classic or model picks one. " +
-        subjectCueHelp() + "\n" +
-        "By default the result is a multicage: an outline around each object, plus inner polygons "
-        "around the faces and salient features inside it (moving the outline then leaves them "
-        "almost rigid); --protect DETECTOR picks what is protected: all (the default: faces, "
-        "then textured salient features), faces (frontal and profile faces, OpenCV's Haar "
-        "cascades from the Debian package opencv-data), saliency (textured salient features "
-        "only); --no-protect gives the outlines only.\n"
-        "The cage file gets a pose named `rest` (every vertex at rest): edit it, or add poses, "
-        "and `multicage deform` applies them.\n"
-        "A dataset: several images or folders, and -o a folder: one cage per image, "
-        "OUT/STEM.yml (what MulticageWarp(cage_dir=OUT) reads), proposed in parallel; cages "
-        "already there are kept (an interrupted run resumes); an image that fails is named and "
-        "skipped, and the exit status is 1 once the others are written.\n"
-        "Examples:\n"
-        "  multicage propose photo.jpg -o cage.yml --overlay check.png\n"
-        "  multicage propose dataset/images/ -o dataset/cages/\n"
-        "  multicage propose photo.jpg -o cage.yml --method grabcut --rect 40 30 400 300\n"
-        "  multicage propose mask.png -o cage.yml --method mask --margin 12 --max-vertices 40\n"
-        "Then: multicage deform photo.jpg cage.yml -o out.png --pose NAME (or multicage-editor "
-        "photo.jpg "
-        "cage.yml to draw a pose).");
+            "Propose a multicage for IMAGE: find its objects, put one polygon around each (a "
+            "margin "
+            "away), nest polygons where objects sit inside others, and simplify them to a vertex "
+            "budget. The result is always valid: simple, disjoint polygons inside the image, "
+            "oriented by depth.\n"
+            "Methods: auto (threshold on a plain background, else grabcut), "
+            "threshold (Otsu on the "
+            "distance from the border colour), adaptive (local threshold, uneven light), grabcut "
+            "(from --rect, or from the image frame inward where that holds the salient part), "
+            "saliency (fine grained), spectral "
+            "(spectral residual saliency, coarse and fast), mask (IMAGE is a mask: non-zero is "
+            "object), labels (IMAGE is a label image: each label its own polygon).\n"
+            "With --method auto the subject of a photo comes from a learned subject model "
+            "(U^2-Net-P, docs/models.md) fused with the faces and GrabCut, when the model is "
+            "installed (--segmenter auto, when no other is given), else from the classic cues "
+            "alone; "
+            "--segmenter classic or model picks one. " +
+            subjectCueHelp() + "\n" +
+            "By default the result is a multicage: an outline around each object, plus inner "
+            "polygons "
+            "around the faces and salient features inside it (moving the outline then leaves them "
+            "almost rigid); --protect DETECTOR picks what is protected: all (the default: faces, "
+            "then textured salient features), faces (frontal and profile faces, OpenCV's Haar "
+            "cascades from the Debian package opencv-data), saliency (textured salient features "
+            "only); --no-protect gives the outlines only.\n"
+            "The cage file gets a pose named `rest` (every vertex at rest): edit it, or add poses, "
+            "and `multicage deform` applies them.\n"
+            "A dataset: several images or folders, and -o a folder: one cage per image, "
+            "OUT/STEM.yml (what MulticageWarp(cage_dir=OUT) reads), proposed in parallel; cages "
+            "already there are kept (an interrupted run resumes); an image that fails is named and "
+            "skipped, and the exit status is 1 once the others are written.\n"
+            "Examples:\n"
+            "  multicage propose photo.jpg -o cage.yml --overlay check.png\n"
+            "  multicage propose dataset/images/ -o dataset/cages/\n"
+            "  multicage propose photo.jpg -o cage.yml --method grabcut --rect 40 30 400 300\n"
+            "  multicage propose mask.png -o cage.yml --method mask --margin 12 --max-vertices 40\n"
+            "Then: multicage deform photo.jpg cage.yml -o out.png --pose NAME (or multicage-editor "
+            "photo.jpg "
+            "cage.yml to draw a pose).");
     cmd->add_option("image", o->inputs,
                     "Input image (or mask / label image with --method mask / labels); for a "
                     "dataset, several images or folders (searched recursively)")
@@ -347,7 +364,8 @@ void addProposeCommand(CLI::App& app) {
                     "Cage file to write (.yml, .yaml or .json), written only on success; for a "
                     "dataset, a folder (created if needed) that gets STEM.yml per image")
         ->required();
-    cmd->add_option("-j,--jobs", o->jobs, "Dataset: images proposed at once (default: one per core)")
+    cmd->add_option("-j,--jobs", o->jobs,
+                    "Dataset: images proposed at once (default: one per core)")
         ->check(wholeNumber(1, 256));
     cmd->add_flag("--overwrite", o->overwrite,
                   "Dataset: propose again where a cage file exists (by default it is kept, so an "

@@ -42,7 +42,7 @@ double parseAspect(const std::string& text) {
         a = std::stod(m[1]);
     if (!(a > 0) || !std::isfinite(a))
         throw UsageError("--aspect: '" + text +
-                      "' is not a ratio W:H (e.g. 16:9) or a number (e.g. 1.78)");
+                         "' is not a ratio W:H (e.g. 16:9) or a number (e.g. 1.78)");
     return a;
 }
 
@@ -115,12 +115,13 @@ void runResize(const ResizeCommandOptions& o) {
         try {
             checkResizeSize(image.size(), s, rp.maxScale);
         } catch (const cv::Exception& e) {
-            const std::string library = "ResizeParams::maxScale sets the limit", reason = reasonOf(e);
+            const std::string library = "ResizeParams::maxScale sets the limit",
+                              reason = reasonOf(e);
             const size_t at = reason.find(library);
             throw UsageError("--size: " + (at == std::string::npos
-                                                ? reason
-                                                : reason.substr(0, at) + "--max-scale raises it" +
-                                                      reason.substr(at + library.size())));
+                                               ? reason
+                                               : reason.substr(0, at) + "--max-scale raises it" +
+                                                     reason.substr(at + library.size())));
         }
         checkImageOutput(outputFor(o.output, s, sizes.size() > 1));
     }
@@ -187,20 +188,23 @@ void addResizeCommand(CLI::App& app) {
     CLI::App* cmd = app.add_subcommand(
         "resize",
         std::string() +
-        "Resize IMAGE to another size or aspect ratio keeping faces and subjects in shape "
-        "(content-aware resizing).\n"
-        "The image is bound once to a multicage (proposed: an outline around each subject, inner "
-        "polygons around faces and features; or --cage), then each size is one pose: the frame "
-        "goes "
-        "to the new frame, each subject and what it holds moves by a similarity (it keeps its size "
-        "in "
-        "pixels where the new frame allows), and the background absorbs the aspect change. Several "
-        "--size bind once and write OUT_WxH.ext each.\n" +
-        subjectCueHelp() + "\n" +
-        "Examples:\n"
-        "  multicage resize photo.jpg -o wide.png --aspect 16:9\n"
-        "  multicage resize photo.jpg -o out.png --size 1536x768 --size 717x768 --overlay "
-        "cage.png");
+            "Resize IMAGE to another size or aspect ratio keeping faces and subjects in shape "
+            "(content-aware resizing).\n"
+            "The image is bound once to a multicage (proposed: an outline around each subject, "
+            "inner "
+            "polygons around faces and features; or --cage), then each size is one pose: the frame "
+            "goes "
+            "to the new frame, each subject and what it holds moves by a similarity (it keeps its "
+            "size "
+            "in "
+            "pixels where the new frame allows), and the background absorbs the aspect change. "
+            "Several "
+            "--size bind once and write OUT_WxH.ext each.\n" +
+            subjectCueHelp() + "\n" +
+            "Examples:\n"
+            "  multicage resize photo.jpg -o wide.png --aspect 16:9\n"
+            "  multicage resize photo.jpg -o out.png --size 1536x768 --size 717x768 --overlay "
+            "cage.png");
     cmd->add_option("IMAGE", o->image, "Input image")->required();
     cmd->add_option("-o,--output", o->output, "Output image (with several sizes: OUT_WxH.ext each)")
         ->required();

@@ -33,7 +33,8 @@ int main(int argc, char** argv) {
         known = known || sub->get_name() == argv[1];
     if (!known) {
         std::cerr << "multicage: unknown command '" << argv[1]
-                  << "' (demo, propose, resize, deform, pose, animate, bench; see multicage --help)" << std::endl;
+                  << "' (demo, propose, resize, deform, pose, animate, bench; see multicage --help)"
+                  << std::endl;
         return 2;
     }
     try {

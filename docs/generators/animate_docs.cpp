@@ -25,9 +25,11 @@ int main(int argc, char** argv) {
     params.loop = true;
     params.fps = 20;
     const AnimationStats s = renderAnimation(*deformer, cage, out + "/butterfly_flap.gif", params);
-    std::cout << "butterfly_flap.gif: " << s.frames << " frames, " << s.fps() << " frames/s rendered\n";
+    std::cout << "butterfly_flap.gif: " << s.frames << " frames, " << s.fps()
+              << " frames/s rendered\n";
     for (double t : animationFrameTimes(cage, params)) {
-        const int folded = deformer->foldedTriangles(samplePose(cage, t, params.interpolation, true));
+        const int folded =
+            deformer->foldedTriangles(samplePose(cage, t, params.interpolation, true));
         if (folded > 0) std::cout << "warning: t = " << t << " folds " << folded << " triangles\n";
     }
 
@@ -43,13 +45,14 @@ int main(int argc, char** argv) {
         Multicage posed(image.size());
         for (int p = 0; p < cage.polygonCount(); ++p) {
             const int first = cage.polygonOffset(p), n = static_cast<int>(cage.polygon(p).size());
-            posed.addPolygon(std::vector<cv::Point2f>(pose.begin() + first, pose.begin() + first + n));
+            posed.addPolygon(
+                std::vector<cv::Point2f>(pose.begin() + first, pose.begin() + first + n));
         }
         posed.draw(frame, 1, false);
         char label[32];
         std::snprintf(label, sizeof(label), "t = %.2f s", t);
-        cv::putText(frame, label, {8, frame.rows - 10}, cv::FONT_HERSHEY_SIMPLEX, 0.5, cv::Scalar::all(255), 1,
-                    cv::LINE_AA);
+        cv::putText(frame, label, {8, frame.rows - 10}, cv::FONT_HERSHEY_SIMPLEX, 0.5,
+                    cv::Scalar::all(255), 1, cv::LINE_AA);
         cv::copyMakeBorder(frame, frame, 2, 2, 2, 2, cv::BORDER_CONSTANT, cv::Scalar::all(255));
         tiles.push_back(frame);
     }

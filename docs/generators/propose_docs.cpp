@@ -51,7 +51,8 @@ int main(int argc, char** argv) {
     const Multicage guarded = protectFeatures(image, plain, 0, autoParams);
     std::vector<cv::Mat> panels;
     for (const Multicage* cage : {&plain, &guarded}) {
-        const std::vector<cv::Point2f> pose = multicage_fixtures::stretchPolygon(*cage, 0, 1.2f, 0.8f);
+        const std::vector<cv::Point2f> pose =
+            multicage_fixtures::stretchPolygon(*cage, 0, 1.2f, 0.8f);
         DeformParams dp;
         dp.backend = BACKEND_CPU;
         dp.gridStep = 2;
@@ -60,8 +61,10 @@ int main(int argc, char** argv) {
         deformImage(image, *cage, pose, deformed, dp);
         Multicage posed(cage->imageSize());
         for (int p = 0; p < cage->polygonCount(); ++p) {
-            const int offset = cage->polygonOffset(p), n = static_cast<int>(cage->polygon(p).size());
-            posed.addPolygon(std::vector<cv::Point2f>(pose.begin() + offset, pose.begin() + offset + n));
+            const int offset = cage->polygonOffset(p),
+                      n = static_cast<int>(cage->polygon(p).size());
+            posed.addPolygon(
+                std::vector<cv::Point2f>(pose.begin() + offset, pose.begin() + offset + n));
         }
         cv::Mat rest = image.clone();
         cage->draw(rest, 2);
@@ -73,7 +76,7 @@ int main(int argc, char** argv) {
     cv::Mat both;
     cv::vconcat(panels, both);
     cv::imwrite(out + "/protect_butterfly.png", both);
-    std::cout << "protect: " << plain.polygonCount() << " -> " << guarded.polygonCount() << " polygons, "
-              << guarded.vertexCount() << " vertices\n";
+    std::cout << "protect: " << plain.polygonCount() << " -> " << guarded.polygonCount()
+              << " polygons, " << guarded.vertexCount() << " vertices\n";
     return 0;
 }

@@ -17,14 +17,16 @@ int main(int argc, char** argv) {
     Multicage cage(image.size());
     cv::Point2f c(image.cols / 2.f, image.rows / 2.f);
     float a = image.rows * 0.4f, b = image.rows * 0.15f;
-    cage.addPolygon(std::vector<cv::Point2f>{c + cv::Point2f(-a, -a), c + cv::Point2f(a, -a), c + cv::Point2f(a, a), c + cv::Point2f(-a, a)});
-    cage.addPolygon(std::vector<cv::Point2f>{c + cv::Point2f(-b, -b), c + cv::Point2f(b, -b), c + cv::Point2f(b, b), c + cv::Point2f(-b, b)});
+    cage.addPolygon(std::vector<cv::Point2f>{c + cv::Point2f(-a, -a), c + cv::Point2f(a, -a),
+                                             c + cv::Point2f(a, a), c + cv::Point2f(-a, a)});
+    cage.addPolygon(std::vector<cv::Point2f>{c + cv::Point2f(-b, -b), c + cv::Point2f(b, -b),
+                                             c + cv::Point2f(b, b), c + cv::Point2f(-b, b)});
     cage.orient();  // the orientation rule; users never care
 
     std::vector<cv::Point2f> pose = cage.vertices();  // rest positions, frame last
-    pose[1].x += 30;                                    // pull the outer polygon's top-right corner
+    pose[1].x += 30;                                  // pull the outer polygon's top-right corner
     pose[2] += cv::Point2f(20, 20);
     cv::Mat out;
-    deformImage(image, cage, pose, out);               // the inner square stays intact
+    deformImage(image, cage, pose, out);  // the inner square stays intact
     return cv::imwrite(argv[2], out) ? 0 : 1;
 }

@@ -19,7 +19,8 @@ Multicage threeKeys() {
 
 double distance(const std::vector<cv::Point2f>& a, const std::vector<cv::Point2f>& b) {
     double d = 0;
-    for (size_t i = 0; i < a.size(); ++i) d = std::max(d, static_cast<double>(cv::norm(a[i] - b[i])));
+    for (size_t i = 0; i < a.size(); ++i)
+        d = std::max(d, static_cast<double>(cv::norm(a[i] - b[i])));
     return d;
 }
 
@@ -46,8 +47,10 @@ TEST(Keyframes, BothInterpolationsAreExactAtKeyframes) {
     for (int interpolation : {INTERPOLATE_LINEAR, INTERPOLATE_CATMULL_ROM})
         for (bool loop : {false, true})
             for (int i = 0; i < cage.poseCount(); ++i)
-                EXPECT_EQ(samplePose(cage, cage.pose(i).time, interpolation, loop), cage.pose(i).vertices)
-                    << "pose " << cage.pose(i).name << " interpolation " << interpolation << " loop " << loop;
+                EXPECT_EQ(samplePose(cage, cage.pose(i).time, interpolation, loop),
+                          cage.pose(i).vertices)
+                    << "pose " << cage.pose(i).name << " interpolation " << interpolation
+                    << " loop " << loop;
 }
 
 TEST(Keyframes, LinearIsTheStraightLineBetweenKeys) {
@@ -97,13 +100,19 @@ TEST(Keyframes, LoopWrapsBackToTheFirstKeySmoothly) {
         // Periodic, forwards and backwards.
         for (double t : {0.1, 0.7, 1.9, 2.4, 2.99}) {
             EXPECT_LT(distance(samplePose(cage, t, interpolation, true),
-                               samplePose(cage, t + 2 * period, interpolation, true)), 1e-3) << t;
+                               samplePose(cage, t + 2 * period, interpolation, true)),
+                      1e-3)
+                << t;
             EXPECT_LT(distance(samplePose(cage, t, interpolation, true),
-                               samplePose(cage, t - period, interpolation, true)), 1e-3) << t;
+                               samplePose(cage, t - period, interpolation, true)),
+                      1e-3)
+                << t;
         }
         // After the last key (t = 2) the loop moves back to the first, reached at t = 3.
         EXPECT_EQ(samplePose(cage, period, interpolation, true), cage.pose(1).vertices);
-        EXPECT_LT(distance(samplePose(cage, period - 1e-6, interpolation, true), cage.pose(1).vertices), 1e-3);
+        EXPECT_LT(
+            distance(samplePose(cage, period - 1e-6, interpolation, true), cage.pose(1).vertices),
+            1e-3);
         EXPECT_GT(distance(samplePose(cage, 2.5, interpolation, true), cage.pose(0).vertices), 1.0);
         // A clamped animation would still hold the last pose there.
         EXPECT_EQ(samplePose(cage, 2.5, interpolation, false), cage.pose(0).vertices);

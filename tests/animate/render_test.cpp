@@ -85,16 +85,21 @@ void checkPngRender(int backend, const std::string& name) {
 
     // Smooth: every step moves a little, and no step is a jump (max <= 3x the median).
     std::vector<double> steps;
-    for (size_t i = 1; i < frames.size(); ++i) steps.push_back(meanAbsDiff(frames[i - 1], frames[i]));
+    for (size_t i = 1; i < frames.size(); ++i)
+        steps.push_back(meanAbsDiff(frames[i - 1], frames[i]));
     std::vector<double> sorted = steps;
     std::sort(sorted.begin(), sorted.end());
     const double median = sorted[sorted.size() / 2], largest = sorted.back();
-    for (size_t i = 0; i < steps.size(); ++i) EXPECT_GT(steps[i], 0.05) << "frames " << i << " and " << i + 1;
-    EXPECT_LE(largest, 3 * median) << "a frame jumps: largest step " << largest << ", median " << median;
+    for (size_t i = 0; i < steps.size(); ++i)
+        EXPECT_GT(steps[i], 0.05) << "frames " << i << " and " << i + 1;
+    EXPECT_LE(largest, 3 * median)
+        << "a frame jumps: largest step " << largest << ", median " << median;
 }
 }  // namespace
 
-TEST(Render, PngFramesMatchSingleDeformCallsOnTheCpu) { checkPngRender(BACKEND_CPU, "animate_cpu"); }
+TEST(Render, PngFramesMatchSingleDeformCallsOnTheCpu) {
+    checkPngRender(BACKEND_CPU, "animate_cpu");
+}
 
 TEST(Render, PngFramesMatchSingleDeformCallsOnTheGpu) {
     std::string why;
@@ -213,7 +218,8 @@ TEST(Render, FailuresLeaveNoOutputAndSayWhy) {
     DeformParams dp;
     dp.backend = BACKEND_CPU;
     dp.gridStep = 8;
-    EXPECT_THROW(renderAnimation(image, single, dir + "/one.gif", twelveFrames(), dp), cv::Exception);
+    EXPECT_THROW(renderAnimation(image, single, dir + "/one.gif", twelveFrames(), dp),
+                 cv::Exception);
     AnimationParams few;
     few.fps = 2.5;  // 0.8 s -> 3 frames
     renderAnimation(image, flap, dir + "/frames/", few, dp);
@@ -231,7 +237,8 @@ struct Result {
 };
 Result cli(const std::string& args, const std::string& dir) {
     const std::string out = dir + "/captured.1", err = dir + "/captured.2";
-    const int status = std::system((std::string(MULTICAGE_CLI) + " " + args + " >" + out + " 2>" + err).c_str());
+    const int status =
+        std::system((std::string(MULTICAGE_CLI) + " " + args + " >" + out + " 2>" + err).c_str());
     auto slurp = [](const std::string& p) {
         std::ifstream f(p);
         return std::string(std::istreambuf_iterator<char>(f), {});
@@ -246,12 +253,15 @@ Result cli(const std::string& args, const std::string& dir) {
 TEST(AnimateCommand, WritesFramesAndReportsProgress) {
     const std::string dir = multicage_testing::tempDir("animate_cli");
     const std::string image = multicage_testing::samplePath("butterfly.jpg");
-    const Result r = cli("animate " + image + " " + kFlap + " -o " + dir + "/f/ --fps 10 --duration 1.1 "
-                         "--backend cpu --grid-step 4 --interpolation linear", dir);
+    const Result r = cli("animate " + image + " " + kFlap + " -o " + dir +
+                             "/f/ --fps 10 --duration 1.1 "
+                             "--backend cpu --grid-step 4 --interpolation linear",
+                         dir);
     ASSERT_EQ(r.code, 0) << r.err;
     EXPECT_EQ(listing(dir + "/f").size(), 12u);
     EXPECT_NE(r.out.find("12 frames"), std::string::npos) << r.out;
-    EXPECT_NE(r.err.find("100% (12/12 frames)"), std::string::npos) << r.err;  // not a TTY: percentages
+    EXPECT_NE(r.err.find("100% (12/12 frames)"), std::string::npos)
+        << r.err;  // not a TTY: percentages
     EXPECT_NE(cli("animate --help", dir).out.find("--interpolation"), std::string::npos);
 }
 
@@ -260,14 +270,16 @@ TEST(AnimateCommand, BadInputGivesOneLineAndNoOutput) {
     const std::string image = multicage_testing::samplePath("butterfly.jpg");
     const std::string onePose = std::string(MULTICAGE_SAMPLE_CAGES) + "/butterfly.yml";
     std::ofstream(dir + "/same_time.yml")
-        << "%YAML:1.0\n---\nimage_size: [ 493, 356 ]\npolygons:\n  - [ 100, 100, 200, 100, 200, 200 ]\n"
+        << "%YAML:1.0\n---\nimage_size: [ 493, 356 ]\npolygons:\n  - [ 100, 100, 200, 100, 200, "
+           "200 ]\n"
            "poses:\n  - { name: a, time: 1, vertices: [ 100, 100, 200, 100, 200, 200 ] }\n"
            "  - { name: b, time: 1, vertices: [ 110, 100, 200, 100, 200, 200 ] }\n";
     struct Case {
         std::string args, expected;
     } cases[] = {
         {image + " " + onePose + " -o " + dir + "/out.gif", "needs at least two timed poses"},
-        {image + " " + dir + "/same_time.yml -o " + dir + "/out.gif", "'a' and 'b' are both at time 1"},
+        {image + " " + dir + "/same_time.yml -o " + dir + "/out.gif",
+         "'a' and 'b' are both at time 1"},
         {image + " " + kFlap + " -o " + dir + "/out.webm", "unknown animation type '.webm'"},
         {image + " " + kFlap + " -o " + dir + "/nowhere/out.mp4", "no folder"},
         {image + " " + kFlap + " -o " + dir + "/out.gif --fps 0", "--fps"},

@@ -28,13 +28,18 @@ Result run(const std::string& args, const std::string& dir) {
     return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, slurp(out), slurp(err)};
 }
 
-int lines(const std::string& s) { return static_cast<int>(std::count(s.begin(), s.end(), '\n')); }
-std::string sample(const std::string& name) { return multicage_testing::samplePath(name); }
+int lines(const std::string& s) {
+    return static_cast<int>(std::count(s.begin(), s.end(), '\n'));
+}
+std::string sample(const std::string& name) {
+    return multicage_testing::samplePath(name);
+}
 }  // namespace
 
 TEST(Cli, HelpOnEveryCommandExitsZero) {
     const std::string dir = multicage_testing::tempDir("cli_help");
-    for (const char* cmd : {"--help", "demo --help", "deform --help", "propose --help", "resize --help", "pose --help", "animate --help", "bench --help"}) {
+    for (const char* cmd : {"--help", "demo --help", "deform --help", "propose --help",
+                            "resize --help", "pose --help", "animate --help", "bench --help"}) {
         const Result r = run(cmd, dir);
         EXPECT_EQ(r.code, 0) << cmd << ": " << r.err;
         EXPECT_NE(r.out.find("Usage"), std::string::npos) << cmd;
@@ -44,8 +49,8 @@ TEST(Cli, HelpOnEveryCommandExitsZero) {
 
 TEST(Cli, DeformWritesTheImage) {
     const std::string dir = multicage_testing::tempDir("cli_deform");
-    const Result r = run("deform " + sample("butterfly.jpg") + " " + sample("../butterfly.yml") + " -o " + dir +
-                             "/out.png --backend cpu --grid-step 2",
+    const Result r = run("deform " + sample("butterfly.jpg") + " " + sample("../butterfly.yml") +
+                             " -o " + dir + "/out.png --backend cpu --grid-step 2",
                          dir);
     ASSERT_EQ(r.code, 0) << r.err;
     const cv::Mat out = cv::imread(dir + "/out.png", cv::IMREAD_UNCHANGED);
@@ -56,8 +61,8 @@ TEST(Cli, DeformWritesTheImage) {
     cv::Mat big;
     cv::resize(in, big, cv::Size(), 2, 2);
     cv::imwrite(dir + "/big.png", big);
-    const Result scaled = run("deform " + dir + "/big.png " + sample("../butterfly.yml") + " -o " + dir +
-                                  "/big_out.png --backend cpu --grid-step 4",
+    const Result scaled = run("deform " + dir + "/big.png " + sample("../butterfly.yml") + " -o " +
+                                  dir + "/big_out.png --backend cpu --grid-step 4",
                               dir);
     EXPECT_EQ(scaled.code, 0) << scaled.err;
     EXPECT_EQ(cv::imread(dir + "/big_out.png").size(), big.size());
@@ -65,7 +70,8 @@ TEST(Cli, DeformWritesTheImage) {
 
 TEST(Cli, BadInputGivesOneLineAndNoOutput) {
     const std::string dir = multicage_testing::tempDir("cli_bad");
-    std::ofstream(dir + "/broken.yml") << "%YAML:1.0\n---\nimage_size: [ 493, 356 ]\npolygons:\n  - [ 1, 2, 3 ]\n";
+    std::ofstream(dir + "/broken.yml")
+        << "%YAML:1.0\n---\nimage_size: [ 493, 356 ]\npolygons:\n  - [ 1, 2, 3 ]\n";
     std::ofstream(dir + "/not_an_image.png") << "hello";
     std::ofstream(dir + "/noposes.yml") << "%YAML:1.0\n---\nimage_size: [ 493, 356 ]\npolygons:\n"
                                            "  - [ 100, 100, 200, 100, 200, 200 ]\n";
@@ -80,18 +86,22 @@ TEST(Cli, BadInputGivesOneLineAndNoOutput) {
     } cases[] = {
         {"deform " + dir + "/missing.png " + cage + " -o " + dir + "/out.png", "no such file"},
         {"deform " + dir + "/not_an_image.png " + cage + " -o " + dir + "/out.png", "not an image"},
-        {"deform " + image + " " + dir + "/broken.yml -o " + dir + "/out.png", "odd number of coordinates"},
+        {"deform " + image + " " + dir + "/broken.yml -o " + dir + "/out.png",
+         "odd number of coordinates"},
         {"deform " + image + " " + dir + "/noposes.yml -o " + dir + "/out.png", "has no poses"},
-        {"deform " + image + " " + cage + " -o " + dir + "/out.png --pose nope", "no pose named 'nope'"},
+        {"deform " + image + " " + cage + " -o " + dir + "/out.png --pose nope",
+         "no pose named 'nope'"},
         {"deform " + image + " " + cage + " -o " + dir + "/out.png --grid-step 0", "--grid-step"},
         {"deform " + image + " " + cage + " -o " + dir + "/out.xyz --backend cpu", "out.xyz"},
-        {"deform " + image + " " + cage + " -o /nonexistent-dir/out.png --backend cpu", "cannot write"},
+        {"deform " + image + " " + cage + " -o /nonexistent-dir/out.png --backend cpu",
+         "cannot write"},
         {"frobnicate", "unknown command 'frobnicate'"},
         {"resize " + dir + "/column.png --size 1x350 -o " + dir + "/out.png",
          "multicage resize: cannot bind: the image size 1x300 is too small: a multicage needs at "
          "least 2x2 pixels"},
         {"propose " + dir + "/strip.png -o " + dir + "/out.yml",
-         "multicage propose: " + dir + "/strip.png: a 500x2 image is too thin to propose a cage in"},
+         "multicage propose: " + dir +
+             "/strip.png: a 500x2 image is too thin to propose a cage in"},
     };
     for (const Case& c : cases) {
         const Result r = run(c.args, dir);
@@ -114,8 +124,8 @@ TEST(Cli, DemoWritesItsOutputs) {
     const Result r = run("demo --backend cpu -o " + dir + "/demo", dir);
     ASSERT_EQ(r.code, 0) << r.err;
     std::printf("%s", r.out.c_str());
-    for (const char* f : {"input.png", "overlay.png", "deformed.png", "deformed_overlay.png", "side_by_side.png",
-                          "cage.yml"})
+    for (const char* f : {"input.png", "overlay.png", "deformed.png", "deformed_overlay.png",
+                          "side_by_side.png", "cage.yml"})
         EXPECT_TRUE(fs::exists(dir + "/demo/" + f)) << f;
     const Multicage cage = Multicage::load(dir + "/demo/cage.yml");
     EXPECT_TRUE(cage.validate());
@@ -147,8 +157,8 @@ TEST(Cli, DemoWritesItsOutputs) {
     const std::vector<cv::Point2f> rest = cage.vertices();
     for (int p = 0; p < cage.polygonCount(); ++p)
         if (cage.depth(p) == 1)
-            for (int i = cage.polygonOffset(p); i < cage.polygonOffset(p) + static_cast<int>(cage.polygon(p).size());
-                 ++i)
+            for (int i = cage.polygonOffset(p);
+                 i < cage.polygonOffset(p) + static_cast<int>(cage.polygon(p).size()); ++i)
                 most = std::max(most, cv::norm(pose[i] - rest[i]));
     EXPECT_GE(most, 0.05 * input.cols);
     // The nested polygons moved as rigid pieces: each by one translation.
@@ -156,7 +166,8 @@ TEST(Cli, DemoWritesItsOutputs) {
         if (cage.depth(p) < 2) continue;
         const int begin = cage.polygonOffset(p);
         for (int i = begin; i < begin + static_cast<int>(cage.polygon(p).size()); ++i)
-            EXPECT_LT(cv::norm((pose[i] - rest[i]) - (pose[begin] - rest[begin])), 1e-3) << "polygon " << p;
+            EXPECT_LT(cv::norm((pose[i] - rest[i]) - (pose[begin] - rest[begin])), 1e-3)
+                << "polygon " << p;
     }
 }
 
@@ -184,26 +195,33 @@ TEST(Cli, HighDepthImagesAreWrittenWithTheRightScaleAndOneNote) {
     ASSERT_TRUE(cv::imwrite(dir + "/f32.tif", f32));
     ASSERT_TRUE(cv::imwrite(dir + "/u16.png", u16));
     const std::string cage = sample("../butterfly.yml"), opts = " --backend cpu --grid-step 4";
-    ASSERT_EQ(run("deform " + sample("butterfly.jpg") + " " + cage + " -o " + dir + "/ref.png" + opts, dir).code, 0);
+    ASSERT_EQ(
+        run("deform " + sample("butterfly.jpg") + " " + cage + " -o " + dir + "/ref.png" + opts,
+            dir)
+            .code,
+        0);
     const double reference = meanLevel(cv::imread(dir + "/ref.png"));
     struct Case {
         std::string input, output;
-        int depth;           // expected stored depth
-        double scale;        // from 8-bit levels to the stored ones
+        int depth;     // expected stored depth
+        double scale;  // from 8-bit levels to the stored ones
         bool note;
     } cases[] = {
-        {"f32.tif", "f.png", CV_16U, 257, true},  {"f32.tif", "f.jpg", CV_8U, 1, true},
+        {"f32.tif", "f.png", CV_16U, 257, true},        {"f32.tif", "f.jpg", CV_8U, 1, true},
         {"f32.tif", "f.tif", CV_32F, 1.0 / 255, false}, {"u16.png", "u.jpg", CV_8U, 1, true},
         {"u16.png", "u.png", CV_16U, 257, false},
     };
     for (const Case& c : cases) {
-        const Result r = run("deform " + dir + "/" + c.input + " " + cage + " -o " + dir + "/" + c.output + opts, dir);
+        const Result r =
+            run("deform " + dir + "/" + c.input + " " + cage + " -o " + dir + "/" + c.output + opts,
+                dir);
         ASSERT_EQ(r.code, 0) << c.output << ": " << r.err;
         const cv::Mat out = cv::imread(dir + "/" + c.output, cv::IMREAD_UNCHANGED);
         ASSERT_FALSE(out.empty()) << c.output;
         EXPECT_EQ(out.depth(), c.depth) << c.output;
         const double level = meanLevel(out) / c.scale;
-        std::printf("%s -> %s: mean %.1f (8-bit reference %.1f)\n", c.input.c_str(), c.output.c_str(), level, reference);
+        std::printf("%s -> %s: mean %.1f (8-bit reference %.1f)\n", c.input.c_str(),
+                    c.output.c_str(), level, reference);
         EXPECT_NEAR(level, reference, 3.0) << c.output;  // not black (< 1) nor white (254)
         EXPECT_EQ(countOf(r.err, "note:"), c.note ? 1 : 0) << c.output << ": " << r.err;
         if (c.note) EXPECT_NE(r.err.find("scaled by"), std::string::npos) << r.err;
@@ -237,8 +255,10 @@ TEST(Cli, TruncatedImagesAreRefusedWithOneLineAndNoOutput) {
         std::ifstream f(sample(name), std::ios::binary);
         const std::string bytes(std::istreambuf_iterator<char>(f), {});
         const std::string cut = dir + "/cut_" + name;
-        std::ofstream(cut, std::ios::binary) << bytes.substr(0, name == "butterfly.jpg" ? 3000 : bytes.size() / 2);
-        for (const std::string& cmd : {"deform " + cut + " " + sample("../butterfly.yml") + " -o " + dir + "/out.png --backend cpu",
+        std::ofstream(cut, std::ios::binary)
+            << bytes.substr(0, name == "butterfly.jpg" ? 3000 : bytes.size() / 2);
+        for (const std::string& cmd : {"deform " + cut + " " + sample("../butterfly.yml") + " -o " +
+                                           dir + "/out.png --backend cpu",
                                        "propose " + cut + " -o " + dir + "/out.yml"}) {
             const Result r = run(cmd, dir);
             EXPECT_EQ(r.code, 1) << cmd;
@@ -261,7 +281,9 @@ TEST(Cli, ProposedCageDeformsAsIsAndHelpShowsThePoseFormat) {
     ASSERT_EQ(cage.findPose("rest"), 0);
     const std::vector<cv::Point2f> all = cage.vertices();
     EXPECT_EQ(cage.pose(0).vertices, std::vector<cv::Point2f>(all.begin(), all.end() - 4));
-    r = run("deform " + image + " " + dir + "/cage.yml -o " + dir + "/out.png --backend cpu --grid-step 2", dir);
+    r = run("deform " + image + " " + dir + "/cage.yml -o " + dir +
+                "/out.png --backend cpu --grid-step 2",
+            dir);
     ASSERT_EQ(r.code, 0) << r.err;
     // The rest pose is the identity: the output is the input.
     const double psnr = multicage_testing::psnr(cv::imread(dir + "/out.png"), cv::imread(image));
@@ -283,14 +305,16 @@ TEST(Cli, ProposeMakesNestedPolygonsByDefaultAndNoProtectOptsOut) {
         return d;
     };
     int nested = 0;
-    for (const std::string name : {"butterfly.jpg", "fruits.jpg", "messi5.jpg", "HappyFish.jpg", "building.jpg"}) {
+    for (const std::string name :
+         {"butterfly.jpg", "fruits.jpg", "messi5.jpg", "HappyFish.jpg", "building.jpg"}) {
         const Result r = run("propose " + sample(name) + " -o " + dir + "/" + name + ".yml", dir);
         ASSERT_EQ(r.code, 0) << name << ": " << r.err;
         nested += deepest(dir + "/" + name + ".yml") >= 2;
     }
     std::printf("photos whose default proposal has nested polygons: %d of 5\n", nested);
     EXPECT_GE(nested, 4);
-    const Result r = run("propose " + sample("butterfly.jpg") + " -o " + dir + "/outline.yml --no-protect", dir);
+    const Result r =
+        run("propose " + sample("butterfly.jpg") + " -o " + dir + "/outline.yml --no-protect", dir);
     ASSERT_EQ(r.code, 0) << r.err;
     EXPECT_EQ(deepest(dir + "/outline.yml"), 1);
     EXPECT_NE(r.out.find("(1 polygon,"), std::string::npos) << r.out;  // not "1 polygons"
@@ -312,7 +336,8 @@ TEST(Cli, AnimateFollowsTheCageFilesCoordinatesUnlessToldOtherwise) {
     cv::multicage::Multicage cage = cv::multicage::Multicage::load(sample("../butterfly_flap.yml"));
     cage.setCoordinates(cv::multicage::HARMONIC);
     cage.save(dir + "/harmonic.yml");
-    const std::string args = "animate " + sample("butterfly.jpg") + " " + dir + "/harmonic.yml --backend cpu --grid-step 4 -q";
+    const std::string args = "animate " + sample("butterfly.jpg") + " " + dir +
+                             "/harmonic.yml --backend cpu --grid-step 4 -q";
     Result r = run(args + " -o " + dir + "/a.gif", dir);
     ASSERT_EQ(r.code, 0) << r.err;
     EXPECT_NE(r.out.find("harmonic coordinates"), std::string::npos) << r.out;
@@ -325,12 +350,14 @@ TEST(Cli, AnimateFollowsTheCageFilesCoordinatesUnlessToldOtherwise) {
 // and the CLI could not raise the budget.
 TEST(Cli, MemoryBudgetRaisesTheGridStepAndSaysSoInPlainWords) {
     const std::string dir = multicage_testing::tempDir("cli_budget");
-    const std::string args = "deform " + sample("butterfly.jpg") + " " + sample("../butterfly.yml") + " -o " + dir +
-                             "/out.png --backend cpu";
+    const std::string args = "deform " + sample("butterfly.jpg") + " " +
+                             sample("../butterfly.yml") + " -o " + dir + "/out.png --backend cpu";
     // 493x356 nodes x 24 coefficients x 4 bytes = 16.8 MB at step 1: over 8 MiB, under 32 MiB.
     Result r = run(args + " --grid-step 1 --memory-budget 8M", dir);
     ASSERT_EQ(r.code, 0) << r.err;
-    EXPECT_NE(r.out.find("grid step 2 (raised from 1 to fit the 8 MiB memory budget)"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("grid step 2 (raised from 1 to fit the 8 MiB memory budget)"),
+              std::string::npos)
+        << r.out;
     EXPECT_EQ(lines(r.err), 1) << r.err;
     EXPECT_NE(r.err.find("grid step 1 would need"), std::string::npos) << r.err;
     EXPECT_NE(r.err.find("--memory-budget"), std::string::npos) << r.err;
@@ -345,7 +372,8 @@ TEST(Cli, MemoryBudgetRaisesTheGridStepAndSaysSoInPlainWords) {
     ASSERT_EQ(r.code, 0) << r.err;
     EXPECT_NE(r.out.find("grid step 1,"), std::string::npos) << r.out;
     EXPECT_EQ(r.err, "");
-    EXPECT_NE(run(args + " --memory-budget lots", dir).err.find("'lots' is not a size"), std::string::npos);
+    EXPECT_NE(run(args + " --memory-budget lots", dir).err.find("'lots' is not a size"),
+              std::string::npos);
 }
 
 // Issue 13 item 8: every `auto` run without a GPU printed a 300-character WARN line, and the
@@ -354,14 +382,15 @@ TEST(Cli, MemoryBudgetRaisesTheGridStepAndSaysSoInPlainWords) {
 // 139 ms against 50 ms beside other builds); the probe runs before the bind is timed.
 TEST(Cli, AutoBackendIsSaidOnceInTheOutput) {
     const std::string dir = multicage_testing::tempDir("cli_auto");
-    const std::string args = "deform " + sample("butterfly.jpg") + " " + sample("../butterfly.yml") + " -o " + dir +
-                             "/out.png --grid-step 4";
+    const std::string args = "deform " + sample("butterfly.jpg") + " " +
+                             sample("../butterfly.yml") + " -o " + dir + "/out.png --grid-step 4";
     const Result autoRun = run(args, dir), cpuRun = run(args + " --backend cpu", dir);
     ASSERT_EQ(autoRun.code, 0) << autoRun.err;
     ASSERT_EQ(cpuRun.code, 0) << cpuRun.err;
     EXPECT_EQ(autoRun.err, "") << "auto printed on stderr";
     EXPECT_EQ(countOf(autoRun.out, "(auto)"), 1) << autoRun.out;
-    const double bindAuto = numberAfter(autoRun.out, "bind "), bindCpu = numberAfter(cpuRun.out, "bind ");
+    const double bindAuto = numberAfter(autoRun.out, "bind "),
+                 bindCpu = numberAfter(cpuRun.out, "bind ");
     std::printf("bind at grid step 4: auto %.0f ms, cpu %.0f ms\n", bindAuto, bindCpu);
 }
 
@@ -382,14 +411,17 @@ TEST(Cli, LongBindingShowsProgressAndCtrlCStopsItCleanly) {
     EXPECT_EQ(countOf(r.err, "%"), 0) << r.err;
     // Ctrl-C (SIGINT) after the first progress line.
     const std::string err = dir + "/interrupted.2";
-    const std::string cmd = std::string(MULTICAGE_CLI) + " " + args + "/stopped.png > /dev/null 2>" + err +
+    const std::string cmd = std::string(MULTICAGE_CLI) + " " + args +
+                            "/stopped.png > /dev/null 2>" + err +
                             " & pid=$!; for i in $(seq 100); do grep -q binding " + err +
                             " 2>/dev/null && break; sleep 0.1; done; kill -INT $pid; wait $pid";
     const int status = std::system(("bash -c '" + cmd + "'").c_str());
     std::ifstream f(err);
     const std::string text(std::istreambuf_iterator<char>(f), {});
     EXPECT_EQ(WIFEXITED(status) ? WEXITSTATUS(status) : -1, 1) << text;
-    EXPECT_NE(text.find("multicage deform: interrupted while binding; nothing written"), std::string::npos) << text;
+    EXPECT_NE(text.find("multicage deform: interrupted while binding; nothing written"),
+              std::string::npos)
+        << text;
     EXPECT_FALSE(fs::exists(dir + "/stopped.png"));
 }
 
@@ -399,12 +431,13 @@ TEST(Cli, SmallerDeadEndsGivePlainAnswers) {
     Result r = run("--version", dir);
     EXPECT_EQ(r.code, 0);
     EXPECT_EQ(r.out.rfind("multicage ", 0), 0u) << r.out;
-    const std::string deform = "deform " + sample("butterfly.jpg") + " " + sample("../butterfly.yml") + " -o " + dir + "/o.png";
+    const std::string deform = "deform " + sample("butterfly.jpg") + " " +
+                               sample("../butterfly.yml") + " -o " + dir + "/o.png";
     r = run(deform + " --grid-step abc", dir);
     EXPECT_EQ(r.code, 2);
     EXPECT_NE(r.err.find("'abc' is not a whole number"), std::string::npos) << r.err;
-    r = run("animate " + sample("butterfly.jpg") + " " + sample("../butterfly_flap.yml") + " -o " + dir +
-                "/a.gif --duration 0",
+    r = run("animate " + sample("butterfly.jpg") + " " + sample("../butterfly_flap.yml") + " -o " +
+                dir + "/a.gif --duration 0",
             dir);
     EXPECT_NE(r.code, 0) << "--duration 0 was taken as the default";
     EXPECT_FALSE(fs::exists(dir + "/a.gif"));
@@ -512,7 +545,8 @@ TEST(Cli, ProposeSegmenterOptions) {
     }
 
     // resize proposes as propose does, and takes the same choice.
-    r = run("resize " + image + " -o " + dir + "/wide.png --size 600x342 --segmenter classic "
+    r = run("resize " + image + " -o " + dir +
+                "/wide.png --size 600x342 --segmenter classic "
                 "--backend cpu --grid-step 4",
             dir);
     ASSERT_EQ(r.code, 0) << r.err;
@@ -543,26 +577,33 @@ TEST(Cli, EveryCommandAnswersTheSameFaultTheSameWay) {
     };
     auto with = [](std::string run, const std::string& path) {
         for (const char* slot : {"IMAGE", "CAGE"})
-            if (run.find(slot) != std::string::npos) run.replace(run.find(slot), std::string(slot).size(), path);
+            if (run.find(slot) != std::string::npos)
+                run.replace(run.find(slot), std::string(slot).size(), path);
         return run;
     };
-    auto check = [&](const std::string& name, const std::string& args, int code, const std::string& names) {
+    auto check = [&](const std::string& name, const std::string& args, int code,
+                     const std::string& names) {
         const Result r = run(args, dir);
         EXPECT_EQ(r.code, code) << args << "\n" << r.err;
         EXPECT_EQ(lines(r.err), 1) << args << "\n" << r.err;
         EXPECT_EQ(r.err.rfind("multicage " + name + ": ", 0), 0u) << args << "\n" << r.err;
         EXPECT_NE(r.err.find(names), std::string::npos) << args << "\n" << r.err;
-        if (code == 2) EXPECT_NE(r.err.find("(see multicage " + name + " --help)"), std::string::npos) << r.err;
+        if (code == 2)
+            EXPECT_NE(r.err.find("(see multicage " + name + " --help)"), std::string::npos)
+                << r.err;
         EXPECT_EQ(r.out, "") << args;
         for (const auto& entry : fs::directory_iterator(dir))
-            EXPECT_NE(entry.path().filename().string().rfind("out", 0), 0u) << args << " left a file";
+            EXPECT_NE(entry.path().filename().string().rfind("out", 0), 0u)
+                << args << " left a file";
     };
     for (const Command& c : commands) {
         check(c.name, with(c.run, dir + "/missing.png"), 1, dir + "/missing.png: no such file");
         if (c.name != "propose")  // propose takes folders: a dataset (this one has no images)
-            check(c.name, with(c.run, dir + "/folder.png"), 1, dir + "/folder.png: is a folder, not a file");
+            check(c.name, with(c.run, dir + "/folder.png"), 1,
+                  dir + "/folder.png: is a folder, not a file");
         else
-            check(c.name, with(c.run, dir + "/folder.png"), 1, "no images found in " + dir + "/folder.png");
+            check(c.name, with(c.run, dir + "/folder.png"), 1,
+                  "no images found in " + dir + "/folder.png");
     }
     // Values out of range and bad counts of values, in each command that has the flag.
     const std::string deformArgs[] = {"deform " + image + " " + cage + out + ".png",
@@ -581,7 +622,8 @@ TEST(Cli, EveryCommandAnswersTheSameFaultTheSameWay) {
     check("pose", "pose " + cage + " --name p --translate 9 1 1" + out + ".yml", 2, "--translate");
     check("pose", "pose " + cage + " --name p --rotate 0 x" + out + ".yml", 2, "--rotate");
     // --protect takes its value wherever it stands; every command with --protect has --no-protect.
-    const Result before = run("propose --protect faces " + image + " -o " + dir + "/p.yml --segmenter classic", dir);
+    const Result before =
+        run("propose --protect faces " + image + " -o " + dir + "/p.yml --segmenter classic", dir);
     EXPECT_EQ(before.code, 0) << before.err;
     EXPECT_NE(run("resize --help", dir).out.find("--no-protect"), std::string::npos);
     EXPECT_NE(run("propose --help", dir).out.find("--no-protect"), std::string::npos);
@@ -594,14 +636,16 @@ TEST(Cli, EveryCommandAnswersTheSameFaultTheSameWay) {
 TEST(Cli, ProposeADatasetResumesAndNamesADamagedImage) {
     const std::string dir = multicage_testing::tempDir("cli_dataset");
     fs::create_directories(dir + "/images/sub");
-    const cv::Mat butterfly = cv::imread(sample("butterfly.jpg")), fruits = cv::imread(sample("fruits.jpg"));
+    const cv::Mat butterfly = cv::imread(sample("butterfly.jpg")),
+                  fruits = cv::imread(sample("fruits.jpg"));
     cv::Mat small;
     cv::resize(fruits, small, cv::Size(), 0.5, 0.5);
     ASSERT_TRUE(cv::imwrite(dir + "/images/butterfly.jpg", butterfly));
     ASSERT_TRUE(cv::imwrite(dir + "/images/sub/fruits.png", small));
     std::ofstream(dir + "/images/damaged.jpg") << "not a jpeg";
     std::ofstream(dir + "/images/notes.txt") << "not an image: ignored";
-    const std::string args = "propose " + dir + "/images -o " + dir + "/cages/ --segmenter classic -j 2";
+    const std::string args =
+        "propose " + dir + "/images -o " + dir + "/cages/ --segmenter classic -j 2";
     Result r = run(args, dir);
     EXPECT_EQ(r.code, 1) << r.err;
     EXPECT_NE(r.err.find("skipped " + dir + "/images/damaged.jpg: "), std::string::npos) << r.err;
@@ -613,7 +657,11 @@ TEST(Cli, ProposeADatasetResumesAndNamesADamagedImage) {
         std::ifstream f(p);
         return std::string(std::istreambuf_iterator<char>(f), {});
     };
-    ASSERT_EQ(run("propose " + dir + "/images/butterfly.jpg -o " + dir + "/one.yml --segmenter classic", dir).code, 0);
+    ASSERT_EQ(
+        run("propose " + dir + "/images/butterfly.jpg -o " + dir + "/one.yml --segmenter classic",
+            dir)
+            .code,
+        0);
     EXPECT_EQ(slurp(dir + "/cages/butterfly.yml"), slurp(dir + "/one.yml"));
 
     fs::remove(dir + "/cages/fruits.yml");

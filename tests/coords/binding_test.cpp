@@ -14,8 +14,8 @@ float coefficient(const Binding& b, int j, Point node) {
 // inner axis-aligned rectangle around (100, 80), in a 200x160 image.
 Multicage gridAlignedCage() {
     Multicage cage(Size(200, 160));
-    cage.addPolygon(std::vector<Point2f>{{40, 10}, {160, 10}, {190, 50}, {190, 110}, {160, 150},
-                                         {40, 150}, {10, 110}, {10, 50}});
+    cage.addPolygon(std::vector<Point2f>{
+        {40, 10}, {160, 10}, {190, 50}, {190, 110}, {160, 150}, {40, 150}, {10, 110}, {10, 50}});
     cage.addPolygon(std::vector<Point2f>{{80, 60}, {120, 60}, {120, 100}, {80, 100}});
     cage.orient();
     return cage;
@@ -26,7 +26,8 @@ Multicage gridAlignedCage() {
 TEST(Binding, PartitionOfUnityAndLinearPrecisionOnRandomMulticages) {
     RNG rng(20261122);
     for (int trial = 0; trial < 8; ++trial) {
-        const Size size = trial < 2 ? Size(1024, 1024) : Size(rng.uniform(64, 1025), rng.uniform(64, 1025));
+        const Size size =
+            trial < 2 ? Size(1024, 1024) : Size(rng.uniform(64, 1025), rng.uniform(64, 1025));
         const Multicage cage = multicage_fixtures::randomMulticage(rng, size, 3, 3, 10);
         ASSERT_TRUE(cage.validate());
         const int step = trial < 2 ? 1 : rng.uniform(1, 4);
@@ -59,7 +60,8 @@ TEST(Binding, MatchesDoublePrecisionAlgorithm1) {
         std::vector<double> ref;
         for (size_t p = 0; p < polygons.size(); ++p) {
             Mat w;
-            meanValueCoordinates(polygons[p], std::vector<Point2f>{b.node(node.x, node.y)}, w, false);
+            meanValueCoordinates(polygons[p], std::vector<Point2f>{b.node(node.x, node.y)}, w,
+                                 false);
             for (int i = 0; i < w.cols; ++i) ref.push_back(w.at<float>(0, i));
         }
         double total = 0;
@@ -77,7 +79,8 @@ TEST(Binding, LagrangePropertyAtVertices) {
     for (int j = 0; j < cage.vertexCount(); ++j) {
         const Point node(cvRound(v[j].x), cvRound(v[j].y));
         for (int i = 0; i < b.coefficientCount(); ++i)
-            EXPECT_EQ(coefficient(b, i, node), i == j ? 1.f : 0.f) << "vertex " << j << " coefficient " << i;
+            EXPECT_EQ(coefficient(b, i, node), i == j ? 1.f : 0.f)
+                << "vertex " << j << " coefficient " << i;
     }
 }
 
@@ -106,7 +109,8 @@ TEST(Binding, NodesOnEdgesInterpolateTheEdge) {
 TEST(Binding, InnerPolygonStaysPutWhenOnlyOuterMoves) {
     const Multicage cage = gridAlignedCage();
     const Binding b = bind(cage, MEAN_VALUE, 1);
-    const std::vector<Point2f> pose = multicage_fixtures::stretchPolygon(cage, 0, 1.1f, 0.9f, {5, -3});
+    const std::vector<Point2f> pose =
+        multicage_fixtures::stretchPolygon(cage, 0, 1.1f, 0.9f, {5, -3});
     Mat positions;
     b.apply(pose, positions);
     // Nodes on the inner polygon follow it exactly, and it did not move.
@@ -150,8 +154,9 @@ TEST(Binding, GridStepSamplesTheSameField) {
         for (int gx = 0; gx < coarse.gridSize.width; ++gx) {
             const Point2f p = coarse.node(gx, gy);
             for (int j = 0; j < coarse.coefficientCount(); ++j)
-                worst = std::max(worst, double(std::abs(coefficient(coarse, j, Point(gx, gy)) -
-                                                        coefficient(fine, j, Point(int(p.x), int(p.y))))));
+                worst = std::max(worst,
+                                 double(std::abs(coefficient(coarse, j, Point(gx, gy)) -
+                                                 coefficient(fine, j, Point(int(p.x), int(p.y))))));
         }
     EXPECT_LE(worst, 1e-6);
 }

@@ -8,11 +8,13 @@ using namespace cv::multicage;
 
 namespace {
 // A non-convex polygon (an arrow), clockwise on screen.
-const std::vector<Point2f> kArrow = {{10, 40}, {60, 40}, {60, 10}, {110, 60}, {60, 110}, {60, 80}, {10, 80}};
+const std::vector<Point2f> kArrow = {{10, 40},  {60, 40}, {60, 10}, {110, 60},
+                                     {60, 110}, {60, 80}, {10, 80}};
 
 std::vector<Point2f> samplePoints(RNG& rng, int n) {
     std::vector<Point2f> pts;
-    for (int i = 0; i < n; ++i) pts.emplace_back(rng.uniform(-50.f, 170.f), rng.uniform(-50.f, 170.f));
+    for (int i = 0; i < n; ++i)
+        pts.emplace_back(rng.uniform(-50.f, 170.f), rng.uniform(-50.f, 170.f));
     return pts;
 }
 }  // namespace
@@ -80,7 +82,8 @@ TEST(MeanValue, ExactLinearInterpolationOnEdges) {
 }
 
 TEST(MeanValue, CollinearPointsBeyondAnEdgeAreFinite) {
-    // On the line of an edge but outside it: A_i = 0 with D_i > 0, the 0/0 case of the naive formula.
+    // On the line of an edge but outside it: A_i = 0 with D_i > 0, the 0/0 case of the naive
+    // formula.
     const std::vector<Point2f> pts = {{0, 40}, {120, 40}, {10, 100}, {-30, 80}};
     Mat w;
     meanValueCoordinates(kArrow, pts, w);
@@ -92,7 +95,8 @@ TEST(MeanValue, CollinearPointsBeyondAnEdgeAreFinite) {
 
 TEST(MeanValue, BadInputThrows) {
     Mat w;
-    EXPECT_THROW(meanValueCoordinates(std::vector<Point2f>{{0, 0}, {1, 1}}, kArrow, w), cv::Exception);
+    EXPECT_THROW(meanValueCoordinates(std::vector<Point2f>{{0, 0}, {1, 1}}, kArrow, w),
+                 cv::Exception);
     EXPECT_THROW(meanValueCoordinates(kArrow, Mat(4, 3, CV_32F), w), cv::Exception);
     EXPECT_THROW(meanValueCoordinates(kArrow, Mat(4, 2, CV_8U), w), cv::Exception);
 }

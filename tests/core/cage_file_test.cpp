@@ -19,7 +19,9 @@ Multicage sampleCage() {
     cage.setCoordinates(1);
     return cage;
 }
-void writeText(const std::string& path, const std::string& text) { std::ofstream(path) << text; }
+void writeText(const std::string& path, const std::string& text) {
+    std::ofstream(path) << text;
+}
 std::string loadError(const std::string& path) {
     try {
         Multicage::load(path);
@@ -41,7 +43,8 @@ TEST(CageFile, RoundTripIsExactInYamlAndJson) {
         EXPECT_EQ(back.imageSize(), cage.imageSize());
         EXPECT_EQ(back.coordinates(), 1) << name;
         ASSERT_EQ(back.polygonCount(), cage.polygonCount());
-        for (int p = 0; p < cage.polygonCount(); ++p) EXPECT_EQ(back.polygon(p), cage.polygon(p)) << name;
+        for (int p = 0; p < cage.polygonCount(); ++p)
+            EXPECT_EQ(back.polygon(p), cage.polygon(p)) << name;
         ASSERT_EQ(back.poseCount(), 2);
         EXPECT_EQ(back.pose(0).name, "stretch");
         EXPECT_EQ(back.pose(0).time, 1.5);
@@ -75,12 +78,14 @@ TEST(CageFile, MalformedFilesNameTheField) {
         {"polygons:\n  - [ 1, 1, 5, 1, 5, 5 ]\n", "image_size: missing"},
         {"image_size: [ 10 ]\npolygons: []\n", "image_size: must be [ width, height ]"},
         {"image_size: [ 10, 10 ]\n", "polygons: missing"},
-        {"image_size: [ 10, 10 ]\ncoordinates: wachspress\npolygons: []\n", "coordinates: must be mean_value, harmonic or local_mean_value"},
+        {"image_size: [ 10, 10 ]\ncoordinates: wachspress\npolygons: []\n",
+         "coordinates: must be mean_value, harmonic or local_mean_value"},
         {"image_size: [ 10, 10 ]\npolygons:\n  - [ 1, 1, 5, 1, 5, 5 ]\n  - [ 1, 7, 2, 7, 2 ]\n",
          "polygons[1]: odd number of coordinates (5)"},
         {"image_size: [ 10, 10 ]\npolygons:\n  - [ 1, 1, 5, one, 5, 5 ]\n",
          "polygons[0]: coordinate 3 (of vertex 1) is not a number"},
-        {"image_size: [ 10, 10 ]\npolygons:\n  - [ 1, 1, 5, 1 ]\n", "polygons[0]: fewer than 3 vertices (2)"},
+        {"image_size: [ 10, 10 ]\npolygons:\n  - [ 1, 1, 5, 1 ]\n",
+         "polygons[0]: fewer than 3 vertices (2)"},
         {"image_size: [ 10, 10 ]\npolygons:\n  - [ 1, 1, 5, 1, 5, 5 ]\nposes:\n"
          "  - { name: up, vertices: [ 1, 1, 5, 1 ] }\n",
          "poses[0] (\"up\").vertices: has 2 vertices, the polygons have 3"},
@@ -96,7 +101,8 @@ TEST(CageFile, MalformedFilesNameTheField) {
         const std::string path = dir + "/case" + std::to_string(i++) + ".yml";
         writeText(path, std::string(kHeader) + c.body);
         const std::string err = loadError(path);
-        EXPECT_NE(err.find(c.expected), std::string::npos) << "got: " << err << "\nwanted: " << c.expected;
+        EXPECT_NE(err.find(c.expected), std::string::npos)
+            << "got: " << err << "\nwanted: " << c.expected;
         EXPECT_NE(err.find(path), std::string::npos) << "the message names the file: " << err;
     }
     EXPECT_NE(loadError(dir + "/absent.yml").find("cannot be opened"), std::string::npos);
@@ -119,8 +125,9 @@ TEST(CageFile, FailedSaveLeavesNoFile) {
 // "Unsupported file storage format".
 TEST(CageFile, YamlWithoutTheOpenCvHeaderLoads) {
     const std::string dir = multicage_testing::tempDir("cage_no_header");
-    const std::string body = "image_size: [ 493, 356 ]\npolygons:\n  - [ 100, 100, 200, 100, 200, 200 ]\n"
-                             "poses:\n  - { name: up, time: 0, vertices: [ 100, 90, 200, 90, 200, 190 ] }\n";
+    const std::string body =
+        "image_size: [ 493, 356 ]\npolygons:\n  - [ 100, 100, 200, 100, 200, 200 ]\n"
+        "poses:\n  - { name: up, time: 0, vertices: [ 100, 90, 200, 90, 200, 190 ] }\n";
     std::ofstream(dir + "/plain.yml") << body;
     std::ofstream(dir + "/dashes.yaml") << "---\n" << body;
     for (const char* name : {"plain.yml", "dashes.yaml"}) {

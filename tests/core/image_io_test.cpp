@@ -10,24 +10,29 @@ using namespace cv;
 using namespace cv::multicage;
 
 namespace {
-std::vector<uchar> encode(const std::string& ext, const Mat& image, const std::vector<int>& params = {}) {
+std::vector<uchar> encode(const std::string& ext, const Mat& image,
+                          const std::vector<int>& params = {}) {
     std::vector<uchar> bytes;
     EXPECT_TRUE(imencode(ext, image, bytes, params));
     return bytes;
 }
 
 void writeBytes(const std::string& path, const std::vector<uchar>& bytes, size_t count) {
-    std::ofstream(path, std::ios::binary).write(reinterpret_cast<const char*>(bytes.data()), std::streamsize(count));
+    std::ofstream(path, std::ios::binary)
+        .write(reinterpret_cast<const char*>(bytes.data()), std::streamsize(count));
 }
 
-Mat photo() { return imread(multicage_testing::samplePath("butterfly.jpg"), IMREAD_COLOR); }
+Mat photo() {
+    return imread(multicage_testing::samplePath("butterfly.jpg"), IMREAD_COLOR);
+}
 }  // namespace
 
 TEST(ImageIo, TruncatedJpegIsRefusedAtEveryCutWholeOneIsRead) {
     const Mat image = photo();
     ASSERT_FALSE(image.empty());
     for (bool progressive : {false, true}) {
-        const std::vector<uchar> jpg = encode(".jpg", image, {IMWRITE_JPEG_PROGRESSIVE, progressive ? 1 : 0});
+        const std::vector<uchar> jpg =
+            encode(".jpg", image, {IMWRITE_JPEG_PROGRESSIVE, progressive ? 1 : 0});
         EXPECT_EQ(truncatedImageReason(jpg), "") << "progressive " << progressive;
         // Data after the end marker (camera trailers, motion photos) does not make it truncated.
         std::vector<uchar> trailer = jpg;
@@ -36,7 +41,8 @@ TEST(ImageIo, TruncatedJpegIsRefusedAtEveryCutWholeOneIsRead) {
         for (size_t cut : {size_t(3000), jpg.size() / 2, jpg.size() - 2, jpg.size() - 1}) {
             const std::vector<uchar> part(jpg.begin(), jpg.begin() + long(cut));
             EXPECT_NE(truncatedImageReason(part).find("truncated"), std::string::npos)
-                << "progressive " << progressive << ", cut after " << cut << " of " << jpg.size() << " bytes";
+                << "progressive " << progressive << ", cut after " << cut << " of " << jpg.size()
+                << " bytes";
         }
     }
 }
@@ -46,7 +52,8 @@ TEST(ImageIo, TruncatedPngIsRefusedAtEveryCutWholeOneIsRead) {
     EXPECT_EQ(truncatedImageReason(png), "");
     for (size_t cut : {size_t(40), size_t(3000), png.size() / 2, png.size() - 1, png.size() - 12}) {
         const std::vector<uchar> part(png.begin(), png.begin() + long(cut));
-        EXPECT_NE(truncatedImageReason(part).find("truncated"), std::string::npos) << "cut after " << cut;
+        EXPECT_NE(truncatedImageReason(part).find("truncated"), std::string::npos)
+            << "cut after " << cut;
     }
 }
 
@@ -63,8 +70,8 @@ TEST(ImageIo, ReadImageNamesTheTruncatedFileAndReadsEverySample) {
         EXPECT_NE(e.err.find(dir + "/cut.jpg: the file is truncated"), std::string::npos) << e.err;
     }
     EXPECT_THROW(readImage(dir + "/missing.png"), cv::Exception);
-    for (const char* name : {"butterfly.jpg", "building.jpg", "fruits.jpg", "HappyFish.jpg", "messi5.jpg",
-                             "smarties.png"}) {
+    for (const char* name : {"butterfly.jpg", "building.jpg", "fruits.jpg", "HappyFish.jpg",
+                             "messi5.jpg", "smarties.png"}) {
         const Mat m = readImage(multicage_testing::samplePath(name));
         EXPECT_FALSE(m.empty()) << name;
     }
@@ -145,10 +152,13 @@ TEST(ImageIo, ChannelsAreConvertedToWhatTheFormatStoresAndSaid) {
         {"a.pgm", bgr, CV_8UC1, ".pgm does not store 3 channels; wrote the colour image as grey"},
         {"a.pbm", bgra, CV_8UC1, ".pbm does not store 4 channels; wrote the colour image as grey"},
         {"a.ppm", grey, CV_8UC3, ".ppm does not store 1 channels; wrote the grey image as colour"},
-        {"a.ppm", bgra, CV_8UC3, ".ppm does not store 4 channels; wrote the colour image without its alpha channel"},
-        {"a.jpg", bgra, CV_8UC3, ".jpg does not store 4 channels; wrote the colour image without its alpha channel"},
-        {"a.hdr", bgra, CV_32FC3, ".hdr does not store 4 channels; wrote the colour image without its alpha channel; "
-                                  ".hdr does not store 8-bit pixels; wrote float"},
+        {"a.ppm", bgra, CV_8UC3,
+         ".ppm does not store 4 channels; wrote the colour image without its alpha channel"},
+        {"a.jpg", bgra, CV_8UC3,
+         ".jpg does not store 4 channels; wrote the colour image without its alpha channel"},
+        {"a.hdr", bgra, CV_32FC3,
+         ".hdr does not store 4 channels; wrote the colour image without its alpha channel; "
+         ".hdr does not store 8-bit pixels; wrote float"},
         {"a.png", bgra, CV_8UC4, ""},
         {"a.pgm", grey, CV_8UC1, ""},
     };

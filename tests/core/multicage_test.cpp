@@ -8,7 +8,10 @@ using namespace cv::multicage;
 
 namespace {
 std::vector<Point2f> square(Point2f c, float half) {  // clockwise on screen: A > 0
-    return {{c.x - half, c.y - half}, {c.x + half, c.y - half}, {c.x + half, c.y + half}, {c.x - half, c.y + half}};
+    return {{c.x - half, c.y - half},
+            {c.x + half, c.y - half},
+            {c.x + half, c.y + half},
+            {c.x - half, c.y + half}};
 }
 std::vector<Point2f> reversed(std::vector<Point2f> p) {
     std::reverse(p.begin() + 1, p.end());
@@ -49,9 +52,9 @@ TEST(Multicage, DepthCountsContainingPolygons) {
 
 TEST(Multicage, OrientAppliesAlternatingRuleAndReordersPoses) {
     Multicage cage(Size(300, 300));
-    cage.addPolygon(square({150, 150}, 120));            // depth 1 wants A < 0: will flip
-    cage.addPolygon(reversed(square({150, 150}, 40)));   // depth 2 wants A > 0: will flip
-    cage.addPolygon(reversed(square({285, 15}, 10)));    // depth 1, already A < 0
+    cage.addPolygon(square({150, 150}, 120));           // depth 1 wants A < 0: will flip
+    cage.addPolygon(reversed(square({150, 150}, 40)));  // depth 2 wants A > 0: will flip
+    cage.addPolygon(reversed(square({285, 15}, 10)));   // depth 1, already A < 0
     std::vector<Point2f> pose = cage.vertices();
     pose.resize(cage.vertexCount());
     for (size_t i = 0; i < pose.size(); ++i) pose[i] += Point2f(float(i), 0.f);  // tag each vertex
@@ -63,8 +66,8 @@ TEST(Multicage, OrientAppliesAlternatingRuleAndReordersPoses) {
     EXPECT_LT(cage.signedArea(0), 0);
     EXPECT_GT(cage.signedArea(1), 0);
     EXPECT_LT(cage.signedArea(2), 0);
-    EXPECT_EQ(cage.polygon(2), p2);            // untouched
-    EXPECT_EQ(cage.polygon(0)[0], p0[0]);      // vertex 0 stays first
+    EXPECT_EQ(cage.polygon(2), p2);        // untouched
+    EXPECT_EQ(cage.polygon(0)[0], p0[0]);  // vertex 0 stays first
     EXPECT_EQ(cage.polygon(0)[1], p0[3]);
     // Every pose vertex still belongs to the rest vertex it belonged to.
     const std::vector<Point2f> rest = cage.vertices();
@@ -80,7 +83,8 @@ TEST(Multicage, ValidateNamesCrossingPolygonsAndEdge) {
     Multicage cage(Size(300, 300));
     cage.addPolygon(square({100, 100}, 50));
     cage.addPolygon(square({250, 250}, 20));
-    cage.addPolygon(std::vector<Point2f>{{100, 100}, {170, 160}, {180, 200}, {140, 190}});  // starts inside polygon 0
+    cage.addPolygon(std::vector<Point2f>{
+        {100, 100}, {170, 160}, {180, 200}, {140, 190}});  // starts inside polygon 0
     EXPECT_EQ(why(cage), "polygon 2 crosses polygon 0 at edge 0 (edge 1 of polygon 0)");
     Multicage touching(Size(300, 300));
     touching.addPolygon(square({100, 100}, 50));
@@ -109,7 +113,8 @@ TEST(Multicage, ValidateRejectsPolygonOutsideFrame) {
     cage.addPolygon(square({10, 90}, 5));
     cage.addPolygon(square({10, 10}, 5));
     cage.addPolygon(std::vector<Point2f>{{80, 80}, {99.6f, 80}, {90, 90}});  // x > W - 0.5
-    EXPECT_NE(why(cage).find("polygon 3 is not inside the image frame: vertex 1"), std::string::npos);
+    EXPECT_NE(why(cage).find("polygon 3 is not inside the image frame: vertex 1"),
+              std::string::npos);
 }
 
 TEST(Multicage, ValidateRejectsSelfIntersectionAndSpikes) {
@@ -117,7 +122,8 @@ TEST(Multicage, ValidateRejectsSelfIntersectionAndSpikes) {
     bowtie.addPolygon(std::vector<Point2f>{{10, 10}, {60, 60}, {60, 10}, {10, 70}});
     EXPECT_NE(why(bowtie).find("polygon 0 intersects itself at edges"), std::string::npos);
     Multicage spike(Size(100, 100));  // goes out along a line and comes back: zero-width spike
-    spike.addPolygon(std::vector<Point2f>{{10, 10}, {50, 10}, {50, 50}, {50, 70}, {50, 40}, {10, 50}});
+    spike.addPolygon(
+        std::vector<Point2f>{{10, 10}, {50, 10}, {50, 50}, {50, 70}, {50, 40}, {10, 50}});
     EXPECT_NE(why(spike).find("intersects itself"), std::string::npos);
     Multicage repeated(Size(100, 100));
     repeated.addPolygon(std::vector<Point2f>{{10, 10}, {50, 10}, {50, 10}, {10, 50}});
@@ -143,7 +149,8 @@ TEST(Multicage, ValidateRejectsBadSizeAndPoses) {
     std::vector<Point2f> pose = cage.polygon(0);
     pose[2].x = INFINITY;
     cage.addPose("bad", pose);
-    EXPECT_NE(why(cage).find("pose 0 (\"bad\"), vertex 2 is not a finite number"), std::string::npos);
+    EXPECT_NE(why(cage).find("pose 0 (\"bad\"), vertex 2 is not a finite number"),
+              std::string::npos);
     EXPECT_THROW(cage.addPose("short", std::vector<Point2f>(3)), cv::Exception);
 }
 

@@ -118,7 +118,8 @@ TEST(Batch, DeformBatchNamesTheBadItem) {
     const Multicage cage = multicage_testing::butterflyCage(true);
     const std::vector<Mat> imgs = images();
     Ptr<Deformer> d = Deformer::create(imgs[0], cage, cpu(4));
-    std::vector<std::vector<Point2f>> poses = {shiftedPose(cage, 1), shiftedPose(cage, 2), {{1, 2}}};
+    std::vector<std::vector<Point2f>> poses = {
+        shiftedPose(cage, 1), shiftedPose(cage, 2), {{1, 2}}};
     std::vector<Mat> out;
     try {
         d->deformBatch(poses, out);

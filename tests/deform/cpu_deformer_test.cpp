@@ -15,9 +15,12 @@ DeformParams cpuParams(int gridStep = 1) {
 }
 Mat asType(const Mat& bgr, int depth, int channels) {
     Mat img;
-    if (channels == 1) cvtColor(bgr, img, COLOR_BGR2GRAY);
-    else if (channels == 4) cvtColor(bgr, img, COLOR_BGR2BGRA);
-    else img = bgr.clone();
+    if (channels == 1)
+        cvtColor(bgr, img, COLOR_BGR2GRAY);
+    else if (channels == 4)
+        cvtColor(bgr, img, COLOR_BGR2BGRA);
+    else
+        img = bgr.clone();
     const double scale = depth == CV_16U ? 257.0 : depth == CV_32F ? 1.0 / 255 : 1.0;
     img.convertTo(img, depth, scale);
     return img;
@@ -39,7 +42,9 @@ TEST_P(RestPose, ReproducesTheInput) {
     double maxDiff;
     minMaxLoc(diff.reshape(1), nullptr, &maxDiff);
     const double meanDiff = mean(diff.reshape(1))[0];
-    const double unit = depth == CV_16U ? 257.0 : depth == CV_32F ? 1.0 / 255 : 1.0;  // one 8-bit level
+    const double unit = depth == CV_16U   ? 257.0
+                        : depth == CV_32F ? 1.0 / 255
+                                          : 1.0;  // one 8-bit level
     EXPECT_LE(maxDiff, 1.0 * unit);
     EXPECT_LT(meanDiff, 0.01 * unit);
 }
@@ -54,7 +59,8 @@ TEST(CpuDeformer, UncoveredPixelsGetTheBorderValue) {
     cage.addPolygon(std::vector<Point2f>{{60, 60}, {60, 130}, {200, 130}, {200, 60}});
     std::vector<Point2f> pose = cage.vertices();  // with frame corners: pull them inwards
     const Point2f centre(image.cols / 2.f, image.rows / 2.f);
-    for (int i = cage.vertexCount(); i < cage.vertexCount() + 4; ++i) pose[i] = centre + 0.8f * (pose[i] - centre);
+    for (int i = cage.vertexCount(); i < cage.vertexCount() + 4; ++i)
+        pose[i] = centre + 0.8f * (pose[i] - centre);
     DeformParams params = cpuParams();
     params.borderValue = Scalar(1, 2, 3);
     Mat out;
@@ -107,7 +113,8 @@ TEST(CpuDeformer, ACrossingPoseIsDeformedAsAskedAndFolds) {
     Ptr<Deformer> d = Deformer::create(image, cage, cpuParams(4));
     std::vector<Point2f> pose = cage.vertices();
     pose.resize(cage.vertexCount());
-    for (int i = 4; i < 8; ++i) pose[i].x += 100;  // the inner square across the outline's right edge
+    for (int i = 4; i < 8; ++i)
+        pose[i].x += 100;  // the inner square across the outline's right edge
     std::string why;
     EXPECT_FALSE(validatePose(cage, pose, &why));
     EXPECT_NE(why.find("polygon"), std::string::npos) << why;
@@ -134,22 +141,31 @@ TEST(CpuDeformer, BadInputIsRefusedWithAReason) {
         return "no exception";
     };
     Mat out;
-    EXPECT_NE(message([&] { deformImage(Mat(), cage, cage.vertices(), out); }).find("empty"), std::string::npos);
-    EXPECT_NE(message([&] { deformImage(Mat(image.size(), CV_64FC3), cage, cage.vertices(), out); })
-                  .find("unsupported image type"), std::string::npos);
-    EXPECT_NE(message([&] { deformImage(Mat(image.size(), CV_8UC2), cage, cage.vertices(), out); })
-                  .find("unsupported image type"), std::string::npos);
+    EXPECT_NE(message([&] { deformImage(Mat(), cage, cage.vertices(), out); }).find("empty"),
+              std::string::npos);
+    EXPECT_NE(message([&] {
+                  deformImage(Mat(image.size(), CV_64FC3), cage, cage.vertices(), out);
+              }).find("unsupported image type"),
+              std::string::npos);
+    EXPECT_NE(message([&] {
+                  deformImage(Mat(image.size(), CV_8UC2), cage, cage.vertices(), out);
+              }).find("unsupported image type"),
+              std::string::npos);
     Mat half;
     resize(image, half, Size(), 0.5, 0.5);
-    EXPECT_NE(message([&] { deformImage(half, cage, cage.vertices(), out); }).find("scaled"), std::string::npos);
+    EXPECT_NE(message([&] { deformImage(half, cage, cage.vertices(), out); }).find("scaled"),
+              std::string::npos);
     Ptr<Deformer> d = Deformer::create(image, cage, cpuParams(4));
-    EXPECT_NE(message([&] { d->deform(std::vector<Point2f>(3), out); }).find("has 3 vertices"), std::string::npos);
+    EXPECT_NE(message([&] { d->deform(std::vector<Point2f>(3), out); }).find("has 3 vertices"),
+              std::string::npos);
     std::vector<Point2f> nanPose = cage.vertices();
     nanPose[1].y = NAN;
-    EXPECT_NE(message([&] { d->deform(nanPose, out); }).find("vertex 1 is not a finite number"), std::string::npos);
+    EXPECT_NE(message([&] { d->deform(nanPose, out); }).find("vertex 1 is not a finite number"),
+              std::string::npos);
     DeformParams bad = cpuParams();
     bad.backend = 7;
-    EXPECT_NE(message([&] { Deformer::create(image, cage, bad); }).find("unknown backend"), std::string::npos);
+    EXPECT_NE(message([&] { Deformer::create(image, cage, bad); }).find("unknown backend"),
+              std::string::npos);
 }
 
 TEST(CpuDeformer, PoseAsMatrixEqualsPoseAsVector) {
@@ -173,7 +189,8 @@ TEST(CpuDeformer, FixedFrameKeepsEveryBorderPixelCovered) {
     const Size size(320, 240);
     const Multicage cage = multicage_fixtures::lotusMulticage(size, 40);
     for (int step : {1, 3}) {
-        Ptr<Deformer> d = Deformer::create(Mat(size, CV_8UC3, Scalar::all(200)), cage, cpuParams(step));
+        Ptr<Deformer> d =
+            Deformer::create(Mat(size, CV_8UC3, Scalar::all(200)), cage, cpuParams(step));
         for (float amplitude : {10.f, 30.f}) {
             Mat mapx, mapy;
             d->computeMaps(multicage_fixtures::wavePose(cage, amplitude, 0.3f), mapx, mapy);

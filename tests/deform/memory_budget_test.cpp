@@ -11,7 +11,8 @@ TEST(MemoryBudget, EstimateMatchesTheBinding) {
     const Multicage cage = multicage_fixtures::lotusMulticage(Size(300, 200), 20);
     for (int step : {1, 2, 5}) {
         const Binding b = bind(cage, MEAN_VALUE, step);
-        EXPECT_EQ(bindingMemory(cage.imageSize(), 24, step), b.coefficients.total() * sizeof(float));
+        EXPECT_EQ(bindingMemory(cage.imageSize(), 24, step),
+                  b.coefficients.total() * sizeof(float));
     }
     const size_t budget = bindingMemory(cage.imageSize(), 24, 3);
     EXPECT_EQ(gridStepForBudget(cage.imageSize(), 24, budget), 3);
@@ -30,7 +31,8 @@ TEST(MemoryBudget, OverBudgetWithoutAutoStepNamesWhatFits) {
         Deformer::create(image, cage, params);
         FAIL() << "no error over budget";
     } catch (const cv::Exception& e) {
-        EXPECT_NE(e.err.find("needs 81 MiB of coefficients at grid step 1"), std::string::npos) << e.err;
+        EXPECT_NE(e.err.find("needs 81 MiB of coefficients at grid step 1"), std::string::npos)
+            << e.err;
         EXPECT_NE(e.err.find("grid step 2 fits (20 MiB)"), std::string::npos) << e.err;
     }
     params.autoGridStep = true;
@@ -54,7 +56,7 @@ TEST(MemoryBudget, Image8192SquaredWith128VerticesStaysWithin4GiB) {
     getrusage(RUSAGE_SELF, &usage);
     const double peakGiB = usage.ru_maxrss / (1024.0 * 1024.0);  // ru_maxrss is in KiB
     std::cout << "[ memory ] grid step " << d->binding().gridStep << ", coefficients "
-              << d->binding().coefficients.total() * 4 / (1 << 20) << " MiB, peak RSS " << peakGiB << " GiB"
-              << std::endl;
+              << d->binding().coefficients.total() * 4 / (1 << 20) << " MiB, peak RSS " << peakGiB
+              << " GiB" << std::endl;
     EXPECT_LT(peakGiB, 4.0);
 }

@@ -2,9 +2,8 @@
 // before the set-up was vectorised (one triangle at a time, everything in double), kept here
 // verbatim. Coverage, tie rules and values are a contract the GPU backend reproduces, so the
 // fast one must give the same bits on every pixel, folds, degenerate and far-away nodes included.
-#include <opencv2/imgproc.hpp>
-
 #include <cmath>
+#include <opencv2/imgproc.hpp>
 
 #include "testing.hpp"
 
@@ -28,7 +27,9 @@ namespace reference {
 
 constexpr float kUncovered = -1e4f;  // far outside any image: cv::remap gives the border value
 
-inline double cross(Point2d a, Point2d b) { return a.x * b.y - a.y * b.x; }
+inline double cross(Point2d a, Point2d b) {
+    return a.x * b.y - a.y * b.x;
+}
 
 // Writes, for every pixel centre of rows [y0, y1) inside triangle q (deformed), the matching
 // point of triangle p (rest). Inside a triangle the inverse map is affine, so each row is a
@@ -63,7 +64,8 @@ void drawTriangle(const Point2f q[3], const Point2f p[3], int y0, int y1, Point2
         const Point2d a = e[i][0], b = e[i][1];
         ax[i] = (a.y - b.y) * inv, ay[i] = (b.x - a.x) * inv, a0[i] = cross(a, b) * inv;
     }
-    // The rest position as an affine function of the output pixel: r = p2 + l0 (p0-p2) + l1 (p1-p2).
+    // The rest position as an affine function of the output pixel: r = p2 + l0 (p0-p2) + l1
+    // (p1-p2).
     const Point2d d0 = Point2d(p[0]) - Point2d(p[2]), d1 = Point2d(p[1]) - Point2d(p[2]);
     const double mxx = ax[0] * d0.x + ax[1] * d1.x, mxy = ay[0] * d0.x + ay[1] * d1.x;
     const double mx0 = p[2].x + a0[0] * d0.x + a0[1] * d1.x;
@@ -76,9 +78,12 @@ void drawTriangle(const Point2f q[3], const Point2f p[3], int y0, int y1, Point2
         double left = xa, right = xb;
         for (int i = 0; i < 3; ++i) {  // l_i(x) = ax x + c >= eps
             const double c = a0[i] + ay[i] * y;
-            if (ax[i] > 0) left = std::max(left, (eps - c) * invAx[i]);
-            else if (ax[i] < 0) right = std::min(right, (eps - c) * invAx[i]);
-            else if (c < eps) right = -1;
+            if (ax[i] > 0)
+                left = std::max(left, (eps - c) * invAx[i]);
+            else if (ax[i] < 0)
+                right = std::min(right, (eps - c) * invAx[i]);
+            else if (c < eps)
+                right = -1;
         }
         if (!(left <= right)) continue;  // empty span (or NaN) before converting to int
         const int xl = static_cast<int>(std::ceil(left)), xr = static_cast<int>(std::floor(right));
@@ -93,9 +98,8 @@ void drawTriangle(const Point2f q[3], const Point2f p[3], int y0, int y1, Point2
     }
 }
 
-
 void rasterize(InputArray positionsIn, InputArray restIn, Size outputSize, OutputArray mapxOut,
-                   OutputArray mapyOut, InputArray frameIn) {
+               OutputArray mapyOut, InputArray frameIn) {
     Mat P = positionsIn.getMat(), R = restIn.getMat();
     CV_Assert(P.type() == CV_32FC2 && R.type() == CV_32FC2 && P.size() == R.size());
     CV_Assert(P.rows >= 2 && P.cols >= 2 && outputSize.area() > 0);
@@ -120,7 +124,8 @@ void rasterize(InputArray positionsIn, InputArray restIn, Size outputSize, Outpu
         Mat Pe(n + 2, m + 2, CV_32FC2), Re(n + 2, m + 2, CV_32FC2);
         P.copyTo(Pe(Rect(1, 1, m, n)));
         R.copyTo(Re(Rect(1, 1, m, n)));
-        const float W = static_cast<float>(outputSize.width), H = static_cast<float>(outputSize.height);
+        const float W = static_cast<float>(outputSize.width),
+                    H = static_cast<float>(outputSize.height);
         for (int ey = 0; ey < n + 2; ++ey)
             for (int ex = 0; ex < m + 2; ++ex) {
                 if (ex > 0 && ex < m + 1 && ey > 0 && ey < n + 1) continue;
@@ -157,7 +162,8 @@ void rasterize(InputArray positionsIn, InputArray restIn, Size outputSize, Outpu
     const int bands = std::max(1, std::min(outputSize.height, getNumThreads() * 4));
     parallel_for_(Range(0, bands), [&](const Range& range) {
         for (int band = range.start; band < range.end; ++band) {
-            const int y0 = outputSize.height * band / bands, y1 = outputSize.height * (band + 1) / bands;
+            const int y0 = outputSize.height * band / bands,
+                      y1 = outputSize.height * (band + 1) / bands;
             for (int gy = 0; gy + 1 < P.rows; ++gy) {
                 if (rowMax[gy] < y0 - 1 || rowMin[gy] > y1 + 1) continue;
                 const Point2f* p0 = P.ptr<Point2f>(gy);
@@ -195,11 +201,12 @@ void randomMesh(RNG& rng, Size size, int step, float jitter, Mat& positions, Mat
     positions.create(grid, CV_32FC2);
     for (int gy = 0; gy < grid.height; ++gy)
         for (int gx = 0; gx < grid.width; ++gx) {
-            const Point2f r(float(std::min(gx * step, size.width - 1)), float(std::min(gy * step, size.height - 1)));
+            const Point2f r(float(std::min(gx * step, size.width - 1)),
+                            float(std::min(gy * step, size.height - 1)));
             rest.at<Point2f>(gy, gx) = r;
             const float swirl = 3.f * std::sin(r.x * 0.05f + r.y * 0.03f);
-            positions.at<Point2f>(gy, gx) =
-                r + Point2f(swirl + rng.uniform(-jitter, jitter), -swirl + rng.uniform(-jitter, jitter));
+            positions.at<Point2f>(gy, gx) = r + Point2f(swirl + rng.uniform(-jitter, jitter),
+                                                        -swirl + rng.uniform(-jitter, jitter));
         }
 }
 
@@ -237,10 +244,13 @@ TEST(RasterReference, RandomAndFoldedMeshesBitForBit) {
             for (float jitter : {0.f, 0.3f, 2.f, 12.f}) {
                 Mat positions, rest;
                 randomMesh(rng, size, step, jitter * step, positions, rest);
-                const std::string what = format("%dx%d step %d jitter %.1f", size.width, size.height, step, jitter);
+                const std::string what =
+                    format("%dx%d step %d jitter %.1f", size.width, size.height, step, jitter);
                 expectSameAsReference(positions, rest, size, noArray(), what);
-                const std::vector<Point2f> frame = {{-3.f, 1.f}, {size.width + 2.f, -2.f},
-                                                    {size.width - 4.f, size.height + 1.f}, {2.f, size.height - 3.f}};
+                const std::vector<Point2f> frame = {{-3.f, 1.f},
+                                                    {size.width + 2.f, -2.f},
+                                                    {size.width - 4.f, size.height + 1.f},
+                                                    {2.f, size.height - 3.f}};
                 expectSameAsReference(positions, rest, size, frame, what + " moved frame");
             }
 }
@@ -266,7 +276,7 @@ TEST(RasterReference, DegenerateFarAndNonFiniteNodesBitForBit) {
     Mat positions, rest;
     randomMesh(rng, size, 2, 0.5f, positions, rest);
     const Point2f special[] = {{1e30f, 5.f}, {-1e30f, -1e30f}, {INFINITY, 3.f}, {NAN, 10.f},
-                               {5.f, NAN}, {0.f, 0.f}, {60.f, 45.f}};
+                               {5.f, NAN},   {0.f, 0.f},       {60.f, 45.f}};
     for (int i = 0; i < 40; ++i) {
         const int gx = rng.uniform(0, positions.cols), gy = rng.uniform(0, positions.rows);
         positions.at<Point2f>(gy, gx) = special[i % 7];

@@ -1,9 +1,8 @@
 // Deformer::transformPoints (issue 15, item 1): points follow the image, exact at cage vertices.
+#include <cmath>
 #include <opencv2/imgproc.hpp>
 
 #include "testing.hpp"
-
-#include <cmath>
 
 using namespace cv;
 using namespace cv::multicage;
@@ -31,7 +30,8 @@ Mat dots(Size size, const std::vector<Point2f>& points) {
     Mat image(size, CV_32F, Scalar(0));
     for (const Point2f& p : points)
         for (int y = std::max(0, int(p.y) - 6); y <= std::min(size.height - 1, int(p.y) + 6); ++y)
-            for (int x = std::max(0, int(p.x) - 6); x <= std::min(size.width - 1, int(p.x) + 6); ++x) {
+            for (int x = std::max(0, int(p.x) - 6); x <= std::min(size.width - 1, int(p.x) + 6);
+                 ++x) {
                 const float dx = x - p.x, dy = y - p.y;
                 image.at<float>(y, x) += std::exp(-(dx * dx + dy * dy) / (2 * 1.3f * 1.3f));
             }
@@ -50,13 +50,15 @@ Point2d peak(const Mat& image, Point2f near, int r = 4) {
         for (int x = centre.x - r; x <= centre.x + r; ++x)
             if (image.at<float>(y, x) > image.at<float>(best)) best = Point(x, y);
     auto fit = [](double a, double b, double c) {  // vertex of the parabola through log values
-        a = std::log(std::max(a, 1e-6)), b = std::log(std::max(b, 1e-6)), c = std::log(std::max(c, 1e-6));
+        a = std::log(std::max(a, 1e-6)), b = std::log(std::max(b, 1e-6)),
+        c = std::log(std::max(c, 1e-6));
         const double d = a - 2 * b + c;
         return d < 0 ? 0.5 * (a - c) / d : 0.0;
     };
     const float v = image.at<float>(best);
-    return Point2d(best.x + fit(image.at<float>(best.y, best.x - 1), v, image.at<float>(best.y, best.x + 1)),
-                   best.y + fit(image.at<float>(best.y - 1, best.x), v, image.at<float>(best.y + 1, best.x)));
+    return Point2d(
+        best.x + fit(image.at<float>(best.y, best.x - 1), v, image.at<float>(best.y, best.x + 1)),
+        best.y + fit(image.at<float>(best.y - 1, best.x), v, image.at<float>(best.y + 1, best.x)));
 }
 
 std::vector<Point2f> jitteredGrid(Size size, int spacing, int border, RNG& rng) {
@@ -102,7 +104,8 @@ TEST_P(TransformPointsDots, DrawnDotsLandWhereThePointsLand) {
         worst = std::max(worst, e), total += e, ++measured;
     }
     ASSERT_GT(measured, 450);
-    std::printf("grid step %d: %d dots, error mean %.4f px, max %.4f px\n", step, measured, total / measured, worst);
+    std::printf("grid step %d: %d dots, error mean %.4f px, max %.4f px\n", step, measured,
+                total / measured, worst);
     EXPECT_LT(worst, 0.5);
     EXPECT_LT(total / measured, 0.1);
 }
@@ -120,8 +123,10 @@ TEST_P(TransformPointsExact, CageVerticesLandExactlyOnThePose) {
     rest.resize(cage.vertexCount());
     transformPoints(binding, pose, rest, landed);
     double worst = 0;
-    for (size_t j = 0; j < rest.size(); ++j) worst = std::max(worst, double(norm(landed[j] - pose[j])));
-    EXPECT_LT(worst, 1e-3) << "the worst cage vertex lands " << worst << " px off its pose position";
+    for (size_t j = 0; j < rest.size(); ++j)
+        worst = std::max(worst, double(norm(landed[j] - pose[j])));
+    EXPECT_LT(worst, 1e-3) << "the worst cage vertex lands " << worst
+                           << " px off its pose position";
 }
 
 INSTANTIATE_TEST_SUITE_P(CoordinatesAndSteps, TransformPointsExact,
@@ -134,7 +139,8 @@ TEST(TransformPoints, InvertsTheInverseMapsAtAnyGridStep) {
     const Multicage cage = multicage_testing::butterflyCage(true);
     for (int step : {1, 4, 7}) {
         const Binding binding = bind(cage, MEAN_VALUE, step);
-        Ptr<Deformer> d = Deformer::create(Mat(cage.imageSize(), CV_8U, Scalar(0)), binding, params(step));
+        Ptr<Deformer> d =
+            Deformer::create(Mat(cage.imageSize(), CV_8U, Scalar(0)), binding, params(step));
         const std::vector<Point2f> pose = wavePose(cage);
         Mat mapx, mapy;
         d->computeMaps(pose, mapx, mapy);
@@ -142,7 +148,8 @@ TEST(TransformPoints, InvertsTheInverseMapsAtAnyGridStep) {
         for (int y = 3; y < mapx.rows - 3; y += 3)
             for (int x = 3; x < mapx.cols - 3; x += 3) {
                 const Point2f p(mapx.at<float>(y, x), mapy.at<float>(y, x));
-                if (p.x <= 0 || p.y <= 0 || p.x >= mapx.cols - 1 || p.y >= mapx.rows - 1) continue;  // clamped
+                if (p.x <= 0 || p.y <= 0 || p.x >= mapx.cols - 1 || p.y >= mapx.rows - 1)
+                    continue;             // clamped
                 bool nearVertex = false;  // the correction's cells
                 for (const Point2f& v : binding.restVertices)
                     nearVertex |= std::abs(v.x - p.x) <= step && std::abs(v.y - p.y) <= step;
@@ -151,7 +158,8 @@ TEST(TransformPoints, InvertsTheInverseMapsAtAnyGridStep) {
         std::vector<Point2f> landed;
         d->transformPoints(pose, sources, landed);
         double worst = 0;
-        for (size_t i = 0; i < sources.size(); ++i) worst = std::max(worst, double(norm(landed[i] - pixels[i])));
+        for (size_t i = 0; i < sources.size(); ++i)
+            worst = std::max(worst, double(norm(landed[i] - pixels[i])));
         EXPECT_GT(sources.size(), 4000u);
         EXPECT_LT(worst, 2e-3) << "grid step " << step;
     }
@@ -168,7 +176,8 @@ TEST(TransformPoints, RestPoseIsTheIdentity) {
         const Binding binding = bind(cage, coordinates, 3);
         std::vector<Point2f> landed;
         transformPoints(binding, cage.vertices(), points, landed);
-        for (size_t i = 0; i < points.size(); ++i) ASSERT_LT(norm(landed[i] - points[i]), 1e-3) << i;
+        for (size_t i = 0; i < points.size(); ++i)
+            ASSERT_LT(norm(landed[i] - points[i]), 1e-3) << i;
     }
 }
 
@@ -176,7 +185,8 @@ TEST(TransformPoints, PointsOutsideTheImageFollowTheFrame) {
     const Multicage cage = multicage_testing::butterflyCage(true);
     const Size size = cage.imageSize();
     const Binding binding = bind(cage, MEAN_VALUE, 4);
-    const std::vector<Point2f> outside = {{-30, 50}, {size.width + 10.f, -4}, {100, size.height + 0.f}};
+    const std::vector<Point2f> outside = {
+        {-30, 50}, {size.width + 10.f, -4}, {100, size.height + 0.f}};
     std::vector<Point2f> landed;
     // The frame fixed (the usual pose): they stay where they are.
     transformPoints(binding, wavePose(cage), outside, landed);
@@ -186,7 +196,8 @@ TEST(TransformPoints, PointsOutsideTheImageFollowTheFrame) {
     const Point2f shift(6, -4);
     for (const Point2f& corner : cage.frame()) pose.push_back(corner + shift);
     transformPoints(binding, pose, outside, landed);
-    for (size_t i = 0; i < outside.size(); ++i) EXPECT_LT(norm(landed[i] - (outside[i] + shift)), 1e-3);
+    for (size_t i = 0; i < outside.size(); ++i)
+        EXPECT_LT(norm(landed[i] - (outside[i] + shift)), 1e-3);
     // Far away too, to float precision: the corners' bilinear weights are huge there and of both
     // signs, and summed as such they cancelled the shift away (1e20 px: 0 instead of -4).
     const std::vector<Point2f> far = {{1e20f, 3}, {-1e15f, 1e15f}, {7, -1e12f}};
@@ -194,11 +205,14 @@ TEST(TransformPoints, PointsOutsideTheImageFollowTheFrame) {
     for (size_t i = 0; i < far.size(); ++i) {
         const Point2d expected = Point2d(far[i]) + Point2d(shift);
         for (int axis = 0; axis < 2; ++axis) {
-            const double want = axis ? expected.y : expected.x, got = axis ? landed[i].y : landed[i].x;
+            const double want = axis ? expected.y : expected.x,
+                         got = axis ? landed[i].y : landed[i].x;
             EXPECT_NEAR(got, want, std::max(1e-3, 1e-6 * std::abs(want))) << i << " axis " << axis;
         }
     }
-    const std::vector<Point2f> across = {{-0.5f - 1e-3f, 100}, {-0.5f + 1e-3f, 100}, {200, size.height - 0.5f + 1e-3f},
+    const std::vector<Point2f> across = {{-0.5f - 1e-3f, 100},
+                                         {-0.5f + 1e-3f, 100},
+                                         {200, size.height - 0.5f + 1e-3f},
                                          {200, size.height - 0.5f - 1e-3f}};
     transformPoints(binding, pose, across, landed);
     EXPECT_LT(norm(landed[0] - landed[1]), 0.01);
@@ -207,7 +221,8 @@ TEST(TransformPoints, PointsOutsideTheImageFollowTheFrame) {
 
 TEST(TransformPoints, TakesPointsInTheFormsOpenCVUses) {
     const Multicage cage = multicage_testing::butterflyCage(true);
-    Ptr<Deformer> d = Deformer::create(Mat(cage.imageSize(), CV_8UC3, Scalar::all(0)), cage, params(4));
+    Ptr<Deformer> d =
+        Deformer::create(Mat(cage.imageSize(), CV_8UC3, Scalar::all(0)), cage, params(4));
     const std::vector<Point2f> pose = wavePose(cage);
     const std::vector<Point2f> points = {{100.25f, 80.5f}, {300, 200}, {10, 340}};
     std::vector<Point2f> a;
@@ -246,5 +261,6 @@ TEST(TransformPoints, BadInputThrowsClearErrors) {
         EXPECT_NE(e.err.find("the pose has 3 vertices"), std::string::npos) << e.err;
     }
     EXPECT_THROW(d->transformPoints(pose, Mat(4, 3, CV_32F, Scalar(1)), out), cv::Exception);
-    EXPECT_THROW(transformPoints(Binding(), pose, std::vector<Point2f>{{1, 2}}, out), cv::Exception);
+    EXPECT_THROW(transformPoints(Binding(), pose, std::vector<Point2f>{{1, 2}}, out),
+                 cv::Exception);
 }

@@ -1,14 +1,13 @@
 // multicage-editor: the GL-free document (edits, undo, validity, script parsing), and a
 // scripted session in the real window under Xvfb on llvmpipe.
-#include <opencv2/imgcodecs.hpp>
-#include <opencv2/imgproc.hpp>
-#include <opencv2/multicage/resize.hpp>
-
 #include <sys/wait.h>
 
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+#include <opencv2/multicage/resize.hpp>
 #include <sstream>
 
 #include "document.hpp"
@@ -26,7 +25,8 @@ std::vector<Point2f> octagon(Point2f c, float r) {
     std::vector<Point2f> p;
     for (int k = 0; k < 8; ++k) {
         const double a = -CV_PI / 2 + k * CV_PI / 4;
-        p.emplace_back(c.x + r * static_cast<float>(std::cos(a)), c.y + r * static_cast<float>(std::sin(a)));
+        p.emplace_back(c.x + r * static_cast<float>(std::cos(a)),
+                       c.y + r * static_cast<float>(std::sin(a)));
     }
     return p;
 }
@@ -45,8 +45,10 @@ Mat texturedImage(Size size) {
     for (int y = 0; y < size.height; ++y)
         for (int x = 0; x < size.width; ++x) {
             const bool dark = ((x / 12) + (y / 12)) % 2;
-            img.at<Vec3b>(y, x) = Vec3b(static_cast<uchar>(dark ? 40 : 200), static_cast<uchar>(x * 255 / size.width),
-                                        static_cast<uchar>(y * 180 / size.height));  // no saturated red: that is the invalid colour
+            img.at<Vec3b>(y, x) =
+                Vec3b(static_cast<uchar>(dark ? 40 : 200), static_cast<uchar>(x * 255 / size.width),
+                      static_cast<uchar>(
+                          y * 180 / size.height));  // no saturated red: that is the invalid colour
         }
     return img;
 }
@@ -204,8 +206,9 @@ TEST(EditorScript, RejectsUnknownCommandsAndBadArgumentsWithTheLine) {
 
 TEST(EditorWindow, ScriptedSessionUnderXvfb) {
     const std::string xvfb = MULTICAGE_XVFB_RUN;
-    ASSERT_FALSE(xvfb.empty()) << "xvfb-run was not found at configure time: install xvfb and xauth "
-                                  "(.ci/deps.sh) and reconfigure; the editor test needs a display";
+    ASSERT_FALSE(xvfb.empty())
+        << "xvfb-run was not found at configure time: install xvfb and xauth "
+           "(.ci/deps.sh) and reconfigure; the editor test needs a display";
     const std::string dir = multicage_testing::tempDir("editor_script");
     const Mat image = texturedImage(Size(493, 356));
     const Multicage cage = twoOctagons();
@@ -215,9 +218,9 @@ TEST(EditorWindow, ScriptedSessionUnderXvfb) {
 
     std::ofstream(dir + "/script.txt") << "load " << dir << "/in.png " << dir << "/cage.yml\n"
                                        << "wait 2\n"
-                                          "drag 5 4 0\n"           // rest edit
+                                          "drag 5 4 0\n"  // rest edit
                                           "mode pose\n"
-                                          "drag 0 30 -20\n"        // pose edit
+                                          "drag 0 30 -20\n"  // pose edit
                                           "wait 3\n"
                                        << "screenshot " << dir << "/pose.png\n"
                                        << "show-cage 0\nwait 2\n"
@@ -228,7 +231,7 @@ TEST(EditorWindow, ScriptedSessionUnderXvfb) {
                                        << "export " << dir << "/mvc.png\n"
                                        << "status " << dir << "/status.txt\n"
                                        << "mode rest\n"
-                                          "drag 0 240 100\n"       // into polygon 1: crossing
+                                          "drag 0 240 100\n"  // into polygon 1: crossing
                                           "wait 2\n"
                                        << "screenshot " << dir << "/invalid.png\n"
                                        << "status " << dir << "/status_invalid.txt\n"
@@ -241,8 +244,8 @@ TEST(EditorWindow, ScriptedSessionUnderXvfb) {
                                        << "export " << dir << "/harmonic.png\n"
                                        << "quit\n";
     const std::string cmd = "MESA_SHADER_CACHE_DIR='" MULTICAGE_SHADER_CACHE "' '" + xvfb +
-                            "' -a -s '-screen 0 1280x800x24' '" MULTICAGE_EDITOR "' --script '" + dir +
-                            "/script.txt' > '" + dir + "/log.txt' 2>&1";
+                            "' -a -s '-screen 0 1280x800x24' '" MULTICAGE_EDITOR "' --script '" +
+                            dir + "/script.txt' > '" + dir + "/log.txt' 2>&1";
     const int rc = std::system(cmd.c_str());
     const std::string log = readText(dir + "/log.txt");
     ASSERT_EQ(rc, 0) << cmd << "\n" << log;
@@ -264,7 +267,8 @@ TEST(EditorWindow, ScriptedSessionUnderXvfb) {
     // An invalid edit is drawn in red, with the reason in the status.
     const Mat invalid = imread(dir + "/invalid.png");
     ASSERT_FALSE(invalid.empty());
-    const int red = countColour(invalid, Vec3b(40, 40, 255), 30), redBefore = countColour(pose, Vec3b(40, 40, 255), 30);
+    const int red = countColour(invalid, Vec3b(40, 40, 255), 30),
+              redBefore = countColour(pose, Vec3b(40, 40, 255), 30);
     std::printf("red pixels: %d invalid, %d valid\n", red, redBefore);
     EXPECT_GT(red, 300);
     EXPECT_GT(red, 3 * redBefore);
@@ -279,13 +283,15 @@ TEST(EditorWindow, ScriptedSessionUnderXvfb) {
     std::vector<Point2f> expectedRest(rest0.begin(), rest0.begin() + 16);
     expectedRest[5] += Point2f(4, 0);
     const std::vector<Point2f> savedRest = saved.vertices();
-    for (int i = 0; i < 16; ++i) EXPECT_NEAR(norm(savedRest[i] - expectedRest[i]), 0, 1e-3) << "vertex " << i;
+    for (int i = 0; i < 16; ++i)
+        EXPECT_NEAR(norm(savedRest[i] - expectedRest[i]), 0, 1e-3) << "vertex " << i;
     const int bent = saved.findPose("bent");
     ASSERT_GE(bent, 0);
     std::vector<Point2f> expectedPose = expectedRest;
     expectedPose[0] += Point2f(30, -20);
     for (int i = 0; i < 16; ++i)
-        EXPECT_NEAR(norm(saved.pose(bent).vertices[i] - expectedPose[i]), 0, 1e-3) << "pose vertex " << i;
+        EXPECT_NEAR(norm(saved.pose(bent).vertices[i] - expectedPose[i]), 0, 1e-3)
+            << "pose vertex " << i;
     EXPECT_TRUE(saved.validate());
 
     // The export is the library's deformation of the saved pose: it moved near the dragged
@@ -294,7 +300,8 @@ TEST(EditorWindow, ScriptedSessionUnderXvfb) {
     ASSERT_EQ(mvc.size(), image.size());
     const Point2f v0 = expectedPose[0];
     const Rect near(cvRound(v0.x) - 15, cvRound(v0.y) + 5, 30, 30);
-    EXPECT_GT(meanAbsDiff(mvc, image, near), 20.0) << "the image did not move near the dragged vertex";
+    EXPECT_GT(meanAbsDiff(mvc, image, near), 20.0)
+        << "the image did not move near the dragged vertex";
     DeformParams cpu;
     cpu.backend = BACKEND_CPU;
     Mat reference;
@@ -352,9 +359,10 @@ bool hasPoint(const std::vector<Point2f>& list, Point2f p, float tol = 1.f) {
 std::string runEditorScript(const std::string& dir, const std::string& script,
                             const std::string& options = "", int expectedStatus = 0) {
     std::ofstream(dir + "/script.txt") << script;
-    const std::string cmd = "MESA_SHADER_CACHE_DIR='" MULTICAGE_SHADER_CACHE "' '" MULTICAGE_XVFB_RUN
-                            "' -a -s '-screen 0 1280x800x24' '" MULTICAGE_EDITOR "' " + options + " --script '" + dir +
-                            "/script.txt' > '" + dir + "/log.txt' 2>&1";
+    const std::string cmd =
+        "MESA_SHADER_CACHE_DIR='" MULTICAGE_SHADER_CACHE "' '" MULTICAGE_XVFB_RUN
+        "' -a -s '-screen 0 1280x800x24' '" MULTICAGE_EDITOR "' " +
+        options + " --script '" + dir + "/script.txt' > '" + dir + "/log.txt' 2>&1";
     const int rc = std::system(cmd.c_str());
     const std::string log = readText(dir + "/log.txt");
     EXPECT_EQ(WIFEXITED(rc) ? WEXITSTATUS(rc) : -1, expectedStatus) << log;
@@ -367,11 +375,14 @@ std::string runEditorScript(const std::string& dir, const std::string& script,
 // vertex by double-clicking an edge, box-select, Delete, Ctrl+Z, Ctrl-drag a polygon, drag a
 // vertex, Tab to pose mode and drag there.
 TEST(EditorWindow, MouseAndKeyboardEditing) {
-    ASSERT_FALSE(std::string(MULTICAGE_XVFB_RUN).empty()) << "xvfb-run not found: install xvfb (.ci/deps.sh)";
+    ASSERT_FALSE(std::string(MULTICAGE_XVFB_RUN).empty())
+        << "xvfb-run not found: install xvfb (.ci/deps.sh)";
     const std::string dir = multicage_testing::tempDir("editor_mouse");
     ASSERT_TRUE(imwrite(dir + "/in.png", texturedImage(Size(493, 356))));
     std::ostringstream s;
-    const auto status = [&](const std::string& n) { s << "status " << dir << "/" << n << ".txt\n"; };
+    const auto status = [&](const std::string& n) {
+        s << "status " << dir << "/" << n << ".txt\n";
+    };
     s << "load " << dir << "/in.png\n"
       << "click 100 100\nclick 200 100\nclick 200 200\nclick 100 200\nclick 100 100\n";
     status("created");
@@ -401,15 +412,19 @@ TEST(EditorWindow, MouseAndKeyboardEditing) {
     EXPECT_EQ(field(st("created"), "vertices"), "4");
     EXPECT_EQ(field(st("created"), "rest_valid"), "1");
     EXPECT_EQ(field(st("inserted"), "vertices"), "5");
-    EXPECT_TRUE(hasPoint(points(field(st("inserted"), "rest")), Point2f(150, 100))) << field(st("inserted"), "rest");
-    EXPECT_EQ(field(st("boxed"), "selection").size(), 3u) << "two vertices in the box: " << field(st("boxed"), "selection");
+    EXPECT_TRUE(hasPoint(points(field(st("inserted"), "rest")), Point2f(150, 100)))
+        << field(st("inserted"), "rest");
+    EXPECT_EQ(field(st("boxed"), "selection").size(), 3u)
+        << "two vertices in the box: " << field(st("boxed"), "selection");
     EXPECT_EQ(field(st("deleted"), "vertices"), "3");
     EXPECT_EQ(field(st("undone"), "vertices"), "5");
     // Ctrl-drag moved every vertex by (20, 10).
-    const std::vector<Point2f> undone = points(field(st("undone"), "rest")), moved = points(field(st("moved"), "rest"));
+    const std::vector<Point2f> undone = points(field(st("undone"), "rest")),
+                               moved = points(field(st("moved"), "rest"));
     ASSERT_EQ(moved.size(), 5u);
     ASSERT_EQ(undone.size(), 5u);
-    for (size_t i = 0; i < 5; ++i) EXPECT_LE(norm(moved[i] - undone[i] - Point2f(20, 10)), 1.0) << "vertex " << i;
+    for (size_t i = 0; i < 5; ++i)
+        EXPECT_LE(norm(moved[i] - undone[i] - Point2f(20, 10)), 1.0) << "vertex " << i;
     const std::vector<Point2f> dragged = points(field(st("dragged"), "rest"));
     ASSERT_EQ(dragged.size(), 5u);
     EXPECT_LE(norm(dragged[0] - moved[0] - Point2f(5, 0)), 1.0);
@@ -418,7 +433,8 @@ TEST(EditorWindow, MouseAndKeyboardEditing) {
     EXPECT_EQ(field(st("entered"), "polygons"), "2");
     EXPECT_EQ(field(st("entered"), "vertices"), "8");
     EXPECT_EQ(field(st("posed"), "mode"), "pose");
-    EXPECT_EQ(field(st("posed"), "rest"), field(st("entered"), "rest")) << "a pose drag moved the rest";
+    EXPECT_EQ(field(st("posed"), "rest"), field(st("entered"), "rest"))
+        << "a pose drag moved the rest";
     EXPECT_TRUE(hasPoint(points(field(st("posed"), "shown_pose")), Point2f(230, 220), 1.5f))
         << field(st("posed"), "shown_pose");
 }
@@ -433,9 +449,9 @@ TEST(EditorWindow, KeyframesFromThePoseAndPlayback) {
     cage.save(dir + "/cage.yml");
     std::ofstream(dir + "/script.txt") << "load " << dir << "/in.png " << dir << "/cage.yml\n"
                                        << "mode pose\n"
-                                          "add-keyframe 0\n"      // the rest pose at t = 0
+                                          "add-keyframe 0\n"  // the rest pose at t = 0
                                           "drag 0 30 -20\n"
-                                          "add-keyframe 1.5\n"    // the dragged pose at t = 1.5
+                                          "add-keyframe 1.5\n"  // the dragged pose at t = 1.5
                                           "play 1\n"
                                           "wait 20\n"
                                        << "status " << dir << "/playing.txt\n"
@@ -444,8 +460,8 @@ TEST(EditorWindow, KeyframesFromThePoseAndPlayback) {
                                        << "save " << dir << "/keys.yml\n"
                                        << "quit\n";
     const std::string cmd = "MESA_SHADER_CACHE_DIR='" MULTICAGE_SHADER_CACHE "' '" + xvfb +
-                            "' -a -s '-screen 0 1280x800x24' '" MULTICAGE_EDITOR "' --script '" + dir +
-                            "/script.txt' > '" + dir + "/log.txt' 2>&1";
+                            "' -a -s '-screen 0 1280x800x24' '" MULTICAGE_EDITOR "' --script '" +
+                            dir + "/script.txt' > '" + dir + "/log.txt' 2>&1";
     ASSERT_EQ(std::system(cmd.c_str()), 0) << readText(dir + "/log.txt");
     const std::string playing = readText(dir + "/playing.txt");
     EXPECT_EQ(field(playing, "playing"), "1") << playing;
@@ -471,29 +487,34 @@ TEST(EditorWindow, KeyframesFromThePoseAndPlayback) {
 // converted BGR->RGBA twice). Four quadrants of distinct, non-grey colours: each must appear
 // on the canvas in its own colour, and not with red and blue swapped, in both modes.
 TEST(EditorWindow, CanvasShowsTheImageColoursInRestAndPoseMode) {
-    ASSERT_FALSE(std::string(MULTICAGE_XVFB_RUN).empty()) << "xvfb-run not found: install xvfb (.ci/deps.sh)";
+    ASSERT_FALSE(std::string(MULTICAGE_XVFB_RUN).empty())
+        << "xvfb-run not found: install xvfb (.ci/deps.sh)";
     const std::string dir = multicage_testing::tempDir("editor_colours");
     const Size size(493, 356);
-    const std::vector<Vec3b> colours = {Vec3b(40, 140, 230), Vec3b(220, 120, 30), Vec3b(60, 200, 120),
+    const std::vector<Vec3b> colours = {Vec3b(40, 140, 230), Vec3b(220, 120, 30),
+                                        Vec3b(60, 200, 120),
                                         Vec3b(200, 40, 150)};  // BGR: orange, blue, green, purple
     Mat image(size, CV_8UC3);
     for (int q = 0; q < 4; ++q)
-        image(Rect((q % 2) * size.width / 2, (q / 2) * size.height / 2, size.width / 2 + 1, size.height / 2 + 1) &
+        image(Rect((q % 2) * size.width / 2, (q / 2) * size.height / 2, size.width / 2 + 1,
+                   size.height / 2 + 1) &
               Rect(Point(), size))
             .setTo(Scalar(colours[q][0], colours[q][1], colours[q][2]));
     ASSERT_TRUE(imwrite(dir + "/in.png", image));
     twoOctagons().save(dir + "/cage.yml");
-    runEditorScript(dir, "load " + dir + "/in.png " + dir + "/cage.yml\n" + "show-cage 0\nwait 2\n" +
-                             "screenshot " + dir + "/rest.png\n" + "mode pose\nwait 3\n" + "screenshot " + dir +
-                             "/pose.png\nquit\n");
+    runEditorScript(dir, "load " + dir + "/in.png " + dir + "/cage.yml\n" +
+                             "show-cage 0\nwait 2\n" + "screenshot " + dir + "/rest.png\n" +
+                             "mode pose\nwait 3\n" + "screenshot " + dir + "/pose.png\nquit\n");
     for (const std::string mode : {"rest", "pose"}) {
         const Mat shot = imread(dir + "/" + mode + ".png");
         ASSERT_FALSE(shot.empty()) << mode;
         // The canvas shows the image at about 1.8x: each quadrant covers well over 20k pixels.
         for (const Vec3b& c : colours) {
-            const int right = countColour(shot, c, 12), swapped = countColour(shot, Vec3b(c[2], c[1], c[0]), 12);
-            std::printf("%s mode, colour (%d %d %d): %d pixels right, %d with red and blue swapped\n", mode.c_str(),
-                        c[0], c[1], c[2], right, swapped);
+            const int right = countColour(shot, c, 12),
+                      swapped = countColour(shot, Vec3b(c[2], c[1], c[0]), 12);
+            std::printf(
+                "%s mode, colour (%d %d %d): %d pixels right, %d with red and blue swapped\n",
+                mode.c_str(), c[0], c[1], c[2], right, swapped);
             EXPECT_GT(right, 20000) << mode << " mode";
             EXPECT_LT(swapped, right / 100 + 10) << mode << " mode";
         }
@@ -503,7 +524,8 @@ TEST(EditorWindow, CanvasShowsTheImageColoursInRestAndPoseMode) {
 // Issue 16: the editor's Propose protects faces (as propose --protect all): on messi5.jpg the
 // saved cage has an inner polygon around the face the frontal cascade finds at 227,94.
 TEST(EditorWindow, ProposeProtectsTheFace) {
-    ASSERT_FALSE(std::string(MULTICAGE_XVFB_RUN).empty()) << "xvfb-run not found: install xvfb (.ci/deps.sh)";
+    ASSERT_FALSE(std::string(MULTICAGE_XVFB_RUN).empty())
+        << "xvfb-run not found: install xvfb (.ci/deps.sh)";
     if (faceCascadeFile().empty()) GTEST_SKIP() << "opencv-data is not installed";
     const std::string dir = multicage_testing::tempDir("editor_propose_faces");
     std::ostringstream s;
@@ -537,7 +559,8 @@ TEST(EditorWindow, ProposeProtectsTheFace) {
         for (Point2f c : {Point2f(face.x, face.y), Point2f(face.br().x, face.y),
                           Point2f(face.br().x, face.br().y), Point2f(face.x, face.br().y)})
             all &= pointPolygonTest(cage.polygon(p), c, false) > 0;
-        if (all && cage.depth(p) >= 2 && (inner < 0 || cage.depth(p) < cage.depth(inner))) inner = p;
+        if (all && cage.depth(p) >= 2 && (inner < 0 || cage.depth(p) < cage.depth(inner)))
+            inner = p;
     }
     ASSERT_GE(inner, 0) << "no inner polygon holds the face\n" << log;
     EXPECT_EQ(cage.depth(inner), 2);
@@ -685,7 +708,8 @@ TEST(EditorWindow, TheViewRefitsAfterAResizeAndAWindowResize) {
         ASSERT_EQ(canvas.size(), 1u) << name << "\n" << status << log;
         const Size resized = sizeField(status, "resize");
         // screen = origin + zoom * (p + 0.5) + pan: the frame spans 0 .. zoom * size
-        const float w = zoom * std::max(493, resized.width), h = zoom * std::max(356, resized.height);
+        const float w = zoom * std::max(493, resized.width),
+                    h = zoom * std::max(356, resized.height);
         EXPECT_GT(zoom, 0.f) << name;
         EXPECT_GE(pan.x, 0.f) << name << "\n" << status;
         EXPECT_GE(pan.y, 0.f) << name << "\n" << status;
@@ -708,9 +732,11 @@ TEST(EditorWindow, SaveRefusesACrossingPoseUnlessAllowed) {
     for (int i = 8; i < 16; ++i) pose[i].x -= 150;  // the right octagon onto the left one
     cage.addPose("crossing", pose);
     cage.save(dir + "/cage.yml");
-    const std::string script = "load " + dir + "/in.png " + dir + "/cage.yml\nsave " + dir + "/out.yml\nquit\n";
+    const std::string script =
+        "load " + dir + "/in.png " + dir + "/cage.yml\nsave " + dir + "/out.yml\nquit\n";
     const std::string log = runEditorScript(dir, script, "", 1);
-    EXPECT_NE(log.find("not saved: pose 'crossing' is invalid: posed: polygon"), std::string::npos) << log;
+    EXPECT_NE(log.find("not saved: pose 'crossing' is invalid: posed: polygon"), std::string::npos)
+        << log;
     EXPECT_NE(log.find("--allow-invalid"), std::string::npos) << log;
     EXPECT_FALSE(std::filesystem::exists(dir + "/out.yml"));
     runEditorScript(dir, script, "--allow-invalid");

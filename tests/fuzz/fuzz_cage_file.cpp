@@ -5,18 +5,18 @@
 // validate and orient. What is read, write() writes back so that read() gives the same
 // multicage again, and save() too so that load() does, in YAML and in JSON: image size,
 // coordinate type, polygons, and every pose's name, time and vertices.
-#include <opencv2/core/utility.hpp>
-#include <opencv2/core/utils/logger.hpp>
-#include <opencv2/multicage.hpp>
-
-#include "fuzz_common.hpp"
+#include <unistd.h>
 
 #include <cmath>
 #include <cstdint>
 #include <cstdlib>
 #include <cstring>
+#include <opencv2/core/utility.hpp>
+#include <opencv2/core/utils/logger.hpp>
+#include <opencv2/multicage.hpp>
 #include <string>
-#include <unistd.h>
+
+#include "fuzz_common.hpp"
 
 using namespace cv;
 using namespace cv::multicage;
@@ -34,7 +34,9 @@ bool samePoints(const std::vector<Point2f>& a, const std::vector<Point2f>& b) {
     return true;
 }
 
-[[noreturn]] void finding(const char* what) { multicage_fuzz::finding("fuzz_cage_file", what); }
+[[noreturn]] void finding(const char* what) {
+    multicage_fuzz::finding("fuzz_cage_file", what);
+}
 
 }  // namespace
 
@@ -112,7 +114,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
             again.poseCount() != cage.poseCount() || again.coordinates() != cage.coordinates())
             finding("round trip changed the structure");
         for (int p = 0; p < cage.polygonCount(); ++p)
-            if (!samePoints(again.polygon(p), cage.polygon(p))) finding("round trip changed a polygon");
+            if (!samePoints(again.polygon(p), cage.polygon(p)))
+                finding("round trip changed a polygon");
         for (int i = 0; i < cage.poseCount(); ++i)
             if (!samePoints(again.pose(i).vertices, cage.pose(i).vertices) ||
                 again.pose(i).name != cage.pose(i).name ||
@@ -129,7 +132,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
             try {
                 cage.save(saved);
             } catch (const cv::Exception& e) {
-                if (std::string(ext) == ".json" && e.err.find("JSON cannot hold") != std::string::npos)
+                if (std::string(ext) == ".json" &&
+                    e.err.find("JSON cannot hold") != std::string::npos)
                     continue;  // NaN or infinity: said, and nothing written
                 std::fprintf(stderr, "%s\n", e.what());
                 finding("save() refused a multicage read() accepted");
@@ -141,19 +145,24 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
                 std::fprintf(stderr, "%s\n", e.what());
                 finding("save() wrote a file load() refuses");
             }
-            bool same = again.imageSize() == cage.imageSize() && again.polygonCount() == cage.polygonCount() &&
-                        again.poseCount() == cage.poseCount() && again.coordinates() == cage.coordinates();
-            for (int p = 0; same && p < cage.polygonCount(); ++p) same = samePoints(again.polygon(p), cage.polygon(p));
+            bool same = again.imageSize() == cage.imageSize() &&
+                        again.polygonCount() == cage.polygonCount() &&
+                        again.poseCount() == cage.poseCount() &&
+                        again.coordinates() == cage.coordinates();
+            for (int p = 0; same && p < cage.polygonCount(); ++p)
+                same = samePoints(again.polygon(p), cage.polygon(p));
             for (int i = 0; same && i < cage.poseCount(); ++i)
                 same = samePoints(again.pose(i).vertices, cage.pose(i).vertices) &&
-                       again.pose(i).name == cage.pose(i).name && sameFloat(again.pose(i).time, cage.pose(i).time);
+                       again.pose(i).name == cage.pose(i).name &&
+                       sameFloat(again.pose(i).time, cage.pose(i).time);
             if (!same) finding("save() and load() changed the multicage");
         }
     }
 
     if (geometry) {
         cage.orient();
-        if (!cage.validate(&why)) finding("a multicage with valid geometry fails validate() after orient()");
+        if (!cage.validate(&why))
+            finding("a multicage with valid geometry fails validate() after orient()");
     }
     return 0;
 }

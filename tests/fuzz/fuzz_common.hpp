@@ -2,13 +2,12 @@
 #ifndef MULTICAGE_FUZZ_COMMON_HPP
 #define MULTICAGE_FUZZ_COMMON_HPP
 
-#include <opencv2/core/utility.hpp>
-#include <opencv2/core/utils/logger.hpp>
-
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <opencv2/core/utility.hpp>
+#include <opencv2/core/utils/logger.hpp>
 
 namespace multicage_fuzz {
 

@@ -39,7 +39,9 @@ using multicage_fuzz::Bytes;
 
 namespace {
 
-[[noreturn]] void finding(const char* what) { multicage_fuzz::finding("fuzz_deform", what); }
+[[noreturn]] void finding(const char* what) {
+    multicage_fuzz::finding("fuzz_deform", what);
+}
 
 std::vector<Point2f> star(Bytes& in, Point2f centre, float rMin, float rMax) {
     const int n = 3 + in.next() % 6;
@@ -57,12 +59,14 @@ Multicage makeCage(Bytes& in, Size size) {
     const float w = static_cast<float>(size.width), h = static_cast<float>(size.height);
     switch (in.next() % 4) {
         case 0:  // one polygon
-            cage.addPolygon(star(in, Point2f(w / 2 - 0.5f, h / 2 - 0.5f), 0.5f, 0.45f * std::min(w, h)));
+            cage.addPolygon(
+                star(in, Point2f(w / 2 - 0.5f, h / 2 - 0.5f), 0.5f, 0.45f * std::min(w, h)));
             break;
         case 1:  // nested: the inner polygon protects its region
             cage.addPolygon(star(in, Point2f(w / 2 - 0.5f, h / 2 - 0.5f), 0.3f * std::min(w, h),
                                  0.45f * std::min(w, h)));
-            cage.addPolygon(star(in, Point2f(w / 2 - 0.5f, h / 2 - 0.5f), 0.5f, 0.25f * std::min(w, h)));
+            cage.addPolygon(
+                star(in, Point2f(w / 2 - 0.5f, h / 2 - 0.5f), 0.5f, 0.25f * std::min(w, h)));
             break;
         case 2:  // side by side
             cage.addPolygon(star(in, Point2f(w / 4, h / 2), 0.5f, 0.22f * std::min(w, h)));
@@ -72,7 +76,8 @@ Multicage makeCage(Bytes& in, Size size) {
             const int polygons = 1 + in.next() % 3;
             for (int p = 0; p < polygons; ++p) {
                 std::vector<Point2f> v(3 + in.next() % 5);
-                for (Point2f& q : v) q = Point2f(in.unit() * (w + 2) - 1.5f, in.unit() * (h + 2) - 1.5f);
+                for (Point2f& q : v)
+                    q = Point2f(in.unit() * (w + 2) - 1.5f, in.unit() * (h + 2) - 1.5f);
                 cage.addPolygon(v);
             }
         }
@@ -89,15 +94,23 @@ std::vector<Point2f> makePose(Bytes& in, const Multicage& cage) {
     for (int i = 0; i < movable; ++i) {
         const uint8_t mode = in.next();
         switch (mode % 16) {
-            case 0: case 1: case 2: case 3: case 4: break;  // at rest
-            case 5: case 6: case 7:  // nudged by up to +-16 px
+            case 0:
+            case 1:
+            case 2:
+            case 3:
+            case 4:
+                break;  // at rest
+            case 5:
+            case 6:
+            case 7:  // nudged by up to +-16 px
                 pose[i] += Point2f((in.unit() - 0.5f) * 32, (in.unit() - 0.5f) * 32);
                 break;
             case 8:  // far outside the image
                 pose[i] = Point2f(in.next() & 1 ? 1e6f : -1e6f, in.next() & 1 ? 1e6f : -1e6f);
                 break;
             case 9: {  // collapse vertex i's polygon onto one point
-                for (int p = 0, first = 0; p < cage.polygonCount(); first += static_cast<int>(cage.polygon(p).size()), ++p) {
+                for (int p = 0, first = 0; p < cage.polygonCount();
+                     first += static_cast<int>(cage.polygon(p).size()), ++p) {
                     const int n = static_cast<int>(cage.polygon(p).size());
                     if (i >= first && i < first + n)
                         for (int k = first; k < first + n; ++k) pose[k] = pose[i];
@@ -108,7 +121,8 @@ std::vector<Point2f> makePose(Bytes& in, const Multicage& cage) {
                 std::swap(pose[i], pose[in.next() % movable]);
                 break;
             case 11:  // mirror through the image centre
-                pose[i] = Point2f(cage.imageSize().width - 1.f, cage.imageSize().height - 1.f) - pose[i];
+                pose[i] =
+                    Point2f(cage.imageSize().width - 1.f, cage.imageSize().height - 1.f) - pose[i];
                 break;
             case 12:
                 pose[i].x = mode & 16 ? NAN : INFINITY;
@@ -196,7 +210,8 @@ bool sameMat(const Mat& a, const Mat& b) {
 }
 
 bool mapsAreSane(const Mat& mapx, const Mat& mapy, Size size) {
-    if (mapx.size() != size || mapy.size() != size || mapx.type() != CV_32F || mapy.type() != CV_32F)
+    if (mapx.size() != size || mapy.size() != size || mapx.type() != CV_32F ||
+        mapy.type() != CV_32F)
         return false;
     for (int y = 0; y < size.height; ++y)
         for (int x = 0; x < size.width; ++x) {
@@ -223,8 +238,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     Bytes in{data, size};
     // Up to 40x40 (was 64x64: 2.6 times the pixels for no other kind of input; issue 22).
     const Size imageSize(1 + in.next() % 40, 1 + in.next() % 40);
-    static const int types[] = {CV_8UC1, CV_8UC3, CV_8UC4, CV_16UC1, CV_16UC3, CV_32FC1,
-                                CV_32FC4, CV_8UC3, CV_8UC1, CV_8UC3, CV_64FC1, CV_8UC2};
+    static const int types[] = {CV_8UC1,  CV_8UC3, CV_8UC4, CV_16UC1, CV_16UC3, CV_32FC1,
+                                CV_32FC4, CV_8UC3, CV_8UC1, CV_8UC3,  CV_64FC1, CV_8UC2};
     const uint8_t typeByte = in.next();
     const int type = types[typeByte % 12];
     Mat image(imageSize, type);
@@ -256,9 +271,11 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     try {
         Mat out, mapx, mapy;
         d->deform(pose, out);
-        if (out.size() != image.size() || out.type() != image.type()) finding("output of another size or type");
+        if (out.size() != image.size() || out.type() != image.type())
+            finding("output of another size or type");
         d->computeMaps(pose, mapx, mapy);
-        if (!mapsAreSane(mapx, mapy, imageSize)) finding("a map entry is neither uncovered nor in the image");
+        if (!mapsAreSane(mapx, mapy, imageSize))
+            finding("a map entry is neither uncovered nor in the image");
         if (d->foldedTriangles(pose) < 0) finding("negative fold-over count");
     } catch (const cv::Exception&) {
         return 0;  // a bad pose (count, NaN, infinity) refused with a message

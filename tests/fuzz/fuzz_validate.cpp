@@ -4,15 +4,14 @@
 // Contract: validate()/validateGeometry() answer with a reason, never crash or hang; when the
 // geometry is valid, orient() makes validate() pass, keeps depths, and flips each signed area
 // only in sign; a pose follows its polygon's reversal.
-#include <opencv2/core/utility.hpp>
-#include <opencv2/multicage.hpp>
-
-#include "fuzz_common.hpp"
-
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
+#include <opencv2/core/utility.hpp>
+#include <opencv2/multicage.hpp>
+
+#include "fuzz_common.hpp"
 
 using namespace cv;
 using namespace cv::multicage;
@@ -20,7 +19,9 @@ using multicage_fuzz::Bytes;
 
 namespace {
 
-[[noreturn]] void finding(const char* what) { multicage_fuzz::finding("fuzz_validate", what); }
+[[noreturn]] void finding(const char* what) {
+    multicage_fuzz::finding("fuzz_validate", what);
+}
 
 }  // namespace
 
@@ -41,10 +42,14 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
         for (int v = 0; v < n; ++v) {
             const uint8_t kind = in.next();
             Point2f q(in.next() * 0.5f - 8.f, in.next() * 0.5f - 8.f);
-            if (kind == 0xff) q.x = NAN;
-            else if (kind == 0xfe) q.y = INFINITY;
-            else if (kind == 0xfd) q.x = -1e30f;
-            else if (kind == 0xfc && !polygon.empty()) q = polygon.back();  // repeated vertex
+            if (kind == 0xff)
+                q.x = NAN;
+            else if (kind == 0xfe)
+                q.y = INFINITY;
+            else if (kind == 0xfd)
+                q.x = -1e30f;
+            else if (kind == 0xfc && !polygon.empty())
+                q = polygon.back();  // repeated vertex
             polygon.push_back(q);
         }
         cage.addPolygon(polygon);
@@ -78,9 +83,11 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     }
     std::vector<int> depth(cage.polygonCount());
     std::vector<double> area(cage.polygonCount());
-    for (int p = 0; p < cage.polygonCount(); ++p) depth[p] = cage.depth(p), area[p] = cage.signedArea(p);
+    for (int p = 0; p < cage.polygonCount(); ++p)
+        depth[p] = cage.depth(p), area[p] = cage.signedArea(p);
     const std::vector<Point2f> restBefore = cage.vertices();
-    const std::vector<Point2f> poseBefore = withPose ? cage.pose(0).vertices : std::vector<Point2f>();
+    const std::vector<Point2f> poseBefore =
+        withPose ? cage.pose(0).vertices : std::vector<Point2f>();
     cage.orient();
     if (!cage.validate(&why)) {
         std::fprintf(stderr, "%s\n", why.c_str());
@@ -88,7 +95,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     }
     for (int p = 0; p < cage.polygonCount(); ++p) {
         if (cage.depth(p) != depth[p]) finding("orient() changed a depth");
-        if (std::abs(std::abs(cage.signedArea(p)) - std::abs(area[p])) > 1e-9 * (1 + std::abs(area[p])))
+        if (std::abs(std::abs(cage.signedArea(p)) - std::abs(area[p])) >
+            1e-9 * (1 + std::abs(area[p])))
             finding("orient() changed an area's magnitude");
     }
     if (withPose) {  // the pose's displacement of each rest vertex is kept

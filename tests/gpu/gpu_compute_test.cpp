@@ -17,7 +17,9 @@ struct Scene {
     float foldingAmplitude;  // a wavePose amplitude that folds the mesh over at grid step 4
 };
 
-Scene butterfly() { return {"butterfly.jpg", butterflyCage(true), 30.f}; }
+Scene butterfly() {
+    return {"butterfly.jpg", butterflyCage(true), 30.f};
+}
 Scene fruits() {
     return {"fruits.jpg", multicage_fixtures::lotusMulticage(readSample("fruits.jpg").size(), 40),
             60.f};
@@ -63,14 +65,16 @@ TEST(GpuCompute, MapsEqualCpuIncludingFoldOvers) {
             gpuAndCpu(image, b, &gpu, &cpu);
             ASSERT_EQ(gpu->backend(), BACKEND_GPU);
             const std::vector<Point2f> gentle = multicage_fixtures::wavePose(s.cage, 6.f, 0.3f);
-            const std::vector<Point2f> folding = multicage_fixtures::wavePose(s.cage, s.foldingAmplitude, 0.3f);
+            const std::vector<Point2f> folding =
+                multicage_fixtures::wavePose(s.cage, s.foldingAmplitude, 0.3f);
             ASSERT_GT(cpu->foldedTriangles(folding), 0) << "the pose must fold the mesh over";
             for (const auto& pose : {gentle, folding}) {
                 const MapsComparison m = compareMaps(*gpu, *cpu, pose);
-                std::printf("%s, grid step %d, %d folded triangles: maps max diff %.2g px, "
-                            "coverage differs at %d of %d pixels\n",
-                            s.file.c_str(), step, cpu->foldedTriangles(pose), m.maxDiff,
-                            m.coverageDiffers, m.covered);
+                std::printf(
+                    "%s, grid step %d, %d folded triangles: maps max diff %.2g px, "
+                    "coverage differs at %d of %d pixels\n",
+                    s.file.c_str(), step, cpu->foldedTriangles(pose), m.maxDiff, m.coverageDiffers,
+                    m.covered);
                 EXPECT_EQ(m.coverageDiffers, 0);
                 EXPECT_LE(m.maxDiff, 1e-3);
                 EXPECT_EQ(m.covered, int(image.total()));  // the fixed frame keeps all covered
@@ -113,7 +117,10 @@ TEST(GpuCompute, RestPoseIsExactForEveryDepthAndChannelCount) {
                 Mat img = base;
                 if (cn == 1) cvtColor(base, img, COLOR_BGR2GRAY);
                 if (cn == 4) cvtColor(base, img, COLOR_BGR2BGRA);
-                img.convertTo(img, depth, depth == CV_16U ? 257.3 : depth == CV_32F ? 1 / 255.0 : 1);
+                img.convertTo(img, depth,
+                              depth == CV_16U   ? 257.3
+                              : depth == CV_32F ? 1 / 255.0
+                                                : 1);
                 DeformParams params;
                 params.backend = BACKEND_GPU;
                 Mat out;

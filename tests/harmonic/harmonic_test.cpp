@@ -384,10 +384,13 @@ TEST(Harmonic, SideBySidePicture) {
 // progress and no way to stop it. The progress callback rises from 0 to 1 in many steps, and
 // returning false stops the binding with an exception that says so, long before the end.
 TEST(Harmonic, ProgressRisesToOneAndCancellingStopsEarly) {
-    Multicage big = multicage_testing::butterflyCage(true).scaled(Size(986, 712));  // twice the sample
-    std::vector<std::pair<double, double>> log;  // (seconds, fraction)
+    Multicage big =
+        multicage_testing::butterflyCage(true).scaled(Size(986, 712));  // twice the sample
+    std::vector<std::pair<double, double>> log;                         // (seconds, fraction)
     const auto t0 = std::chrono::steady_clock::now();
-    auto seconds = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); };
+    auto seconds = [&] {
+        return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    };
     const Binding whole = bind(big, HARMONIC, 1, [&](double f) {
         log.emplace_back(seconds(), f);
         return true;
@@ -396,15 +399,18 @@ TEST(Harmonic, ProgressRisesToOneAndCancellingStopsEarly) {
     ASSERT_GE(log.size(), 10u);
     EXPECT_EQ(log.front().second, 0.0);
     EXPECT_EQ(log.back().second, 1.0);
-    for (size_t i = 1; i < log.size(); ++i) EXPECT_GE(log[i].second, log[i - 1].second) << "report " << i;
+    for (size_t i = 1; i < log.size(); ++i)
+        EXPECT_GE(log[i].second, log[i - 1].second) << "report " << i;
     // How well the fraction tracks time: the largest gap between reports, and where the
     // fraction stands at half time.
     double gap = 0, atHalf = 0;
     for (size_t i = 1; i < log.size(); ++i) gap = std::max(gap, log[i].first - log[i - 1].first);
     for (const auto& [t, f] : log)
         if (t <= total / 2) atHalf = f;
-    std::printf("harmonic bind of 986x712: %.2f s, %zu reports, largest gap %.2f s, %.0f%% reported at half time\n",
-                total, log.size(), gap, 100 * atHalf);
+    std::printf(
+        "harmonic bind of 986x712: %.2f s, %zu reports, largest gap %.2f s, %.0f%% reported at "
+        "half time\n",
+        total, log.size(), gap, 100 * atHalf);
     EXPECT_EQ(whole.coordinates, HARMONIC);
 
     // Cancel at the first report after the start: it throws, saying so, and stops there: no
@@ -422,7 +428,8 @@ TEST(Harmonic, ProgressRisesToOneAndCancellingStopsEarly) {
     } catch (const cv::Exception& e) {
         EXPECT_NE(e.err.find(kBindCancelled), std::string::npos) << e.err;
     }
-    const double cancelled = std::chrono::duration<double>(std::chrono::steady_clock::now() - t1).count();
+    const double cancelled =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t1).count();
     std::printf("cancelled after %.2f s (the whole binding %.2f s)\n", cancelled, total);
     ASSERT_EQ(reports.size(), 2u) << "reports went on after the binding was cancelled";
     EXPECT_EQ(reports[0], 0.0);

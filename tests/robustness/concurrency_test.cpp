@@ -11,8 +11,8 @@
 
 using namespace cv;
 using namespace cv::multicage;
-using multicage_testing::sameBits;
 using multicage_testing::maxAbsDiff;
+using multicage_testing::sameBits;
 
 namespace {
 
@@ -30,7 +30,8 @@ Scene scene(Size size) {
     Scene s;
     resize(multicage_testing::readSample("fruits.jpg"), s.image, size, 0, 0, INTER_AREA);
     s.cage = multicage_fixtures::lotusMulticage(size, 20);
-    for (float amplitude : {3.f, 7.f, 12.f}) s.poses.push_back(multicage_fixtures::wavePose(s.cage, amplitude, 0.3f));
+    for (float amplitude : {3.f, 7.f, 12.f})
+        s.poses.push_back(multicage_fixtures::wavePose(s.cage, amplitude, 0.3f));
     std::vector<Point2f> fold = s.cage.vertices();  // a fold-over pose too
     std::swap(fold[0], fold[2]);
     s.poses.push_back(fold);
@@ -55,9 +56,12 @@ void expectSame(const Outputs& got, const Outputs& want, const char* who) {
     ASSERT_EQ(got.images.size(), want.images.size());
     for (size_t i = 0; i < want.images.size(); ++i) {
         EXPECT_TRUE(sameBits(got.images[i], want.images[i]))
-            << who << ", pose " << i << ": image differs by up to " << maxAbsDiff(got.images[i], want.images[i]);
-        EXPECT_TRUE(sameBits(got.mapx[i], want.mapx[i])) << who << ", pose " << i << ": mapx differs";
-        EXPECT_TRUE(sameBits(got.mapy[i], want.mapy[i])) << who << ", pose " << i << ": mapy differs";
+            << who << ", pose " << i << ": image differs by up to "
+            << maxAbsDiff(got.images[i], want.images[i]);
+        EXPECT_TRUE(sameBits(got.mapx[i], want.mapx[i]))
+            << who << ", pose " << i << ": mapx differs";
+        EXPECT_TRUE(sameBits(got.mapy[i], want.mapy[i]))
+            << who << ", pose " << i << ": mapy differs";
     }
 }
 
@@ -94,7 +98,8 @@ TEST(Concurrency, TwoGpuDeformersOnTwoThreadsMatchOneThreadBitForBit) {
 TEST(Concurrency, GpuAndCpuDeformersSideBySide) {
     MULTICAGE_REQUIRE_GPU();
     const Scene s = scene(Size(96, 72));
-    const Outputs gpu = run(s, params(BACKEND_GPU), false), cpu = run(s, params(BACKEND_CPU), false);
+    const Outputs gpu = run(s, params(BACKEND_GPU), false),
+                  cpu = run(s, params(BACKEND_CPU), false);
     Outputs results[2];
     std::thread a([&] { results[0] = run(s, params(BACKEND_GPU), true); });
     std::thread b([&] { results[1] = run(s, params(BACKEND_CPU), true); });

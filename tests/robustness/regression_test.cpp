@@ -25,7 +25,8 @@ TEST(Regression, RasteriserTakesNodesFarBeyondIntRange) {
     const Size grid(5, 4), out(40, 30);
     Mat rest(grid, CV_32FC2);
     for (int y = 0; y < grid.height; ++y)
-        for (int x = 0; x < grid.width; ++x) rest.at<Point2f>(y, x) = Point2f(x * 9.75f, y * 9.667f);
+        for (int x = 0; x < grid.width; ++x)
+            rest.at<Point2f>(y, x) = Point2f(x * 9.75f, y * 9.667f);
     const float far[] = {6.9e31f, -6.9e31f, 3e38f, INFINITY, -INFINITY, NAN, 2.2e9f, -2.2e9f};
     for (float v : far) {
         for (int which = 0; which < 3; ++which) {
@@ -67,15 +68,18 @@ TEST(Regression, CageFileParserStandardExceptionBecomesCvException) {
     {
         FILE* f = std::fopen(path.c_str(), "wb");
         ASSERT_TRUE(f);
-        std::fputs("%YAML:1.0\n---\nimage_size: [ 64, 48 ]\npolygons:\n   - [ 10, 10, 50, 10, 50, 40 ]\n"
-                   "poses:\n   - { :name", f);
+        std::fputs(
+            "%YAML:1.0\n---\nimage_size: [ 64, 48 ]\npolygons:\n   - [ 10, 10, 50, 10, 50, 40 ]\n"
+            "poses:\n   - { :name",
+            f);
         std::fclose(f);
     }
     try {
         Multicage::load(path);
         FAIL() << "no error";
     } catch (const cv::Exception& e) {
-        EXPECT_NE(e.err.find("cage file " + path + ": not valid YAML/JSON"), std::string::npos) << e.err;
+        EXPECT_NE(e.err.find("cage file " + path + ": not valid YAML/JSON"), std::string::npos)
+            << e.err;
     } catch (const std::exception& e) {
         FAIL() << "a " << typeid(e).name() << " escaped Multicage::load: " << e.what();
     }
@@ -107,12 +111,12 @@ TEST(Regression, ImageSizeWhosePixelCountOverflowsIntIsRefused) {
 TEST(Regression, MalformedYamlThatHungOpenCvsParserIsRefused) {
     const std::string dir = multicage_testing::tempDir("regression_hang");
     const std::string texts[] = {
-        "%YAML:1.\n -]\ns: -\n",                                    // the fuzzer's input, minimised
-        "%YAML:1.\n -]\ns: -\n_",                                   // the same from memory
-        "%YAML:1.0\n---\n image_size: [ 10, 10 ]\npo: -\n_",        // indented top level
-        "%YAML:1.0\n---\nimage_size: [ 10, 10 ]\n...\n-\n_",         // a document end marker
-        "%YAML:1.0\n---\n[ 1, 2 ]\nabc-\n_",                        // a flow sequence on top
-        "%YAML:1.0\n---\n{ a: 2 }\nabc-\n_",                        // a flow map on top
+        "%YAML:1.\n -]\ns: -\n",                              // the fuzzer's input, minimised
+        "%YAML:1.\n -]\ns: -\n_",                             // the same from memory
+        "%YAML:1.0\n---\n image_size: [ 10, 10 ]\npo: -\n_",  // indented top level
+        "%YAML:1.0\n---\nimage_size: [ 10, 10 ]\n...\n-\n_",  // a document end marker
+        "%YAML:1.0\n---\n[ 1, 2 ]\nabc-\n_",                  // a flow sequence on top
+        "%YAML:1.0\n---\n{ a: 2 }\nabc-\n_",                  // a flow map on top
     };
     int i = 0;
     for (const std::string& text : texts) {
@@ -135,7 +139,8 @@ TEST(Regression, MalformedYamlThatHungOpenCvsParserIsRefused) {
 // by name instead of being cut off silently where OpenCV's memory reader stops.
 TEST(Regression, CageFileWithNulByteIsRefused) {
     const std::string path = multicage_testing::tempDir("regression_nul") + "/cage.yml";
-    const std::string text("%YAML:1.0\n---\nimage_size: [ 10, 10 ]\npolygons:\n  - [ 1, 1, 5, 1, 5, 5 ]\n\0junk", 77);
+    const std::string text(
+        "%YAML:1.0\n---\nimage_size: [ 10, 10 ]\npolygons:\n  - [ 1, 1, 5, 1, 5, 5 ]\n\0junk", 77);
     FILE* f = std::fopen(path.c_str(), "wb");
     ASSERT_TRUE(f);
     std::fwrite(text.data(), 1, text.size(), f);
@@ -144,7 +149,8 @@ TEST(Regression, CageFileWithNulByteIsRefused) {
         Multicage::load(path);
         FAIL() << "accepted a file with a NUL byte";
     } catch (const cv::Exception& e) {
-        EXPECT_NE(e.err.find("not valid YAML/JSON: a NUL byte at offset 72 (not a text file)"), std::string::npos)
+        EXPECT_NE(e.err.find("not valid YAML/JSON: a NUL byte at offset 72 (not a text file)"),
+                  std::string::npos)
             << e.err;
     }
 }

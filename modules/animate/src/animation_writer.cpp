@@ -1,6 +1,8 @@
 // Animation output: PNG frames, video through OpenCV's videoio, GIF through giflib. Every
 // writer works on a temporary file or folder beside the target and renames it at the end.
+#if MULTICAGE_HAVE_GIF
 #include <gif_lib.h>
+#endif
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -22,7 +24,9 @@ namespace multicage {
 namespace fs = std::filesystem;
 
 namespace {
-bool endsWithSlash(const std::string& p) { return !p.empty() && (p.back() == '/' || p.back() == '\\'); }
+bool endsWithSlash(const std::string& p) {
+    return !p.empty() && (p.back() == '/' || p.back() == '\\');
+}
 
 std::string lowerExtension(const fs::path& p) {
     std::string e = p.extension().string();
@@ -56,7 +60,8 @@ void checkFolderWritable(const fs::path& dir, const std::string& path) {
     if (!fs::is_directory(dir, ec))
         CV_Error(Error::StsBadArg, "cannot write " + path + ": no folder " + dir.string());
     if (::access(dir.c_str(), W_OK | X_OK) != 0)
-        CV_Error(Error::StsBadArg, "cannot write " + path + ": folder " + dir.string() + " is not writable");
+        CV_Error(Error::StsBadArg,
+                 "cannot write " + path + ": folder " + dir.string() + " is not writable");
 }
 
 // Whether float frames hold values in [0, 1] (scaled up to integers) or 0-255, decided on the
@@ -85,14 +90,17 @@ Mat toBgr8(const Mat& frame, double& floatScale, std::string& note) {
     } else if (m.depth() != CV_8U) {
         CV_Error(Error::StsBadArg, "animation frames must be 8-bit, 16-bit or float images");
     }
-    if (m.channels() == 1) cvtColor(m, m, COLOR_GRAY2BGR);
-    else if (m.channels() == 4) cvtColor(m, m, COLOR_BGRA2BGR);
-    else if (m.channels() != 3) CV_Error(Error::StsBadArg, "animation frames must have 1, 3 or 4 channels");
+    if (m.channels() == 1)
+        cvtColor(m, m, COLOR_GRAY2BGR);
+    else if (m.channels() == 4)
+        cvtColor(m, m, COLOR_BGRA2BGR);
+    else if (m.channels() != 3)
+        CV_Error(Error::StsBadArg, "animation frames must have 1, 3 or 4 channels");
     return m;
 }
 
 class WriterBase : public AnimationWriter {
-public:
+  public:
     WriterBase(int format, double fps) : format_(format), fps_(fps) {}
     int frameCount() const override { return frames_; }
     int format() const override { return format_; }
@@ -101,23 +109,26 @@ public:
         CV_Assert(!finished_);
         const Mat frame = frameIn.getMat();
         if (frame.empty()) CV_Error(Error::StsBadArg, "AnimationWriter::write: empty frame");
-        if (frames_ == 0) size_ = frame.size();
+        if (frames_ == 0)
+            size_ = frame.size();
         else if (frame.size() != size_)
-            CV_Error(Error::StsBadArg, "AnimationWriter::write: frame " + std::to_string(frames_) + " is " +
-                                           std::to_string(frame.cols) + "x" + std::to_string(frame.rows) +
-                                           ", the first was " + std::to_string(size_.width) + "x" +
+            CV_Error(Error::StsBadArg, "AnimationWriter::write: frame " + std::to_string(frames_) +
+                                           " is " + std::to_string(frame.cols) + "x" +
+                                           std::to_string(frame.rows) + ", the first was " +
+                                           std::to_string(size_.width) + "x" +
                                            std::to_string(size_.height));
         writeFrame(frame);
         ++frames_;
     }
     void finish() override {
         CV_Assert(!finished_);
-        if (frames_ == 0) CV_Error(Error::StsBadArg, "AnimationWriter::finish: no frames were written");
+        if (frames_ == 0)
+            CV_Error(Error::StsBadArg, "AnimationWriter::finish: no frames were written");
         commit();
         finished_ = true;
     }
 
-protected:
+  protected:
     virtual void writeFrame(const Mat& frame) = 0;
     virtual void commit() = 0;
     int format_;
@@ -131,9 +142,11 @@ protected:
 
 // ---- PNG frames in a folder ----------------------------------------------------------
 class FramesWriter : public WriterBase {
-public:
+  public:
     FramesWriter(const std::string& path, double fps)
-        : WriterBase(ANIMATION_FRAMES, fps), target_(folderPath(path)), temp_(tempSibling(target_, "")) {
+        : WriterBase(ANIMATION_FRAMES, fps),
+          target_(folderPath(path)),
+          temp_(tempSibling(target_, "")) {
         fs::create_directory(temp_);
     }
     ~FramesWriter() override {
@@ -141,7 +154,7 @@ public:
         if (!finished_) fs::remove_all(temp_, ec);
     }
 
-protected:
+  protected:
     void writeFrame(const Mat& frame) override {
         char name[32];
         std::snprintf(name, sizeof(name), "frame_%04d.png", frames_);
@@ -151,9 +164,11 @@ protected:
             if (floatScale_ <= 0) {
                 const bool unit = unitFloatRange(frame);
                 floatScale_ = unit ? 65535.0 : 257.0;
-                note_ = unit ? "PNG does not store float pixels: the float frames (values 0-1) were scaled by "
+                note_ = unit ? "PNG does not store float pixels: the float frames (values 0-1) "
+                               "were scaled by "
                                "65535 to 16 bits"
-                             : "PNG does not store float pixels: the float frames (values taken as 0-255) were "
+                             : "PNG does not store float pixels: the float frames (values taken as "
+                               "0-255) were "
                                "scaled by 257 to 16 bits";
             }
             frame.convertTo(stored, CV_16U, floatScale_);
@@ -174,33 +189,37 @@ protected:
         fs::remove_all(old, ec);
     }
 
-private:
+  private:
     fs::path target_, temp_;
 };
 
 // ---- video through OpenCV's videoio ---------------------------------------------------
 class VideoFileWriter : public WriterBase {
-public:
+  public:
     VideoFileWriter(const std::string& path, int format, double fps)
-        : WriterBase(format, fps), target_(path), temp_(tempSibling(target_, lowerExtension(target_))) {}
+        : WriterBase(format, fps),
+          target_(path),
+          temp_(tempSibling(target_, lowerExtension(target_))) {}
     ~VideoFileWriter() override {
         writer_.release();
         std::error_code ec;
         if (!finished_) fs::remove(temp_, ec);
     }
 
-protected:
+  protected:
     void writeFrame(const Mat& frame) override {
         Mat bgr = toBgr8(frame, floatScale_, note_);
         if (frames_ == 0) {
             open(bgr.size());
             if (encoded_ != bgr.size())
-                note_ += std::string(note_.empty() ? "" : "; ") + "frames padded from " + std::to_string(bgr.cols) +
-                         "x" + std::to_string(bgr.rows) + " to " + std::to_string(encoded_.width) + "x" +
-                         std::to_string(encoded_.height) + " (edge pixels repeated: the codec needs even sizes)";
+                note_ += std::string(note_.empty() ? "" : "; ") + "frames padded from " +
+                         std::to_string(bgr.cols) + "x" + std::to_string(bgr.rows) + " to " +
+                         std::to_string(encoded_.width) + "x" + std::to_string(encoded_.height) +
+                         " (edge pixels repeated: the codec needs even sizes)";
         }
-        if (bgr.size() != encoded_) copyMakeBorder(bgr, bgr, 0, encoded_.height - bgr.rows, 0,
-                                                   encoded_.width - bgr.cols, BORDER_REPLICATE);
+        if (bgr.size() != encoded_)
+            copyMakeBorder(bgr, bgr, 0, encoded_.height - bgr.rows, 0, encoded_.width - bgr.cols,
+                           BORDER_REPLICATE);
         writer_.write(bgr);
     }
     void commit() override {
@@ -211,37 +230,41 @@ protected:
         fs::rename(temp_, target_);
     }
 
-private:
+  private:
     void open(Size size) {
         // H.264, MPEG-4 and FFmpeg's Motion JPEG store 4:2:0 chroma and would drop an odd
         // last column or row: pad to even sizes instead.
         encoded_ = Size((size.width + 1) & ~1, (size.height + 1) & ~1);
         std::vector<std::string> codecs;
-        if (format_ == ANIMATION_MP4) codecs = {"avc1", "mp4v"};
-        else codecs = {"MJPG"};
+        if (format_ == ANIMATION_MP4)
+            codecs = {"avc1", "mp4v"};
+        else
+            codecs = {"MJPG"};
         for (const std::string& c : codecs) {
-            if (writer_.open(temp_.string(), CAP_FFMPEG, VideoWriter::fourcc(c[0], c[1], c[2], c[3]), fps_,
-                             encoded_, true))
+            if (writer_.open(temp_.string(), CAP_FFMPEG,
+                             VideoWriter::fourcc(c[0], c[1], c[2], c[3]), fps_, encoded_, true))
                 return;
         }
         std::error_code ec;
         fs::remove(temp_, ec);
         std::string list;
         for (const std::string& c : codecs) list += (list.empty() ? "" : " or ") + c;
-        CV_Error(Error::StsError, "cannot write " + target_.string() + ": OpenCV's video I/O has no " + list +
-                                      " encoder here (write a .gif or a folder of PNG frames instead)");
+        CV_Error(Error::StsError,
+                 "cannot write " + target_.string() + ": OpenCV's video I/O has no " + list +
+                     " encoder here (write a .gif or a folder of PNG frames instead)");
     }
     fs::path target_, temp_;
     VideoWriter writer_;
     Size encoded_;
 };
 
+#if MULTICAGE_HAVE_GIF
 // ---- GIF through giflib -----------------------------------------------------------------
 // One palette for the whole animation: k-means on the first frame's colours (a deformation
 // moves pixels, it makes no new colours), a 64^3 lookup cube from colour to palette index,
 // index 255 reserved as the transparent "unchanged since the last frame" colour.
 class GifWriter : public WriterBase {
-public:
+  public:
     GifWriter(const std::string& path, double fps)
         : WriterBase(ANIMATION_GIF, fps), target_(path), temp_(tempSibling(target_, ".gif")) {}
     ~GifWriter() override {
@@ -250,7 +273,7 @@ public:
         if (!finished_) fs::remove(temp_, ec);
     }
 
-protected:
+  protected:
     void writeFrame(const Mat& frame) override {
         const Mat bgr = toBgr8(frame, floatScale_, note_);
         if (frames_ == 0) open(bgr);
@@ -285,7 +308,8 @@ protected:
         EGifGCBToExtension(&gcb, ext);
         check(EGifPutExtension(gif_, GRAPHICS_EXT_FUNC_CODE, 4, ext));
         check(EGifPutImageDesc(gif_, box.x, box.y, box.width, box.height, false, nullptr));
-        for (int y = 0; y < pixels.rows; ++y) check(EGifPutLine(gif_, pixels.ptr<GifPixelType>(y), pixels.cols));
+        for (int y = 0; y < pixels.rows; ++y)
+            check(EGifPutLine(gif_, pixels.ptr<GifPixelType>(y), pixels.cols));
         previous_ = index;
     }
     void commit() override {
@@ -297,14 +321,15 @@ protected:
         fs::rename(temp_, target_);
     }
 
-private:
+  private:
     static constexpr int kTransparent = 255;
 
     void check(int status) {
         if (status != GIF_ERROR) return;
         const int code = gif_ ? gif_->Error : 0;
-        CV_Error(Error::StsError, "cannot write " + target_.string() + ": " +
-                                      (GifErrorString(code) ? GifErrorString(code) : "giflib error"));
+        CV_Error(Error::StsError,
+                 "cannot write " + target_.string() + ": " +
+                     (GifErrorString(code) ? GifErrorString(code) : "giflib error"));
     }
 
     void close() {
@@ -313,11 +338,13 @@ private:
         const int status = EGifCloseFile(gif_, &error);  // frees gif_ either way
         gif_ = nullptr;
         if (status == GIF_ERROR)
-            CV_Error(Error::StsError, "cannot write " + target_.string() + ": " + GifErrorString(error));
+            CV_Error(Error::StsError,
+                     "cannot write " + target_.string() + ": " + GifErrorString(error));
     }
 
     void open(const Mat& bgr) {
-        if (bgr.cols > 65535 || bgr.rows > 65535) CV_Error(Error::StsBadArg, "GIF frames are at most 65535 pixels wide");
+        if (bgr.cols > 65535 || bgr.rows > 65535)
+            CV_Error(Error::StsBadArg, "GIF frames are at most 65535 pixels wide");
         // Palette: k-means++ on up to 20000 pixels of the first frame (a fixed stride, so the
         // result does not depend on a random seed).
         const int total = static_cast<int>(bgr.total());
@@ -353,7 +380,8 @@ private:
                         for (int i = 0; i < k; ++i) {
                             const int dr = rr - colours[i].Red, dg = gg - colours[i].Green,
                                       db = bb - colours[i].Blue;
-                            const int d = 3 * dr * dr + 4 * dg * dg + 2 * db * db;  // rough perceptual weights
+                            const int d = 3 * dr * dr + 4 * dg * dg +
+                                          2 * db * db;  // rough perceptual weights
                             if (d < bestD) bestD = d, best = i;
                         }
                         cube_[ri << 12 | gi << 6 | bi] = static_cast<uchar>(best);
@@ -363,7 +391,8 @@ private:
         int error = 0;
         gif_ = EGifOpenFileName(temp_.c_str(), false, &error);
         if (!gif_)
-            CV_Error(Error::StsError, "cannot write " + target_.string() + ": " + GifErrorString(error));
+            CV_Error(Error::StsError,
+                     "cannot write " + target_.string() + ": " + GifErrorString(error));
         EGifSetGifVersion(gif_, true);
         ColorMapObject* map = GifMakeMapObject(256, colours.data());
         const int status = EGifPutScreenDesc(gif_, bgr.cols, bgr.rows, 8, 0, map);
@@ -382,7 +411,14 @@ private:
     std::vector<uchar> cube_;
     Mat previous_;
 };
+#endif  // MULTICAGE_HAVE_GIF
 }  // namespace
+
+#if MULTICAGE_HAVE_GIF
+constexpr bool kHaveGif = true;
+#else
+constexpr bool kHaveGif = false;
+#endif
 
 int checkAnimationOutput(const String& path) {
     if (path.empty()) CV_Error(Error::StsBadArg, "no output path");
@@ -392,24 +428,36 @@ int checkAnimationOutput(const String& path) {
         checkFolderWritable(folder.has_parent_path() ? folder.parent_path() : fs::path("."), path);
         if (fs::exists(folder, ec)) {
             if (!fs::is_directory(folder, ec))
-                CV_Error(Error::StsBadArg, "cannot write frames to " + path + ": it is a file, not a folder");
+                CV_Error(Error::StsBadArg,
+                         "cannot write frames to " + path + ": it is a file, not a folder");
             for (const fs::directory_entry& e : fs::directory_iterator(folder, ec))
                 if (!isFrameName(e.path().filename().string()))
-                    CV_Error(Error::StsBadArg, "cannot write frames to " + path + ": the folder holds other files (" +
-                                                   e.path().filename().string() +
-                                                   "); name a new or empty folder");
+                    CV_Error(Error::StsBadArg,
+                             "cannot write frames to " + path + ": the folder holds other files (" +
+                                 e.path().filename().string() + "); name a new or empty folder");
         }
         return ANIMATION_FRAMES;
     }
     const fs::path p(path);
     const std::string ext = lowerExtension(p);
     int format;
-    if (ext == ".mp4") format = ANIMATION_MP4;
-    else if (ext == ".avi") format = ANIMATION_AVI;
-    else if (ext == ".gif") format = ANIMATION_GIF;
+    if (ext == ".mp4")
+        format = ANIMATION_MP4;
+    else if (ext == ".avi")
+        format = ANIMATION_AVI;
+    else if (ext == ".gif" && kHaveGif)
+        format = ANIMATION_GIF;
+    else if (ext == ".gif")
+        CV_Error(
+            Error::StsNotImplemented,
+            "cannot write " + path +
+                ": this build of multicage has no GIF writer (giflib was "
+                "not found when it was built: install libgif-dev and build again); write .mp4, "
+                ".avi or a folder ending in / for PNG frames");
     else
-        CV_Error(Error::StsBadArg, "cannot write " + path + ": unknown animation type '" + ext +
-                                       "' (use .mp4, .avi, .gif, or a folder ending in / for PNG frames)");
+        CV_Error(Error::StsBadArg,
+                 "cannot write " + path + ": unknown animation type '" + ext +
+                     "' (use .mp4, .avi, .gif, or a folder ending in / for PNG frames)");
     checkFolderWritable(p.has_parent_path() ? p.parent_path() : fs::path("."), path);
     return format;
 }
@@ -417,11 +465,17 @@ int checkAnimationOutput(const String& path) {
 AnimationWriter::~AnimationWriter() = default;
 
 Ptr<AnimationWriter> AnimationWriter::create(const String& path, double fps) {
-    if (!(std::isfinite(fps) && fps > 0)) CV_Error(Error::StsBadArg, "the frame rate must be a positive number");
+    if (!(std::isfinite(fps) && fps > 0))
+        CV_Error(Error::StsBadArg, "the frame rate must be a positive number");
     switch (checkAnimationOutput(path)) {
-        case ANIMATION_FRAMES: return makePtr<FramesWriter>(path, fps);
-        case ANIMATION_GIF: return makePtr<GifWriter>(path, fps);
-        default: return makePtr<VideoFileWriter>(path, checkAnimationOutput(path), fps);
+        case ANIMATION_FRAMES:
+            return makePtr<FramesWriter>(path, fps);
+#if MULTICAGE_HAVE_GIF
+        case ANIMATION_GIF:
+            return makePtr<GifWriter>(path, fps);
+#endif
+        default:
+            return makePtr<VideoFileWriter>(path, checkAnimationOutput(path), fps);
     }
 }
 

@@ -1,16 +1,17 @@
 // Keyframes: poses at times, and the poses between them.
-#include <opencv2/multicage/animate.hpp>
-
 #include <algorithm>
 #include <cmath>
 #include <numeric>
+#include <opencv2/multicage/animate.hpp>
 #include <sstream>
 
 namespace cv {
 namespace multicage {
 
 namespace {
-std::string quoted(const std::string& name) { return "'" + name + "'"; }
+std::string quoted(const std::string& name) {
+    return "'" + name + "'";
+}
 
 std::string formatTime(double t) {
     std::ostringstream s;
@@ -54,7 +55,8 @@ std::vector<Point2f> toPoints(InputArray a, int vertexCount) {
     Mat m = a.getMat();
     if (m.empty()) CV_Error(Error::StsBadArg, "addKeyframe: the pose is empty");
     if (m.channels() == 1 && m.cols == 2) m = m.reshape(2, m.rows);
-    if (m.channels() != 2) CV_Error(Error::StsBadArg, "addKeyframe: a pose is a list of 2D points (Nx2)");
+    if (m.channels() != 2)
+        CV_Error(Error::StsBadArg, "addKeyframe: a pose is a list of 2D points (Nx2)");
     m = m.reshape(2, static_cast<int>(m.total()));
     Mat f;
     m.convertTo(f, CV_32FC2);
@@ -75,8 +77,9 @@ bool validateKeyframes(const Multicage& cage, std::string* why) {
     };
     const int n = cage.poseCount();
     if (n == 0)
-        return fail("an animation needs at least two timed poses (keyframes); the cage has no poses: "
-                    "add them under `poses:` with a `time:` each");
+        return fail(
+            "an animation needs at least two timed poses (keyframes); the cage has no poses: "
+            "add them under `poses:` with a `time:` each");
     if (n == 1)
         return fail("an animation needs at least two timed poses (keyframes); the cage has one (" +
                     quoted(cage.pose(0).name) + " at time " + formatTime(cage.pose(0).time) +
@@ -89,14 +92,15 @@ bool validateKeyframes(const Multicage& cage, std::string* why) {
     for (int k = 1; k < n; ++k) {
         const Pose &a = cage.pose(order[k - 1]), &b = cage.pose(order[k]);
         if (b.time - a.time < 1e-6)
-            return fail("poses " + quoted(a.name) + " and " + quoted(b.name) + " are both at time " +
-                        formatTime(a.time) + "; each pose needs its own `time:` (seconds)");
+            return fail("poses " + quoted(a.name) + " and " + quoted(b.name) +
+                        " are both at time " + formatTime(a.time) +
+                        "; each pose needs its own `time:` (seconds)");
     }
     for (int i = 0; i < n; ++i)
         if (static_cast<int>(cage.pose(i).vertices.size()) != cage.vertexCount())
             return fail("pose " + quoted(cage.pose(i).name) + " has " +
-                        std::to_string(cage.pose(i).vertices.size()) + " vertices; the multicage has " +
-                        std::to_string(cage.vertexCount()));
+                        std::to_string(cage.pose(i).vertices.size()) +
+                        " vertices; the multicage has " + std::to_string(cage.vertexCount()));
     return true;
 }
 
@@ -126,7 +130,8 @@ double animationDuration(const Multicage& cage, bool loop) {
 
 std::vector<Point2f> samplePose(const Multicage& cage, double t, int interpolation, bool loop) {
     if (interpolation != INTERPOLATE_LINEAR && interpolation != INTERPOLATE_CATMULL_ROM)
-        CV_Error(Error::StsBadArg, "samplePose: unknown interpolation " + std::to_string(interpolation));
+        CV_Error(Error::StsBadArg,
+                 "samplePose: unknown interpolation " + std::to_string(interpolation));
     if (!std::isfinite(t)) CV_Error(Error::StsBadArg, "samplePose: the time is not finite");
     const Keys k = keys(cage);
     const int n = k.size();
@@ -167,7 +172,8 @@ std::vector<Point2f> samplePose(const Multicage& cage, double t, int interpolati
     };
     // Cubic Hermite basis (Catmull & Rom 1974, with the tangents above).
     const double s2 = s * s, s3 = s2 * s;
-    const double h00 = 2 * s3 - 3 * s2 + 1, h10 = s3 - 2 * s2 + s, h01 = -2 * s3 + 3 * s2, h11 = s3 - s2;
+    const double h00 = 2 * s3 - 3 * s2 + 1, h10 = s3 - 2 * s2 + s, h01 = -2 * s3 + 3 * s2,
+                 h11 = s3 - s2;
     for (size_t v = 0; v < out.size(); ++v) {
         const Point2d m0 = tangent(i, v), m1 = tangent(i + 1, v);
         const double x = h00 * p0[v].x + h10 * h * m0.x + h01 * p1[v].x + h11 * h * m1.x;
@@ -192,32 +198,36 @@ int addKeyframe(Multicage& cage, InputArray vertices, double time, const std::st
     if (chosen.empty()) {
         chosen = "key_" + std::to_string(static_cast<long long>(std::llround(time * 1000)));
         for (int suffix = 2; cage.findPose(chosen) >= 0; ++suffix)
-            chosen = "key_" + std::to_string(static_cast<long long>(std::llround(time * 1000))) + "_" +
-                     std::to_string(suffix);
+            chosen = "key_" + std::to_string(static_cast<long long>(std::llround(time * 1000))) +
+                     "_" + std::to_string(suffix);
     }
     return cage.addPose(chosen, pts, time);
 }
 
 std::vector<double> animationFrameTimes(const Multicage& cage, const AnimationParams& params) {
     if (!(std::isfinite(params.fps) && params.fps > 0))
-        CV_Error(Error::StsBadArg, "the frame rate must be a positive number (got " + formatTime(params.fps) + ")");
+        CV_Error(Error::StsBadArg,
+                 "the frame rate must be a positive number (got " + formatTime(params.fps) + ")");
     if (!std::isfinite(params.duration))
         CV_Error(Error::StsBadArg, "the duration must be a finite number of seconds");
     std::string why;
     if (!validateKeyframes(cage, &why)) CV_Error(Error::StsBadArg, why);
     const double start = animationStart(cage);
-    const double duration = params.duration > 0 ? params.duration : animationDuration(cage, params.loop);
+    const double duration =
+        params.duration > 0 ? params.duration : animationDuration(cage, params.loop);
     const double steps = std::round(duration * params.fps);
     if (steps > 1e6)
         CV_Error(Error::StsBadArg, "the animation would have more than a million frames (" +
-                                       formatTime(duration) + " s at " + formatTime(params.fps) + " fps)");
+                                       formatTime(duration) + " s at " + formatTime(params.fps) +
+                                       " fps)");
     std::vector<double> times;
     if (params.loop) {
         const int n = std::max(2, static_cast<int>(steps));
         for (int f = 0; f < n; ++f) times.push_back(start + duration * f / n);
     } else {
         const int n = std::max(2, static_cast<int>(steps) + 1);
-        for (int f = 0; f < n; ++f) times.push_back(f == n - 1 ? start + duration : start + duration * f / (n - 1));
+        for (int f = 0; f < n; ++f)
+            times.push_back(f == n - 1 ? start + duration : start + duration * f / (n - 1));
     }
     return times;
 }

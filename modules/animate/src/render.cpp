@@ -17,13 +17,15 @@ AnimationStats renderAnimation(Deformer& deformer, const Multicage& cage, const 
     const auto start = clock::now();
     AnimationStats stats;
     stats.backend = deformer.backend();
-    const std::vector<double> times = animationFrameTimes(cage, params);  // checks the keyframes first
+    const std::vector<double> times =
+        animationFrameTimes(cage, params);  // checks the keyframes first
     Ptr<AnimationWriter> writer = AnimationWriter::create(path, params.fps);
     const int n = static_cast<int>(times.size());
     Mat frame;
     for (int f = 0; f < n; ++f) {
         auto t = clock::now();
-        const std::vector<Point2f> pose = samplePose(cage, times[f], params.interpolation, params.loop);
+        const std::vector<Point2f> pose =
+            samplePose(cage, times[f], params.interpolation, params.loop);
         stats.sampleMs += msSince(t);
         t = clock::now();
         deformer.deform(pose, frame);

@@ -1,10 +1,9 @@
 // Binding a node grid to a multicage (paper Algorithm 1) and applying poses to it.
-#include <opencv2/core/utility.hpp>
-#include <opencv2/multicage/coordinates.hpp>
-
 #include <cstring>
 #include <memory>
 #include <mutex>
+#include <opencv2/core/utility.hpp>
+#include <opencv2/multicage/coordinates.hpp>
 #if defined(__linux__)
 #include <sys/mman.h>
 #endif
@@ -12,15 +11,18 @@
 #include <opencv2/multicage/internal/apply_rows.hpp>
 #include <opencv2/multicage/internal/backend_contract.hpp>
 #include <opencv2/multicage/internal/geometry.hpp>
+#include <opencv2/multicage/internal/point_input.hpp>
+
 #include "harmonic.hpp"
 #include "local_regions.hpp"
 #include "mean_value.hpp"
-#include <opencv2/multicage/internal/point_input.hpp>
 
 // The row kernel is compiled twice, for AVX2+FMA and for the baseline, and the loader picks
 // the one this CPU runs (GCC function multiversioning): 8 nodes per instruction where possible.
-#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && !defined(__SANITIZE_ADDRESS__)
-#define MULTICAGE_TARGET_CLONES __attribute__((target_clones("arch=x86-64-v4", "arch=x86-64-v3", "default")))
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && \
+    !defined(__SANITIZE_ADDRESS__)
+#define MULTICAGE_TARGET_CLONES \
+    __attribute__((target_clones("arch=x86-64-v4", "arch=x86-64-v3", "default")))
 #else
 #define MULTICAGE_TARGET_CLONES
 #endif
@@ -85,8 +87,9 @@ namespace {
 #pragma clang fp contract(off)
 #endif
 MULTICAGE_TARGET_CLONES
-void accumulateDisplacements(const Mat& coefficients, const int* moved, const Point2f* delta, int count_q,
-                             size_t begin, int count, float* __restrict px, float* __restrict py) {
+void accumulateDisplacements(const Mat& coefficients, const int* moved, const Point2f* delta,
+                             int count_q, size_t begin, int count, float* __restrict px,
+                             float* __restrict py) {
     int q = 0;
     for (; q + 4 <= count_q; q += 4) {
         const float* __restrict c0 = coefficients.ptr<float>(moved[q]) + begin;
@@ -154,10 +157,12 @@ void applyRows(const Binding& b, InputArray poseIn, OutputArray positionsOut,
                 const float y = nodeCoordinate(gy, b.gridStep, b.imageSize.height);
                 float* qx = px.data() + (gy - gy0) * m;
                 float* qy = py.data() + (gy - gy0) * m;
-                for (int gx = 0; gx < m; ++gx) qx[gx] = nodeCoordinate(gx, b.gridStep, b.imageSize.width), qy[gx] = y;
+                for (int gx = 0; gx < m; ++gx)
+                    qx[gx] = nodeCoordinate(gx, b.gridStep, b.imageSize.width), qy[gx] = y;
             }
-            accumulateDisplacements(b.coefficients, moved.data(), delta.data(), static_cast<int>(moved.size()),
-                                    begin, count, px.data(), py.data());
+            accumulateDisplacements(b.coefficients, moved.data(), delta.data(),
+                                    static_cast<int>(moved.size()), begin, count, px.data(),
+                                    py.data());
             for (int gy = gy0; gy < gy1; ++gy) {
                 Point2f* out = positions.ptr<Point2f>(gy);
                 const float* qx = px.data() + (gy - gy0) * m;
@@ -177,7 +182,8 @@ void adviseHugePages(Mat& m) {
 #if defined(__linux__) && defined(MADV_HUGEPAGE)
     constexpr uintptr_t kHuge = 2u << 20;
     const uintptr_t begin = (reinterpret_cast<uintptr_t>(m.data) + kHuge - 1) & ~(kHuge - 1);
-    const uintptr_t end = (reinterpret_cast<uintptr_t>(m.data) + m.total() * m.elemSize()) & ~(kHuge - 1);
+    const uintptr_t end =
+        (reinterpret_cast<uintptr_t>(m.data) + m.total() * m.elemSize()) & ~(kHuge - 1);
     if (end > begin) madvise(reinterpret_cast<void*>(begin), end - begin, MADV_HUGEPAGE);
 #endif
 }
@@ -191,17 +197,27 @@ void adviseHugePages(Mat& m) {
 typedef double v8d __attribute__((vector_size(64)));
 typedef float v8f __attribute__((vector_size(32)));
 typedef long long v8i __attribute__((vector_size(64)));
-inline v8d load8d(const double* p) { v8d r; std::memcpy(&r, p, sizeof r); return r; }
-inline v8f load8f(const float* p) { v8f r; std::memcpy(&r, p, sizeof r); return r; }
-inline void store8d(double* p, v8d v) { std::memcpy(p, &v, sizeof v); }
+inline v8d load8d(const double* p) {
+    v8d r;
+    std::memcpy(&r, p, sizeof r);
+    return r;
+}
+inline v8f load8f(const float* p) {
+    v8f r;
+    std::memcpy(&r, p, sizeof r);
+    return r;
+}
+inline void store8d(double* p, v8d v) {
+    std::memcpy(p, &v, sizeof v);
+}
 inline v8d absd(v8d v) {  // std::abs: the sign bit cleared
     return reinterpret_cast<v8d>(reinterpret_cast<v8i>(v) & (v8i{} + 0x7fffffffffffffffLL));
 }
 
 struct BoundPolygon {
     std::vector<Point2f> v;
-    int first;    // coefficient index of vertex 0
-    float sign;   // +1 or -1: the raw weights as if the polygon obeyed the orientation rule
+    int first;   // coefficient index of vertex 0
+    float sign;  // +1 or -1: the raw weights as if the polygon obeyed the orientation rule
 };
 
 // Per node of a row, in double: the total W = sum_j w_j, sum_j |w_j|, and the first moments
@@ -218,7 +234,10 @@ struct RowSums {
 struct SumsAt {
     double *xs, *W, *absW, *sx, *sy;
     SumsAt(RowSums& s, int k0)
-        : xs(s.xs.data() + k0), W(s.W.data() + k0), absW(s.absW.data() + k0), sx(s.sx.data() + k0),
+        : xs(s.xs.data() + k0),
+          W(s.W.data() + k0),
+          absW(s.absW.data() + k0),
+          sx(s.sx.data() + k0),
           sy(s.sy.data() + k0) {}
 };
 
@@ -327,7 +346,8 @@ inline void projectionTerms(const VertexMoments mo, double y, int m, const doubl
                             const double* __restrict Ws, const double* __restrict absW,
                             const double* __restrict sx, const double* __restrict sy,
                             int* __restrict flags, double* __restrict kap, float* __restrict invOut,
-                            float* __restrict l0Out, float* __restrict l1Out, float* __restrict l2Out) {
+                            float* __restrict l0Out, float* __restrict l1Out,
+                            float* __restrict l2Out) {
     for (int k = 0; k < m; ++k) {
         const double x = xs[k], invW = 1.0 / Ws[k];
         const double kk = std::abs(Ws[k]) / absW[k];
@@ -363,8 +383,7 @@ inline void projectionTerms(const VertexMoments mo, double y, int m, const doubl
 MULTICAGE_TARGET_CLONES
 void normalizeAndProject(float* const* out, int c, const Point2f* v, const VertexMoments& M,
                          double y, int m, const SumsAt& s, int* nearSingular, double* kappa,
-                         float* inv, float* l0, float* l1, float* l2,
-                         const unsigned char* active) {
+                         float* inv, float* l0, float* l1, float* l2, const unsigned char* active) {
     projectionTerms(M, y, m, s.xs, s.W, s.absW, s.sx, s.sy, nearSingular, kappa, inv, l0, l1, l2);
     for (int j = 0; j < c; ++j) {
         const float vx = v[j].x, dy = static_cast<float>(v[j].y - y);
@@ -391,7 +410,8 @@ double bindNodeExact(const std::vector<BoundPolygon>& polygons, Point2d x, doubl
         if (!keep.empty() && !keep[q]) continue;
         const BoundPolygon& p = polygons[q];
         v.assign(p.v.begin(), p.v.end());
-        const MeanValueCase where = meanValueWeights(v.data(), static_cast<int>(v.size()), x, cc + p.first);
+        const MeanValueCase where =
+            meanValueWeights(v.data(), static_cast<int>(v.size()), x, cc + p.first);
         if (where != MeanValueCase::General) {  // the node follows this polygon alone
             std::vector<double> own(cc + p.first, cc + p.first + v.size());
             std::fill(cc, cc + c, 0.0);
@@ -468,7 +488,8 @@ struct LocalBinding {
 
 Binding bind(const Multicage& multicage, int coordinates, int gridStep) {
     std::string why;
-    if (!multicage.validateGeometry(&why)) CV_Error(Error::StsBadArg, "multicage: cannot bind: " + why);
+    if (!multicage.validateGeometry(&why))
+        CV_Error(Error::StsBadArg, "multicage: cannot bind: " + why);
     coordinates = resolveCoordinates(multicage, coordinates);
     if (coordinates == HARMONIC) return bindHarmonic(multicage, gridStep);
     if (coordinates != MEAN_VALUE && coordinates != LOCAL_MEAN_VALUE)
@@ -504,7 +525,8 @@ Binding bind(const Multicage& multicage, int coordinates, int gridStep) {
         for (int gx = 0; gx < m; ++gx) xs[gx] = b.node(gx, 0).x, sums.xs[gx] = xs[gx];
         for (int gy = rows.start; gy < rows.end; ++gy) {
             const double y = b.node(0, gy).y;
-            for (int j = 0; j < c; ++j) out[j] = b.coefficients.ptr<float>(j) + static_cast<size_t>(gy) * m;
+            for (int j = 0; j < c; ++j)
+                out[j] = b.coefficients.ptr<float>(j) + static_cast<size_t>(gy) * m;
             std::fill(nearSingular.begin(), nearSingular.end(), 0);
             sums.clear();
             if (local) regions->regionsOfRow(xs.data(), m, y, region.data());
@@ -523,14 +545,14 @@ Binding bind(const Multicage& multicage, int coordinates, int gridStep) {
                             any |= keep[k] = regions->bounds(static_cast<int>(q), region[k0 + k]);
                         if (!any) continue;  // its weights here: zeroed below
                     }
-                    rawWeightsRow(p.v.data(), static_cast<int>(p.v.size()), p.sign, xs.data() + k0, K,
-                                  float(y), chunkOut.data() + p.first, tbuf.data(), nearSingular.data() + k0, at,
-                                  local ? keep.data() : nullptr);
+                    rawWeightsRow(p.v.data(), static_cast<int>(p.v.size()), p.sign, xs.data() + k0,
+                                  K, float(y), chunkOut.data() + p.first, tbuf.data(),
+                                  nearSingular.data() + k0, at, local ? keep.data() : nullptr);
                 }
                 if (!local) {
-                    normalizeAndProject(chunkOut.data(), c, b.restVertices.data(), moments, y, K, at,
-                                        nearSingular.data() + k0, kappa.data() + k0, inv.data(), l0.data(),
-                                        l1.data(), l2.data(), nullptr);
+                    normalizeAndProject(chunkOut.data(), c, b.restVertices.data(), moments, y, K,
+                                        at, nearSingular.data() + k0, kappa.data() + k0, inv.data(),
+                                        l0.data(), l1.data(), l2.data(), nullptr);
                     continue;
                 }
                 // Each run of nodes of one region is projected onto that region's vertices.
@@ -539,8 +561,9 @@ Binding bind(const Multicage& multicage, int coordinates, int gridStep) {
                     int e = a + 1;
                     while (e < K && region[k0 + e] == r) ++e;
                     for (int j = 0; j < c; ++j) runOut[j] = chunkOut[j] + a;
-                    normalizeAndProject(runOut.data(), c, b.restVertices.data(), localBinding->regionMoments[r], y,
-                                        e - a, SumsAt(sums, k0 + a), nearSingular.data() + k0 + a,
+                    normalizeAndProject(runOut.data(), c, b.restVertices.data(),
+                                        localBinding->regionMoments[r], y, e - a,
+                                        SumsAt(sums, k0 + a), nearSingular.data() + k0 + a,
                                         kappa.data() + k0 + a, inv.data(), l0.data(), l1.data(),
                                         l2.data(), localBinding->activeVertices[r].data());
                     a = e;
@@ -548,15 +571,18 @@ Binding bind(const Multicage& multicage, int coordinates, int gridStep) {
             }
             for (int k = 0; k < m; ++k) {
                 if (nearSingular[k]) {
-                    kappa[k] = bindNodeExact(polygons, Point2d(xs[k], y), exact.data(), c,
-                                             local ? localBinding->boundingPolygons[region[k]] : std::vector<bool>());
+                    kappa[k] = bindNodeExact(
+                        polygons, Point2d(xs[k], y), exact.data(), c,
+                        local ? localBinding->boundingPolygons[region[k]] : std::vector<bool>());
                     for (int j = 0; j < c; ++j) out[j][k] = static_cast<float>(exact[j]);
                 }
-                if (kappa[k] < localWorst) localWorst = kappa[k], localAt = Point2f(xs[k], float(y));
+                if (kappa[k] < localWorst)
+                    localWorst = kappa[k], localAt = Point2f(xs[k], float(y));
             }
         }
         std::lock_guard<std::mutex> lock(worstLock);
-        if (localWorst < worst || (localWorst == worst && (localAt.y < worstAt.y))) worst = localWorst, worstAt = localAt;
+        if (localWorst < worst || (localWorst == worst && (localAt.y < worstAt.y)))
+            worst = localWorst, worstAt = localAt;
     });
     b.minConditioning = std::min(worst, 1.0);
     b.worstNode = worstAt;

@@ -52,7 +52,9 @@ class ProgressReporter {
     }
     bool cancelled() const { return cancelled_; }
     void throwIfCancelled() const {
-        if (cancelled_) CV_Error(Error::StsError, std::string("multicage: harmonic coordinates: ") + kBindCancelled);
+        if (cancelled_)
+            CV_Error(Error::StsError,
+                     std::string("multicage: harmonic coordinates: ") + kBindCancelled);
     }
 
   private:
@@ -433,7 +435,8 @@ std::vector<int> factorise(std::vector<Region>& regions, ProgressReporter& progr
                 stats->factorNonZeros +=
                     static_cast<size_t>(region.factor->matrixL().nestedExpression().nonZeros());
                 factorised += region.nodes.size();
-                progress.report(kAssemblyShare + kFactorShare * double(factorised) / double(std::max<size_t>(1, unknownNodes)));
+                progress.report(kAssemblyShare + kFactorShare * double(factorised) /
+                                                     double(std::max<size_t>(1, unknownNodes)));
             }
         },
         static_cast<double>(order.size()));
@@ -489,7 +492,8 @@ int solveAll(const std::vector<Region>& regions, const std::vector<int>& order,
                 solveColumns(regions[jobs[k].first], jobs[k].second, coefficients, Y, identity);
                 const size_t done = ++solvedJobs;
                 progress.report(kAssemblyShare + kFactorShare +
-                                (1.0 - kAssemblyShare - kFactorShare) * double(done) / double(jobs.size()));
+                                (1.0 - kAssemblyShare - kFactorShare) * double(done) /
+                                    double(jobs.size()));
             }
         },
         static_cast<double>(jobs.size()));

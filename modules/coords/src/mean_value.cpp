@@ -1,9 +1,8 @@
 #include "mean_value.hpp"
 
 #include <opencv2/multicage/coordinates.hpp>
-#include <vector>
-
 #include <opencv2/multicage/internal/point_input.hpp>
+#include <vector>
 
 namespace cv {
 namespace multicage {
@@ -46,7 +45,8 @@ void meanValueCoordinates(InputArray polygonIn, InputArray pointsIn, OutputArray
     const int n = static_cast<int>(polygon.size());
     if (n < 3)
         CV_Error_(Error::StsBadArg, ("meanValueCoordinates: the polygon has %d vertices, it needs "
-                                     "at least 3", n));
+                                     "at least 3",
+                                     n));
     const std::vector<Point2d> v(polygon.begin(), polygon.end());
     weightsOut.create(static_cast<int>(points.size()), n, CV_32F);
     Mat weights = weightsOut.getMat();

@@ -15,8 +15,7 @@ void writeFileAtomic(const String& path, const std::string& bytes) {
     // The temporary file sits in the target's folder: rename() is atomic only within a file system.
     std::string tmp = path + ".tmp-XXXXXX";
     const int fd = mkstemp(&tmp[0]);
-    if (fd < 0)
-        CV_Error(Error::StsError, "cannot write " + path + ": " + std::strerror(errno));
+    if (fd < 0) CV_Error(Error::StsError, "cannot write " + path + ": " + std::strerror(errno));
     size_t done = 0;
     while (done < bytes.size()) {
         const ssize_t n = ::write(fd, bytes.data() + done, bytes.size() - done);
@@ -41,8 +40,9 @@ void writeFileAtomic(const String& path, const std::string& bytes) {
 void imwriteAtomic(const String& path, InputArray image, const std::vector<int>& params) {
     const size_t dot = path.find_last_of('.');
     if (dot == String::npos || path.find('/', dot) != String::npos)
-        CV_Error(Error::StsBadArg, "cannot write " + path + ": the name needs an image extension "
-                                   "(.png, .jpg, .tif, ...)");
+        CV_Error(Error::StsBadArg, "cannot write " + path +
+                                       ": the name needs an image extension "
+                                       "(.png, .jpg, .tif, ...)");
     std::vector<uchar> buffer;
     bool ok = false;
     try {

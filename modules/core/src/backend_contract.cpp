@@ -8,7 +8,8 @@ void checkImageType(int type) {
     if ((depth != CV_8U && depth != CV_16U && depth != CV_32F) || (cn != 1 && cn != 3 && cn != 4))
         CV_Error_(Error::StsUnsupportedFormat,
                   ("multicage: unsupported image type %s; use CV_8U, CV_16U or CV_32F with 1, 3 or "
-                   "4 channels", typeToString(type).c_str()));
+                   "4 channels",
+                   typeToString(type).c_str()));
 }
 
 void checkImage(InputArray image) {

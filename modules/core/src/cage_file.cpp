@@ -1,11 +1,10 @@
 // Cage files: the multicage and its poses as YAML or JSON, read and written as the standards
 // have them (cage_text.cpp), and as cv::FileStorage nodes (write(), read()).
-#include <opencv2/multicage/multicage.hpp>
-
 #include <algorithm>
 #include <cctype>
 #include <fstream>
 #include <iterator>
+#include <opencv2/multicage/multicage.hpp>
 
 #include "cage_text.hpp"
 
@@ -43,14 +42,16 @@ void writeCoordinates(FileStorage& fs, const std::vector<Point2f>& points) {
 std::string lowerExtension(const String& path) {
     const size_t dot = path.find_last_of('.');
     std::string ext = dot == String::npos ? std::string() : path.substr(dot);
-    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+    std::transform(ext.begin(), ext.end(), ext.begin(),
+                   [](unsigned char c) { return std::tolower(c); });
     return ext;
 }
 
 std::string checkedFormat(const String& path) {
     const std::string ext = lowerExtension(path);
     if (ext != ".yml" && ext != ".yaml" && ext != ".json")
-        CV_Error(Error::StsBadArg, "cage file " + path + ": the name must end in .yml, .yaml or .json");
+        CV_Error(Error::StsBadArg,
+                 "cage file " + path + ": the name must end in .yml, .yaml or .json");
     return ext;
 }
 
@@ -71,17 +72,20 @@ void checkYamlLayout(const std::string& text, const std::string& where) {
         const size_t content = line.find_first_not_of(" \t\r");
         if (content == std::string::npos || line[content] == '#') continue;  // blank or comment
         if (line.compare(0, 3, "...") == 0)
-            CV_Error(Error::StsParseError, format("%s: not valid YAML/JSON: line %d: a document end "
-                                                  "marker '...' (a cage file is one document)",
-                                                  where.c_str(), lineNo + 1));
+            CV_Error(Error::StsParseError,
+                     format("%s: not valid YAML/JSON: line %d: a document end "
+                            "marker '...' (a cage file is one document)",
+                            where.c_str(), lineNo + 1));
         if (!first) continue;
-        if (line[0] == '%' || (line.compare(0, 3, "---") == 0 && line.find_first_not_of(" \t\r", 3) == std::string::npos))
+        if (line[0] == '%' || (line.compare(0, 3, "---") == 0 &&
+                               line.find_first_not_of(" \t\r", 3) == std::string::npos))
             continue;  // the %YAML directive and the document start
         const unsigned char c = static_cast<unsigned char>(line[0]);
         if (!(std::isalnum(c) || c == '_' || c == '"' || c == '\''))
             CV_Error(Error::StsParseError, format("%s: not valid YAML/JSON: line %d: the top level "
                                                   "must be a map of keys at column 0 (image_size, "
-                                                  "polygons, poses)", where.c_str(), lineNo + 1));
+                                                  "polygons, poses)",
+                                                  where.c_str(), lineNo + 1));
         first = false;
     }
 }
@@ -96,14 +100,18 @@ static const char* coordinatesKeyword(int coordinates) {
 }
 
 void Multicage::write(FileStorage& fs) const {
-    fs << "image_size" << "[:" << imageSize_.width << imageSize_.height << "]";
+    fs << "image_size"
+       << "[:" << imageSize_.width << imageSize_.height << "]";
     fs << "coordinates" << coordinatesKeyword(coordinates_);
-    fs << "polygons" << "[";
+    fs << "polygons"
+       << "[";
     for (const auto& polygon : polygons_) writeCoordinates(fs, polygon);
     fs << "]";
-    fs << "poses" << "[";
+    fs << "poses"
+       << "[";
     for (const Pose& pose : poses_) {
-        fs << "{:" << "name" << pose.name << "time" << pose.time << "vertices";
+        fs << "{:"
+           << "name" << pose.name << "time" << pose.time << "vertices";
         writeCoordinates(fs, pose.vertices);
         fs << "}";
     }
@@ -125,8 +133,10 @@ void Multicage::read(const FileNode& root) {
 
     const FileNode coordinates = root["coordinates"];  // optional, mean value by default
     if (!coordinates.empty()) {
-        const std::string name = coordinates.isString() ? static_cast<std::string>(coordinates) : "";
-        if (!parseCoordinateType(name, cage.coordinates_)) malformed("coordinates", "must be mean_value, harmonic or local_mean_value");
+        const std::string name =
+            coordinates.isString() ? static_cast<std::string>(coordinates) : "";
+        if (!parseCoordinateType(name, cage.coordinates_))
+            malformed("coordinates", "must be mean_value, harmonic or local_mean_value");
     }
 
     const FileNode polygons = root["polygons"];
@@ -165,12 +175,12 @@ void Multicage::read(const FileNode& root) {
                     malformed(where + ".time", "is not a number");
                 pose.time = static_cast<double>(node["time"]);
             }
-            const std::string label = pose.name.empty() ? where : where + " (\"" + pose.name + "\")";
+            const std::string label =
+                pose.name.empty() ? where : where + " (\"" + pose.name + "\")";
             pose.vertices = readCoordinates(node["vertices"], label + ".vertices");
             if (static_cast<int>(pose.vertices.size()) != n)
-                malformed(label + ".vertices",
-                          format("has %d vertices, the polygons have %d",
-                                 static_cast<int>(pose.vertices.size()), n));
+                malformed(label + ".vertices", format("has %d vertices, the polygons have %d",
+                                                      static_cast<int>(pose.vertices.size()), n));
             cage.poses_.push_back(std::move(pose));
         }
     }
@@ -189,20 +199,24 @@ Multicage Multicage::load(const String& path) {
     if (in.bad()) CV_Error(Error::StsError, "cage file " + path + ": cannot be read");
     const size_t nul = text.find('\0');
     if (nul != std::string::npos)
-        CV_Error(Error::StsParseError, format("cage file %s: not valid YAML/JSON: a NUL byte at offset "
-                                              "%d (not a text file)", path.c_str(), static_cast<int>(nul)));
+        CV_Error(Error::StsParseError,
+                 format("cage file %s: not valid YAML/JSON: a NUL byte at offset "
+                        "%d (not a text file)",
+                        path.c_str(), static_cast<int>(nul)));
     if (text.empty()) CV_Error(Error::StsParseError, "cage file " + path + ": the file is empty");
     if (ext != ".json") checkYamlLayout(text, "cage file " + path);
     // YAML goes through yaml-cpp to JSON: cv::FileStorage's YAML reader takes only the subset
     // FileStorage writes. Files that FileStorage wrote (its "%YAML:1.0" first line; "name:rest"
     // in them is one key to any other reader) are still read by it.
     const bool fileStorageYaml = ext != ".json" && text.rfind("%YAML:", 0) == 0;
-    const std::string parsed = ext == ".json" || fileStorageYaml ? text : yamlAsJson(text, "cage file " + path);
+    const std::string parsed =
+        ext == ".json" || fileStorageYaml ? text : yamlAsJson(text, "cage file " + path);
     FileStorage fs;
     try {
         const int flags = FileStorage::READ | FileStorage::MEMORY |
                           (fileStorageYaml ? FileStorage::FORMAT_YAML : FileStorage::FORMAT_JSON);
-        if (!fs.open(parsed, flags)) CV_Error(Error::StsParseError, "cage file " + path + ": not valid YAML/JSON");
+        if (!fs.open(parsed, flags))
+            CV_Error(Error::StsParseError, "cage file " + path + ": not valid YAML/JSON");
     } catch (const cv::Exception& e) {
         if (e.err.rfind("cage file", 0) == 0) throw;
         // OpenCV 4.6's parser puts its function name in err and the reason, with the line,
@@ -231,7 +245,8 @@ Multicage Multicage::load(const String& path) {
 
 void Multicage::save(const String& path) const {
     const bool json = checkedFormat(path) == ".json";
-    writeFileAtomic(path, cageText(imageSize_, coordinatesKeyword(coordinates_), polygons_, poses_, json));
+    writeFileAtomic(
+        path, cageText(imageSize_, coordinatesKeyword(coordinates_), polygons_, poses_, json));
 }
 
 }  // namespace multicage

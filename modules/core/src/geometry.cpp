@@ -1,7 +1,6 @@
-#include <opencv2/multicage/internal/geometry.hpp>
-
 #include <algorithm>
 #include <numeric>
+#include <opencv2/multicage/internal/geometry.hpp>
 
 namespace cv {
 namespace multicage {
@@ -88,17 +87,22 @@ bool findCrossing(const std::vector<Polygon>& polygons, Crossing* crossing) {
             bool hit;
             if (e.polygon == f.polygon) {
                 const int n = static_cast<int>(polygons[e.polygon].size());
-                if ((e.index + 1) % n == f.index) hit = foldsBack(e, f);
-                else if ((f.index + 1) % n == e.index) hit = foldsBack(f, e);
-                else hit = segmentsIntersect(e.a, e.b, f.a, f.b);
+                if ((e.index + 1) % n == f.index)
+                    hit = foldsBack(e, f);
+                else if ((f.index + 1) % n == e.index)
+                    hit = foldsBack(f, e);
+                else
+                    hit = segmentsIntersect(e.a, e.b, f.a, f.b);
             } else {
                 hit = segmentsIntersect(e.a, e.b, f.a, f.b);
             }
             if (!hit) continue;
             Crossing c;
-            const Edge& hi = (e.polygon > f.polygon || (e.polygon == f.polygon && e.index < f.index)) ? e : f;
+            const Edge& hi =
+                (e.polygon > f.polygon || (e.polygon == f.polygon && e.index < f.index)) ? e : f;
             const Edge& lo = (&hi == &e) ? f : e;
-            c.polygonA = hi.polygon, c.edgeA = hi.index, c.polygonB = lo.polygon, c.edgeB = lo.index;
+            c.polygonA = hi.polygon, c.edgeA = hi.index, c.polygonB = lo.polygon,
+            c.edgeB = lo.index;
             if (better(c)) best = c, found = true;
         }
     }

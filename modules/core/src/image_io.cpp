@@ -24,11 +24,11 @@ std::string truncatedJpeg(const std::vector<uchar>& b) {
     const size_t n = b.size();
     size_t i = 2;  // after SOI
     while (true) {
-        while (i < n && b[i] != 0xFF) ++i;   // tolerate junk between segments, as libjpeg does
-        while (i < n && b[i] == 0xFF) ++i;   // fill bytes
+        while (i < n && b[i] != 0xFF) ++i;  // tolerate junk between segments, as libjpeg does
+        while (i < n && b[i] == 0xFF) ++i;  // fill bytes
         if (i >= n) break;
         const uchar marker = b[i++];
-        if (marker == 0xD9) return "";                                   // EOI: complete
+        if (marker == 0xD9) return "";                                       // EOI: complete
         if (marker == 0x01 || (marker >= 0xD0 && marker <= 0xD8)) continue;  // no length
         if (i + 2 > n) break;
         const size_t length = (size_t(b[i]) << 8) | b[i + 1];
@@ -36,11 +36,14 @@ std::string truncatedJpeg(const std::vector<uchar>& b) {
         i += length;
         if (marker != 0xDA) continue;
         // SOS: entropy-coded data up to the next marker.
-        while (i + 1 < n && !(b[i] == 0xFF && b[i + 1] != 0x00 && !(b[i + 1] >= 0xD0 && b[i + 1] <= 0xD7))) ++i;
+        while (i + 1 < n &&
+               !(b[i] == 0xFF && b[i + 1] != 0x00 && !(b[i + 1] >= 0xD0 && b[i + 1] <= 0xD7)))
+            ++i;
         if (i + 1 >= n) break;
     }
     return "the file is truncated (a JPEG ends with an end-of-image marker FF D9; this one stops "
-           "after " + std::to_string(n) + " bytes, in the middle of its data)";
+           "after " +
+           std::to_string(n) + " bytes, in the middle of its data)";
 }
 
 // Walks the PNG chunks (length, type, data, CRC) up to IEND.
@@ -48,7 +51,8 @@ std::string truncatedPng(const std::vector<uchar>& b) {
     const size_t n = b.size();
     size_t i = 8;  // after the signature
     while (i + 8 <= n) {
-        const size_t length = (size_t(b[i]) << 24) | (size_t(b[i + 1]) << 16) | (size_t(b[i + 2]) << 8) | b[i + 3];
+        const size_t length =
+            (size_t(b[i]) << 24) | (size_t(b[i + 1]) << 16) | (size_t(b[i + 2]) << 8) | b[i + 3];
         const bool iend = std::equal(b.begin() + i + 4, b.begin() + i + 8, "IEND");
         if (length > n || i + 12 + length > n) break;
         if (iend) return "";
@@ -62,26 +66,32 @@ std::string lowerExtension(const String& path) {
     const size_t dot = path.find_last_of('.');
     if (dot == String::npos || path.find('/', dot) != String::npos) return "";
     std::string ext = path.substr(dot + 1);
-    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+    std::transform(ext.begin(), ext.end(), ext.begin(),
+                   [](unsigned char c) { return std::tolower(c); });
     return ext;
 }
 
 const char* depthWords(int depth) {
-    return depth == CV_8U ? "8-bit" : depth == CV_16U ? "16-bit" : depth == CV_32F ? "float" : "other";
+    return depth == CV_8U    ? "8-bit"
+           : depth == CV_16U ? "16-bit"
+           : depth == CV_32F ? "float"
+                             : "other";
 }
 
 }  // namespace
 
 std::string truncatedImageReason(const std::vector<uchar>& bytes) {
     if (startsWith(bytes, {0xFF, 0xD8, 0xFF})) return truncatedJpeg(bytes);
-    if (startsWith(bytes, {0x89, 'P', 'N', 'G', 0x0D, 0x0A, 0x1A, 0x0A})) return truncatedPng(bytes);
+    if (startsWith(bytes, {0x89, 'P', 'N', 'G', 0x0D, 0x0A, 0x1A, 0x0A}))
+        return truncatedPng(bytes);
     return "";
 }
 
 Mat readImage(const String& path, int flags) {
     std::ifstream in(path, std::ios::binary);
     if (!in) CV_Error(Error::StsObjectNotFound, path + ": no such file, or it cannot be read");
-    const std::vector<uchar> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    const std::vector<uchar> bytes((std::istreambuf_iterator<char>(in)),
+                                   std::istreambuf_iterator<char>());
     if (bytes.empty()) CV_Error(Error::StsBadArg, path + ": the file is empty");
     const std::string truncated = truncatedImageReason(bytes);
     if (!truncated.empty()) CV_Error(Error::StsBadArg, path + ": " + truncated);
@@ -97,7 +107,8 @@ Mat readImage(const String& path, int flags) {
 
 std::vector<int> imageFormatDepths(const String& path) {
     const std::string ext = lowerExtension(path);
-    if (ext == "png" || ext == "ppm" || ext == "pgm" || ext == "pnm" || ext == "jp2") return {CV_8U, CV_16U};
+    if (ext == "png" || ext == "ppm" || ext == "pgm" || ext == "pnm" || ext == "jp2")
+        return {CV_8U, CV_16U};
     if (ext == "tif" || ext == "tiff") return {CV_8U, CV_16U, CV_32F};
     if (ext == "exr" || ext == "hdr" || ext == "pic") return {CV_32F};
     return {CV_8U};
@@ -146,9 +157,12 @@ Mat convertDepth(const String& path, const std::string& ext, const Mat& image, s
     const int to = depths.back();
     double scale = 1.0;
     std::string range;
-    if (from == CV_16U && to == CV_8U) scale = 1.0 / 257;
-    else if (from == CV_8U && to == CV_32F) scale = 1.0 / 255;
-    else if (from == CV_16U && to == CV_32F) scale = 1.0 / 65535;
+    if (from == CV_16U && to == CV_8U)
+        scale = 1.0 / 257;
+    else if (from == CV_8U && to == CV_32F)
+        scale = 1.0 / 255;
+    else if (from == CV_16U && to == CV_32F)
+        scale = 1.0 / 65535;
     else if (from == CV_32F || from == CV_64F) {
         double lo = 0, hi = 0;
         minMaxLoc(image.reshape(1), &lo, &hi);

@@ -1,12 +1,10 @@
-#include <opencv2/imgproc.hpp>
-#include <opencv2/multicage/multicage.hpp>
-
 #include <algorithm>
 #include <cmath>
-
+#include <opencv2/imgproc.hpp>
 #include <opencv2/multicage/internal/backend_contract.hpp>
 #include <opencv2/multicage/internal/geometry.hpp>
 #include <opencv2/multicage/internal/point_input.hpp>
+#include <opencv2/multicage/multicage.hpp>
 
 namespace cv {
 namespace multicage {
@@ -17,13 +15,16 @@ std::vector<Point2f> toPoints(InputArray points, const char* what) {
     Mat m = points.getMat();
     const int depth = m.depth();
     if (depth != CV_32F && depth != CV_64F && depth != CV_32S)
-        CV_Error_(Error::StsBadArg, ("multicage: %s must be CV_32F, CV_64F or CV_32S points", what));
+        CV_Error_(Error::StsBadArg,
+                  ("multicage: %s must be CV_32F, CV_64F or CV_32S points", what));
     if (m.channels() == 2 && (m.cols == 1 || m.rows == 1)) {
         m = m.reshape(1, static_cast<int>(m.total()));
     } else if (!(m.channels() == 1 && m.cols == 2)) {
-        CV_Error_(Error::StsBadSize,
-                  ("multicage: %s must be N points (Nx2, or Nx1 with 2 channels), got %dx%d with %d "
-                   "channels", what, m.rows, m.cols, m.channels()));
+        CV_Error_(
+            Error::StsBadSize,
+            ("multicage: %s must be N points (Nx2, or Nx1 with 2 channels), got %dx%d with %d "
+             "channels",
+             what, m.rows, m.cols, m.channels()));
     }
     Mat f;
     m.convertTo(f, CV_32F);
@@ -95,7 +96,8 @@ bool Multicage::validateGeometry(std::string* why) const {
     // The node mesh a binding makes needs two nodes each way (one per pixel at grid step 1).
     if (imageSize_.width < 2 || imageSize_.height < 2)
         return fail(why, format("the image size %dx%d is too small: a multicage needs at least "
-                                "2x2 pixels", imageSize_.width, imageSize_.height));
+                                "2x2 pixels",
+                                imageSize_.width, imageSize_.height));
     if (int64_t(imageSize_.width) * imageSize_.height > kMaxImagePixels)
         return fail(why, format("the image size %dx%d is over the limit of 2^30 pixels",
                                 imageSize_.width, imageSize_.height));
@@ -114,7 +116,8 @@ bool Multicage::validateGeometry(std::string* why) const {
                                         "(%g, %g) is outside (-0.5, -0.5)-(%g, %g)",
                                         p, v, q.x, q.y, right, bottom));
             if (q == polygon[(v + 1) % n])
-                return fail(why, format("polygon %d repeats vertex %d at (%g, %g)", p, v, q.x, q.y));
+                return fail(why,
+                            format("polygon %d repeats vertex %d at (%g, %g)", p, v, q.x, q.y));
         }
         if (std::abs(geometry::signedArea(polygon)) < 1e-9)
             return fail(why, format("polygon %d has zero area", p));
@@ -154,9 +157,15 @@ bool Multicage::validate(std::string* why) const {
     return true;
 }
 
-Size Multicage::imageSize() const { return imageSize_; }
-void Multicage::setImageSize(Size size) { imageSize_ = size; }
-int Multicage::polygonCount() const { return static_cast<int>(polygons_.size()); }
+Size Multicage::imageSize() const {
+    return imageSize_;
+}
+void Multicage::setImageSize(Size size) {
+    imageSize_ = size;
+}
+int Multicage::polygonCount() const {
+    return static_cast<int>(polygons_.size());
+}
 
 int Multicage::vertexCount() const {
     int n = 0;
@@ -231,9 +240,10 @@ int Multicage::addPose(const std::string& name, InputArray vertices, double time
     const int n = vertexCount();
     if (static_cast<int>(v.size()) == n + 4) v.resize(n);
     if (static_cast<int>(v.size()) != n)
-        CV_Error_(Error::StsBadSize, ("multicage: pose \"%s\" has %d vertices, the multicage has %d "
-                                      "(or %d with the frame corners)",
-                                      name.c_str(), static_cast<int>(v.size()), n, n + 4));
+        CV_Error_(Error::StsBadSize,
+                  ("multicage: pose \"%s\" has %d vertices, the multicage has %d "
+                   "(or %d with the frame corners)",
+                   name.c_str(), static_cast<int>(v.size()), n, n + 4));
     poses_.push_back(Pose{name, time, std::move(v)});
     return poseCount() - 1;
 }
@@ -252,7 +262,9 @@ void Multicage::removePose(int i) {
     poses_.erase(poses_.begin() + i);
 }
 
-int Multicage::poseCount() const { return static_cast<int>(poses_.size()); }
+int Multicage::poseCount() const {
+    return static_cast<int>(poses_.size());
+}
 
 const Pose& Multicage::pose(int i) const {
     CV_Assert(0 <= i && i < poseCount());
@@ -265,32 +277,47 @@ int Multicage::findPose(const std::string& name) const {
     return -1;
 }
 
-int Multicage::coordinates() const { return coordinates_; }
+int Multicage::coordinates() const {
+    return coordinates_;
+}
 
 const char* coordinateTypeName(int type) {
     switch (type) {
-    case MEAN_VALUE: return "mvc";
-    case HARMONIC: return "harmonic";
-    case LOCAL_MEAN_VALUE: return "local_mvc";
-    case COORDINATES_FROM_CAGE: return "cage";
-    default: return nullptr;
+        case MEAN_VALUE:
+            return "mvc";
+        case HARMONIC:
+            return "harmonic";
+        case LOCAL_MEAN_VALUE:
+            return "local_mvc";
+        case COORDINATES_FROM_CAGE:
+            return "cage";
+        default:
+            return nullptr;
     }
 }
 
 const char* coordinateTypeDescription(int type) {
     switch (type) {
-    case MEAN_VALUE: return "mean value";
-    case HARMONIC: return "harmonic";
-    case LOCAL_MEAN_VALUE: return "local mean value";
-    default: return "the cage's";
+        case MEAN_VALUE:
+            return "mean value";
+        case HARMONIC:
+            return "harmonic";
+        case LOCAL_MEAN_VALUE:
+            return "local mean value";
+        default:
+            return "the cage's";
     }
 }
 
 bool parseCoordinateType(const String& name, int& type) {
-    if (name == "mvc" || name == "mean_value") type = MEAN_VALUE;
-    else if (name == "harmonic") type = HARMONIC;
-    else if (name == "local_mvc" || name == "local_mean_value") type = LOCAL_MEAN_VALUE;
-    else return false;
+    if (name == "mvc" || name == "mean_value")
+        type = MEAN_VALUE;
+    else if (name == "harmonic")
+        type = HARMONIC;
+    else if (name == "local_mvc" || name == "local_mean_value")
+        type = LOCAL_MEAN_VALUE;
+    else
+        return false;
     return true;
 }
 
@@ -311,8 +338,10 @@ Multicage Multicage::posed(InputArray poseIn) const {
                                       static_cast<int>(pose.size()), n));
     Multicage out(imageSize_);
     out.coordinates_ = coordinates_;
-    for (int p = 0, offset = 0; p < polygonCount(); offset += static_cast<int>(polygons_[p].size()), ++p)
-        out.polygons_.emplace_back(pose.begin() + offset, pose.begin() + offset + polygons_[p].size());
+    for (int p = 0, offset = 0; p < polygonCount();
+         offset += static_cast<int>(polygons_[p].size()), ++p)
+        out.polygons_.emplace_back(pose.begin() + offset,
+                                   pose.begin() + offset + polygons_[p].size());
     return out;
 }
 
@@ -337,7 +366,8 @@ void Multicage::draw(InputOutputArray image, int thickness, bool drawVertices) c
     for (int p = 0; p < polygonCount(); ++p) {
         std::vector<Point> pts;
         for (Point2f q : polygons_[p])
-            pts.emplace_back(cvRound((q.x + 0.5) * scale - 0.5), cvRound((q.y + 0.5) * scale - 0.5));
+            pts.emplace_back(cvRound((q.x + 0.5) * scale - 0.5),
+                             cvRound((q.y + 0.5) * scale - 0.5));
         const Scalar colour = colours[(depth(p) - 1) % 4];
         polylines(img, pts, true, colour, thickness, LINE_AA);
         if (drawVertices)

@@ -88,7 +88,7 @@ class CpuDeformer final : public Deformer {
             oneSize = oneSize && sizes[k] == sizes[0];
         }
         std::vector<Mat> out = oneSize && count > 0 ? batchOutputs(count, sizes[0], image_.type())
-                                                     : std::vector<Mat>(count);
+                                                    : std::vector<Mat>(count);
         for (int k = 0; k < count; ++k) out[k].create(sizes[k], image_.type());
         if (count < 2 || getNumThreads() <= 1) {
             // One item (or one thread): in this Deformer's own mesh and maps, the loops inside

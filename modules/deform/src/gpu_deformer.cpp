@@ -1,9 +1,9 @@
 // The headless GPU Deformer: a GLDeformer in the process's shared context, read back.
 #include "gpu_deformer.hpp"
 
-#include "batch.hpp"
-
 #include <opencv2/multicage/internal/point_input.hpp>
+
+#include "batch.hpp"
 
 namespace cv {
 namespace multicage {
@@ -69,8 +69,9 @@ class GpuDeformer final : public Deformer {
         std::vector<std::vector<Point2f>> poses;
         std::vector<Mat> images;
         // setPose checks each pose (count, finiteness): the binding is not read back for it.
-        batchInputs(posesIn, imagesIn, [](InputArray p) { return toPoints(p, "pose"); }, image_.size(),
-                    image_.type(), poses, images);
+        batchInputs(
+            posesIn, imagesIn, [](InputArray p) { return toPoints(p, "pose"); }, image_.size(),
+            image_.type(), poses, images);
         std::vector<Mat> out(poses.size());
         {
             HeadlessGLContext::Scope scope(*context_);
@@ -118,7 +119,7 @@ class GpuDeformer final : public Deformer {
     HeadlessGLContext* context_;
     std::unique_ptr<GLDeformer> gl_;
     Scalar border_;
-    Mat image_;                  // the Deformer's own image (the texture holds another after a batch)
+    Mat image_;  // the Deformer's own image (the texture holds another after a batch)
     bool foreignImage_ = false;  // the texture holds a batch's image, not image_
 };
 
@@ -138,15 +139,16 @@ Ptr<Deformer> create(const Mat& image, const Source& source, const DeformParams&
 HeadlessGLContext* hardwareContext(std::string* why) {
     HeadlessGLContext* context = HeadlessGLContext::shared(why);
     if (context && context->software()) {
-        if (why) *why = "the only OpenGL here is a software renderer (" + context->description() +
-                        "), slower than the CPU backend";
+        if (why)
+            *why = "the only OpenGL here is a software renderer (" + context->description() +
+                   "), slower than the CPU backend";
         return nullptr;
     }
     return context;
 }
 
-Ptr<Deformer> createGpuDeformer(const Mat& image, const Binding& binding, const DeformParams& params,
-                                std::string* why) {
+Ptr<Deformer> createGpuDeformer(const Mat& image, const Binding& binding,
+                                const DeformParams& params, std::string* why) {
     return create(image, binding, params, why);
 }
 

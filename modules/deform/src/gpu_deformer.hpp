@@ -4,7 +4,6 @@
 #define MULTICAGE_GPU_DEFORMER_HPP
 
 #include <opencv2/multicage/deformer.hpp>
-
 #include <string>
 
 namespace cv {
@@ -19,8 +18,8 @@ HeadlessGLContext* hardwareContext(std::string* why);
 context can be made (no driver, no device, too old a GL), or when params.backend is
 BACKEND_AUTO and hardwareContext() finds none. BACKEND_GPU takes whatever OpenGL there is.
 Other failures throw. */
-Ptr<Deformer> createGpuDeformer(const Mat& image, const Binding& binding, const DeformParams& params,
-                                std::string* why);
+Ptr<Deformer> createGpuDeformer(const Mat& image, const Binding& binding,
+                                const DeformParams& params, std::string* why);
 
 /** As above, binding rest on the GPU (params.gpuBinding with mean value coordinates). */
 Ptr<Deformer> createGpuDeformer(const Mat& image, const Multicage& rest, const DeformParams& params,

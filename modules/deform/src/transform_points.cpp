@@ -1,12 +1,11 @@
 // Points follow the image: the forward map of the deformed node mesh, exact at cage vertices
 // (the rule is documented at transformPoints() in deformer.hpp).
-#include <opencv2/multicage/deformer.hpp>
-#include <opencv2/multicage/internal/point_input.hpp>
-
 #include <algorithm>
 #include <cmath>
 #include <functional>
 #include <numeric>
+#include <opencv2/multicage/deformer.hpp>
+#include <opencv2/multicage/internal/point_input.hpp>
 #include <unordered_map>
 #include <vector>
 
@@ -19,7 +18,7 @@ namespace {
 the frame ring included (X = -0.5, node x..., W - 0.5), and the deformed position of any of its
 nodes, computed on demand (in double) and kept. */
 class ForwardMesh {
-public:
+  public:
     ForwardMesh(const Binding& b, const std::vector<Point2f>& pose) : b_(b) {
         const int m = b.gridSize.width, n = b.gridSize.height;
         W_ = b.imageSize.width, H_ = b.imageSize.height;
@@ -77,16 +76,18 @@ public:
         return p.x >= -0.5 && p.x <= W_ - 0.5 && p.y >= -0.5 && p.y <= H_ - 0.5;
     }
 
-private:
+  private:
     static int cellOf(const std::vector<double>& edges, double x) {
-        const int k = static_cast<int>(std::upper_bound(edges.begin(), edges.end(), x) - edges.begin()) - 1;
+        const int k =
+            static_cast<int>(std::upper_bound(edges.begin(), edges.end(), x) - edges.begin()) - 1;
         return std::min(std::max(k, 0), static_cast<int>(edges.size()) - 2);
     }
 
     // Deformed position of node (ex, ey) of the ringed mesh.
     Point2d node(int ex, int ey) {
         const int m = b_.gridSize.width, n = b_.gridSize.height;
-        if (ex == 0 || ey == 0 || ex == m + 1 || ey == n + 1) return frameMap(Point2d(X_[ex], Y_[ey]));
+        if (ex == 0 || ey == 0 || ex == m + 1 || ey == n + 1)
+            return frameMap(Point2d(X_[ex], Y_[ey]));
         const long long key = static_cast<long long>(ey) * (m + 2) + ex;
         auto it = cache_.find(key);
         if (it != cache_.end()) return it->second;
@@ -150,10 +151,13 @@ std::vector<VertexCorrection> vertexCorrections(const Binding& b, const std::vec
     // Clusters of vertices whose tents reach each other (union-find over pairs in range).
     std::vector<int> parent(users);
     std::iota(parent.begin(), parent.end(), 0);
-    std::function<int(int)> root = [&](int i) { return parent[i] == i ? i : parent[i] = root(parent[i]); };
+    std::function<int(int)> root = [&](int i) {
+        return parent[i] == i ? i : parent[i] = root(parent[i]);
+    };
     std::vector<int> order(users);
     std::iota(order.begin(), order.end(), 0);
-    std::sort(order.begin(), order.end(), [&](int a, int c) { return out[a].tx.lo < out[c].tx.lo; });
+    std::sort(order.begin(), order.end(),
+              [&](int a, int c) { return out[a].tx.lo < out[c].tx.lo; });
     for (size_t a = 0; a < order.size(); ++a)
         for (size_t c = a + 1; c < order.size() && out[order[c]].tx.lo < out[order[a]].tx.hi; ++c) {
             const int i = order[a], k = order[c];
@@ -176,21 +180,26 @@ std::vector<VertexCorrection> vertexCorrections(const Binding& b, const std::vec
             E.at<double>(r, 0) = residual[ids[r]].x, E.at<double>(r, 1) = residual[ids[r]].y;
         }
         if (!solve(H, E, C, DECOMP_LU)) solve(H, E, C, DECOMP_SVD);  // least squares if singular
-        for (int r = 0; r < k; ++r) out[ids[r]].weight = Point2d(C.at<double>(r, 0), C.at<double>(r, 1));
+        for (int r = 0; r < k; ++r)
+            out[ids[r]].weight = Point2d(C.at<double>(r, 0), C.at<double>(r, 1));
     }
     return out;
 }
 
 }  // namespace
 
-void transformPoints(const Binding& binding, InputArray poseIn, InputArray pointsIn, OutputArray dst) {
-    if (binding.empty()) CV_Error(Error::StsBadArg, "multicage: transformPoints: the binding is empty");
+void transformPoints(const Binding& binding, InputArray poseIn, InputArray pointsIn,
+                     OutputArray dst) {
+    if (binding.empty())
+        CV_Error(Error::StsBadArg, "multicage: transformPoints: the binding is empty");
     const std::vector<Point2f> pose = binding.completePose(poseIn);
-    const std::vector<Point2f> points = pointsIn.empty() ? std::vector<Point2f>() : toPoints(pointsIn, "points");
+    const std::vector<Point2f> points =
+        pointsIn.empty() ? std::vector<Point2f>() : toPoints(pointsIn, "points");
     for (size_t i = 0; i < points.size(); ++i)
         if (!std::isfinite(points[i].x) || !std::isfinite(points[i].y))
-            CV_Error_(Error::StsBadArg, ("multicage: transformPoints: point %d (%g, %g) is not finite",
-                                         static_cast<int>(i), points[i].x, points[i].y));
+            CV_Error_(Error::StsBadArg,
+                      ("multicage: transformPoints: point %d (%g, %g) is not finite",
+                       static_cast<int>(i), points[i].x, points[i].y));
     ForwardMesh mesh(binding, pose);
     const std::vector<VertexCorrection> corrections = vertexCorrections(binding, pose, mesh);
     // Corrections by mesh cell, so that a point looks only at the vertices near it.
@@ -204,7 +213,8 @@ void transformPoints(const Binding& binding, InputArray poseIn, InputArray point
         mesh.locate(Point2d(v.tx.lo, v.ty.lo), ex0, ey0, u, w);
         mesh.locate(Point2d(v.tx.hi, v.ty.hi), ex1, ey1, u, w);
         for (int ey = ey0; ey <= ey1; ++ey)
-            for (int ex = ex0; ex <= ex1; ++ex) byCell[static_cast<long long>(ey) * cols + ex].push_back(static_cast<int>(j));
+            for (int ex = ex0; ex <= ex1; ++ex)
+                byCell[static_cast<long long>(ey) * cols + ex].push_back(static_cast<int>(j));
     }
     dst.create(static_cast<int>(points.size()), 1, CV_32FC2);
     if (points.empty()) return;
@@ -223,7 +233,8 @@ void transformPoints(const Binding& binding, InputArray poseIn, InputArray point
             if (it != byCell.end())
                 for (int j : it->second) q += corrections[j].at(p) * corrections[j].weight;
         }
-        out.at<Point2f>(static_cast<int>(i)) = Point2f(static_cast<float>(q.x), static_cast<float>(q.y));
+        out.at<Point2f>(static_cast<int>(i)) =
+            Point2f(static_cast<float>(q.x), static_cast<float>(q.y));
     }
 }
 

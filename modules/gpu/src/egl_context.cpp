@@ -1,7 +1,5 @@
 #include "egl_context.hpp"
 
-#include "gl_util.hpp"
-
 #include <epoxy/egl.h>
 #include <epoxy/gl.h>
 
@@ -9,6 +7,8 @@
 #include <mutex>
 #include <opencv2/core.hpp>
 #include <vector>
+
+#include "gl_util.hpp"
 
 namespace cv {
 namespace multicage {
@@ -131,7 +131,8 @@ std::unique_ptr<EglContext> EglContext::create(std::string* why) {
                           ", OpenGL " + (version ? version : "?") + ", " + d.platform;
         // Mesa's CPU rasterisers: they run the shaders on the CPU, slower than the CPU backend.
         const std::string r = renderer ? renderer : "";
-        c->software_ = r.find("llvmpipe") != std::string::npos || r.find("softpipe") != std::string::npos ||
+        c->software_ = r.find("llvmpipe") != std::string::npos ||
+                       r.find("softpipe") != std::string::npos ||
                        r.find("lavapipe") != std::string::npos;
     }
     return c;

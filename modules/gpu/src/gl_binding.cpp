@@ -1,8 +1,7 @@
 #include "gl_binding.hpp"
 
-#include <opencv2/multicage/internal/backend_contract.hpp>
-
 #include <chrono>
+#include <opencv2/multicage/internal/backend_contract.hpp>
 #include <tuple>
 
 namespace cv {

@@ -161,8 +161,10 @@ struct GLDeformer::Impl {
     void init(const Mat& img, const GLDeformerParams& params) {
         if (glVersion() < 43)
             CV_Error(Error::GpuNotSupported, "multicage: GLDeformer needs an OpenGL 4.3 context");
-        if (params.pipeline != GPU_PIPELINE_COMPUTE && params.pipeline != GPU_PIPELINE_VERTEX_SHADER)
-            CV_Error_(Error::StsOutOfRange, ("multicage: unknown GPU pipeline %d", params.pipeline));
+        if (params.pipeline != GPU_PIPELINE_COMPUTE &&
+            params.pipeline != GPU_PIPELINE_VERTEX_SHADER)
+            CV_Error_(Error::StsOutOfRange,
+                      ("multicage: unknown GPU pipeline %d", params.pipeline));
         half = params.halfFloat;
         pipeline = params.pipeline;
         GLint maxTexture = 0, maxLayers = 0;
@@ -226,7 +228,8 @@ struct GLDeformer::Impl {
         rasterProgram = buildComputeProgram(defines, "raster.comp");
         const char* format = imageFormatQualifier();
         gatherImageProgram = buildComputeProgram(
-            defines + "#define GATHER_MAPS 0\n#define OUTPUT_FORMAT " + format + "\n", "gather.comp");
+            defines + "#define GATHER_MAPS 0\n#define OUTPUT_FORMAT " + format + "\n",
+            "gather.comp");
         gatherMapsProgram = buildComputeProgram(defines + "#define GATHER_MAPS 1\n", "gather.comp");
     }
 
@@ -248,12 +251,18 @@ struct GLDeformer::Impl {
     // The layout qualifier of the output image for imageStore (GL 4.3 image formats).
     const char* imageFormatQualifier() const {
         switch (fmt.internal) {
-            case GL_R8: return "r8";
-            case GL_RGBA8: return "rgba8";
-            case GL_R16: return "r16";
-            case GL_RGBA16: return "rgba16";
-            case GL_R32F: return "r32f";
-            default: return "rgba32f";
+            case GL_R8:
+                return "r8";
+            case GL_RGBA8:
+                return "rgba8";
+            case GL_R16:
+                return "r16";
+            case GL_RGBA16:
+                return "rgba16";
+            case GL_R32F:
+                return "r32f";
+            default:
+                return "rgba32f";
         }
     }
 
@@ -298,7 +307,8 @@ struct GLDeformer::Impl {
         void* mapped = glMapBufferRange(GL_PIXEL_UNPACK_BUFFER, 0, bytes,
                                         GL_MAP_WRITE_BIT | GL_MAP_INVALIDATE_BUFFER_BIT);
         try {
-            if (!mapped) CV_Error(Error::GpuApiCallError, "multicage: cannot map the upload buffer");
+            if (!mapped)
+                CV_Error(Error::GpuApiCallError, "multicage: cannot map the upload buffer");
             Mat packed(full, CV_MAKETYPE(depth, 4), mapped);
             packCoefficients(binding, layout, packed, depth);
             CV_Assert(packed.data == mapped);  // written in place
@@ -357,7 +367,8 @@ struct GLDeformer::Impl {
         }
         const Point2f* corners = &p[p.size() - 4];
         texels[2 * layout.blocks] = Vec4f(corners[0].x, corners[0].y, corners[1].x, corners[1].y);
-        texels[2 * layout.blocks + 1] = Vec4f(corners[2].x, corners[2].y, corners[3].x, corners[3].y);
+        texels[2 * layout.blocks + 1] =
+            Vec4f(corners[2].x, corners[2].y, corners[3].x, corners[3].y);
         glBindTexture(GL_TEXTURE_1D, pose);
         glTexSubImage1D(GL_TEXTURE_1D, 0, 0, int(texels.size()), GL_RGBA, GL_FLOAT, texels.data());
         checkGl("uploading the pose");

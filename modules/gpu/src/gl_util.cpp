@@ -55,7 +55,8 @@ static std::string expandIncludes(std::string_view source, int* nextString) {
         if (text.rfind("#include \"", 0) == 0) {
             const size_t close = text.find('"', 10);
             if (close == std::string_view::npos)
-                CV_Error(Error::StsParseError, "multicage: malformed shader include: " + std::string(text));
+                CV_Error(Error::StsParseError,
+                         "multicage: malformed shader include: " + std::string(text));
             const int number = (*nextString)++;
             out += "#line 1 " + std::to_string(number) + "\n";
             out += expandIncludes(embeddedShader(text.substr(10, close - 10)), nextString);
@@ -180,7 +181,8 @@ GLuint buildProgram(const std::string& defines, std::string_view vertex,
 GLuint buildComputeProgramFromText(const std::string& defines, const std::string& source,
                                    const char* name) {
     const std::string text = withDefines(defines, source);
-    return cachedProgram(text, [&] { return link({compile(GL_COMPUTE_SHADER, text, name)}, name); });
+    return cachedProgram(text,
+                         [&] { return link({compile(GL_COMPUTE_SHADER, text, name)}, name); });
 }
 
 GLuint buildComputeProgram(const std::string& defines, std::string_view compute) {

@@ -10,8 +10,7 @@ namespace multicage {
 HeadlessGLContext::HeadlessGLContext() {
     std::string why;
     owned_ = gpu::EglContext::create(&why);
-    if (!owned_)
-        CV_Error(Error::GpuNotSupported, "multicage: no headless OpenGL context: " + why);
+    if (!owned_) CV_Error(Error::GpuNotSupported, "multicage: no headless OpenGL context: " + why);
     context_ = owned_.get();
 }
 

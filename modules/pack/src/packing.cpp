@@ -84,18 +84,22 @@ void packCoefficients(const Binding& binding, const PackLayout& layout, OutputAr
             const int layer = blockRow / layout.rows, texY = (blockRow % layout.rows) * n + y;
             uchar* line = packed.ptr(texY + layer * layout.textureSize.height);
             for (int col = 0; col < layout.cols; ++col) {
-                const int b = layer * layout.blocksPerLayer() + (blockRow % layout.rows) * layout.cols + col;
-                Vec4f* dst = depth == CV_32F ? reinterpret_cast<Vec4f*>(line) + col * m : row.data();
+                const int b =
+                    layer * layout.blocksPerLayer() + (blockRow % layout.rows) * layout.cols + col;
+                Vec4f* dst =
+                    depth == CV_32F ? reinterpret_cast<Vec4f*>(line) + col * m : row.data();
                 const int channels = b < layout.blocks ? std::min(4, c - 4 * b) : 0;
                 const float* src[4] = {};
                 for (int ch = 0; ch < channels; ++ch)
                     src[ch] = binding.coefficients.ptr<float>(4 * b + ch) + size_t(y) * m;
                 switch (channels) {  // one loop per channel count keeps each one vectorisable
                     case 4:
-                        for (int x = 0; x < m; ++x) dst[x] = Vec4f(src[0][x], src[1][x], src[2][x], src[3][x]);
+                        for (int x = 0; x < m; ++x)
+                            dst[x] = Vec4f(src[0][x], src[1][x], src[2][x], src[3][x]);
                         break;
                     case 3:
-                        for (int x = 0; x < m; ++x) dst[x] = Vec4f(src[0][x], src[1][x], src[2][x], 0.f);
+                        for (int x = 0; x < m; ++x)
+                            dst[x] = Vec4f(src[0][x], src[1][x], src[2][x], 0.f);
                         break;
                     case 2:
                         for (int x = 0; x < m; ++x) dst[x] = Vec4f(src[0][x], src[1][x], 0.f, 0.f);

@@ -181,9 +181,8 @@ struct FacePlan {
     std::vector<Point2f> centres;   // of those faces, work pixels
 };
 
-FacePlan placeFaces(const KnownFaces& faces, const Mat& gray, const Multicage& cage,
-                    int polygon, const ProposeParams& params, const Mat& insideDistance,
-                    const Work& w) {
+FacePlan placeFaces(const KnownFaces& faces, const Mat& gray, const Multicage& cage, int polygon,
+                    const ProposeParams& params, const Mat& insideDistance, const Work& w) {
     const float faceBand = w.margin + 2 * w.gap;  // work pixels, as for blobs but thinner
     FacePlan plan;
     plan.keepOut = Mat::zeros(w.size, CV_8U);

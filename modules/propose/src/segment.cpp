@@ -357,9 +357,10 @@ Segmentation segmentForProposal(const Mat& image, const Work& w, const ProposePa
     if (!subject.empty() && params.method == PROPOSE_AUTO && params.rect.area() == 0) {
         if (beside && !beside(true)) return s;
         // A map with no subject, or whose subject is all specks, leaves it to the classic cues.
-        const Mat fused = fusedSubject(work, subject, person, params, [&](const Mat& small, bool* reopened) {
-            return frameInwardLabels(small, params, {}, reopened);
-        });
+        const Mat fused =
+            fusedSubject(work, subject, person, params, [&](const Mat& small, bool* reopened) {
+                return frameInwardLabels(small, params, {}, reopened);
+            });
         if (!fused.empty()) s.objects = cleanMask(fused, w.radius, w.minArea);
         if (!s.objects.empty() && countNonZero(s.objects) > 0) return s;
     }

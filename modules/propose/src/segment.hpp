@@ -47,7 +47,6 @@ spectral); `region` (optional) restricts thresholds to the pixels inside it. */
 Mat segmentImage(const Mat& img, int method, const ProposeParams& params, double scale,
                  const Mat& region = Mat());
 
-
 /** What the outlines enclose. */
 struct Segmentation {
     Mat objects;  // work size, 255 on objects (cleaned)

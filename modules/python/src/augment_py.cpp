@@ -1,7 +1,7 @@
 // random_pose() and validate_pose(): random poses for data augmentation (augment.hpp).
-#include "common.hpp"
-
 #include <random>
+
+#include "common.hpp"
 
 namespace multicage_py {
 namespace {

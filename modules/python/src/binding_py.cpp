@@ -1,8 +1,8 @@
 // multicage.Binding and bind(), and mean_value_coordinates(): the coordinates a multicage
 // gives the points of an image.
-#include "common.hpp"
-
 #include <algorithm>
+
+#include "common.hpp"
 
 namespace multicage_py {
 namespace {
@@ -132,7 +132,8 @@ void defineBinding(py::module_& m) {
         },
         py::arg("multicage"), py::arg("coordinates") = py::none(), py::arg("grid_step") = 1,
         py::arg("on_gpu") = false,
-        "Binds every grid node to every vertex (Algorithm 1, or its local variant for 'local_mvc'); a Binding can feed several Deformers "
+        "Binds every grid node to every vertex (Algorithm 1, or its local variant for "
+        "'local_mvc'); a Binding can feed several Deformers "
         "of images of the multicage's size. coordinates None follows multicage.coordinates. The "
         "GIL "
         "is released while it runs.");

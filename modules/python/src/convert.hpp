@@ -3,10 +3,10 @@
 #ifndef MULTICAGE_PYTHON_CONVERT_HPP
 #define MULTICAGE_PYTHON_CONVERT_HPP
 
-#include <opencv2/core.hpp>
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 
+#include <opencv2/core.hpp>
 #include <string>
 #include <vector>
 
@@ -19,12 +19,13 @@ HxWx4. The Mat shares the array's memory when its rows are laid out as OpenCV ne
 or a crop of such an array), else it is a contiguous copy; `keep` then holds the copy.
 allowInt32 also takes int32 (label images for the proposal). Throws TypeError (not an array,
 wrong dtype) or ValueError (shape), naming `what`. */
-cv::Mat imageFromArray(const py::handle& obj, const char* what, py::object& keep, bool allowInt32 = false);
+cv::Mat imageFromArray(const py::handle& obj, const char* what, py::object& keep,
+                       bool allowInt32 = false);
 
 /** Points as an Nx2 (or Nx1x2, as cv2.findContours gives) array-like of real numbers, as
 float32. expected >= 0 also checks the count; finite checks for NaN and infinity. */
-std::vector<cv::Point2f> pointsFromArray(const py::handle& obj, const char* what,
-                                         int expected = -1, bool finite = true);
+std::vector<cv::Point2f> pointsFromArray(const py::handle& obj, const char* what, int expected = -1,
+                                         bool finite = true);
 
 /** A Mat as a numpy array that owns a reference to the Mat's data (no copy): HxW for one
 channel, HxWxC otherwise. writeable=false marks the array read-only. */

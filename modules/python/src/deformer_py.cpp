@@ -368,23 +368,23 @@ void defineDeformerImageCalls(DeformerClass& cls) {
 /** What a pose does to points and pixels: moved points, the remap maps, the fold-over count. */
 void defineDeformerPoseCalls(DeformerClass& cls) {
     cls.def(
-            "transform_points",
-            [](PyDeformer& d, const py::object& pose, const py::object& points) {
-                const std::vector<cv::Point2f> p = d.pose(pose);
-                return transformPointsArray(
-                    points, [&](const std::vector<cv::Point2f>& in, std::vector<cv::Point2f>& out) {
-                        py::gil_scoped_release release;
-                        std::lock_guard<std::mutex> lock(d.mutex);
-                        d.deformer->transformPoints(p, in, out);
-                    });
-            },
-            py::arg("pose"), py::arg("points"),
-            "Where rest points (keypoints, polygon annotations, box corners: an array of shape "
-            "(..., 2) of (x, y) in the image's pixels) land in the image deformed to pose; the "
-            "same "
-            "shape, float32. A feature of the image at a point lands where the point lands (the "
-            "image's own mesh, at any grid step); cage vertices land exactly on the pose. Points "
-            "outside the image follow the frame (with the frame fixed, they stay).")
+           "transform_points",
+           [](PyDeformer& d, const py::object& pose, const py::object& points) {
+               const std::vector<cv::Point2f> p = d.pose(pose);
+               return transformPointsArray(
+                   points, [&](const std::vector<cv::Point2f>& in, std::vector<cv::Point2f>& out) {
+                       py::gil_scoped_release release;
+                       std::lock_guard<std::mutex> lock(d.mutex);
+                       d.deformer->transformPoints(p, in, out);
+                   });
+           },
+           py::arg("pose"), py::arg("points"),
+           "Where rest points (keypoints, polygon annotations, box corners: an array of shape "
+           "(..., 2) of (x, y) in the image's pixels) land in the image deformed to pose; the "
+           "same "
+           "shape, float32. A feature of the image at a point lands where the point lands (the "
+           "image's own mesh, at any grid step); cage vertices land exactly on the pose. Points "
+           "outside the image follow the frame (with the frame fixed, they stay).")
         .def(
             "compute_maps",
             [](PyDeformer& d, const py::object& pose, const py::object& mapxObj,

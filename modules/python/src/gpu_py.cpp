@@ -1,7 +1,7 @@
 // gpu_available() and auto_backend(): what backend='gpu' and backend='auto' find here.
-#include "common.hpp"
-
 #include <mutex>
+
+#include "common.hpp"
 
 namespace multicage_py {
 namespace {

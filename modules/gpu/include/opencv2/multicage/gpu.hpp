@@ -1,5 +1,8 @@
-// The GPU deformation for callers that own an OpenGL context (an editor, a game engine), and
-// GPU binding (paper §4). All EGL/OpenGL code of the library lives in modules/gpu.
+/** @file
+@brief The GPU deformation for callers that own an OpenGL context (an editor, a game engine),
+and GPU binding (paper §4). All EGL/OpenGL code of the library lives in modules/gpu.
+@ingroup multicage_gpu
+*/
 #ifndef OPENCV2_MULTICAGE_GPU_HPP
 #define OPENCV2_MULTICAGE_GPU_HPP
 
@@ -13,38 +16,63 @@ namespace gpu {
 class EglContext;
 }
 
-/** A headless OpenGL 4.5 (or 4.3) core context through EGL, with no window and no X: a
-hardware EGL device (EGL_EXT_platform_device, NVIDIA for instance) first, else Mesa's
+//! @addtogroup multicage_gpu
+//! @{
+
+/** @brief A headless OpenGL 4.5 (or 4.3) core context through EGL, with no window and no X.
+
+A hardware EGL device (EGL_EXT_platform_device, NVIDIA for instance) first, else Mesa's
 surfaceless platform (llvmpipe where there is no GPU). For running GLDeformer without a
-window. The constructor makes a new context and throws a cv::Exception saying why when none
-can be made; shared() is the one the process's GPU Deformers share. */
+window.
+@sa gpuAvailable, docs/gpu/README.md
+*/
 class CV_EXPORTS HeadlessGLContext {
   public:
+    /** @brief Makes a new context.
+    @throws cv::Exception (GpuNotSupported) saying why when none can be made. */
     HeadlessGLContext();
+    /** @brief Destroys the context. */
     ~HeadlessGLContext();
+    /** @brief Not copyable: the object owns its EGL context. */
     HeadlessGLContext(const HeadlessGLContext&) = delete;
+    /** @brief Not copyable: the object owns its EGL context.
+    @return nothing: deleted. */
     HeadlessGLContext& operator=(const HeadlessGLContext&) = delete;
 
-    /** The process's shared context: made on the first call (EGL probed once per process,
-    about 100 ms without a GPU), never destroyed, so creating a GPU Deformer costs no context
-    creation and its programs are compiled once per process. nullptr, with the reason in
-    *why, when no context can be made (the answer is kept too). Its Scope takes a lock:
-    threads using it take turns. */
+    /** @brief The process's shared context, the one the process's GPU Deformers share.
+
+    Made on the first call (EGL probed once per process), never destroyed, so creating a GPU
+    Deformer costs no context creation and its programs are compiled once per process. The
+    answer, a context or the reason there is none, is kept too. Its Scope takes a lock:
+    threads using it take turns.
+    @param[out] why when not null and no context can be made, receives the reason.
+    @return the shared context, or nullptr when no context can be made.
+    */
     static HeadlessGLContext* shared(std::string* why = nullptr);
 
-    /** Vendor, renderer, GL version and EGL platform. */
+    /** @brief Vendor, renderer, GL version and EGL platform.
+    @return one line naming them. */
     std::string description() const;
-    /** Whether the renderer is a software one (Mesa llvmpipe or softpipe): OpenGL on the CPU,
-    slower than the CPU backend, so BACKEND_AUTO does not count it as a GPU. */
+    /** @brief Whether the renderer is a software one (Mesa llvmpipe or softpipe).
+
+    OpenGL on the CPU is slower than the CPU backend, so BACKEND_AUTO does not count it as a
+    GPU.
+    @return true for a software renderer. */
     bool software() const;
 
-    /** Makes the context current on this thread for the scope's lifetime, then restores what
-    was current before. A context can be current on only one thread at a time. */
+    /** @brief Makes the context current on this thread for the scope's lifetime, then restores
+    what was current before. A context can be current on only one thread at a time. */
     class CV_EXPORTS Scope {
       public:
+        /** @brief Makes context current on this thread (taking its lock).
+        @param context the context; it must outlive the scope. */
         explicit Scope(const HeadlessGLContext& context);
+        /** @brief Restores what was current before (and releases the lock). */
         ~Scope();
+        /** @brief Not copyable: one scope, one restore. */
         Scope(const Scope&) = delete;
+        /** @brief Not copyable: one scope, one restore.
+        @return nothing: deleted. */
         Scope& operator=(const Scope&) = delete;
 
       private:
@@ -58,16 +86,20 @@ class CV_EXPORTS HeadlessGLContext {
     gpu::EglContext* context_ = nullptr;
 };
 
-/** How the GPU turns a pose into pixels. Both give the same pictures: they cover the same
-pixels as the CPU backend and resolve overlaps (fold-overs) the same way. */
+/** @brief How the GPU turns a pose into pixels.
+
+Both give the same pictures: they cover the same pixels as the CPU backend and resolve
+overlaps (fold-overs) the same way.
+@sa GLDeformerParams::pipeline, DeformParams::pipeline, docs/gpu/README.md
+*/
 enum GpuPipeline {
     /** Everything in compute shaders, three passes that each touch a node, triangle or pixel
     once: the node positions (the coefficient sum, reading the Eq. 6-7 packed texture), the
     deformed mesh rasterised into a per-pixel triangle owner (atomicMax of the triangle number:
     the later triangle in drawing order wins, as on the CPU), and a gather that interpolates
-    the inverse map and samples the image bilinearly. The default: datacenter GPUs (the H100)
-    run vertex, raster and fragment work on a few graphics-capable units only, while compute
-    shaders use every multiprocessor. */
+    the inverse map and samples the image bilinearly. The default, because datacenter GPUs
+    (the H100) run vertex, raster and fragment work on a few graphics-capable units only,
+    while compute shaders use every multiprocessor. */
     GPU_PIPELINE_COMPUTE = 0,
     /** The paper's program (§4): the coefficient sum in a vertex shader generated per
     multicage, the GPU's rasteriser, and a fragment shader that samples the image. Desktop
@@ -75,15 +107,15 @@ enum GpuPipeline {
     GPU_PIPELINE_VERTEX_SHADER = 1
 };
 
+/** @brief Options of a GLDeformer. */
 struct CV_EXPORTS GLDeformerParams {
     /** Store the packed coefficients as RGBA16F instead of RGBA32F: half the memory and
-    bandwidth. The vertex shader uses the displacement form p' = x + sum_j CC_j (v'_j - v_j),
+    bandwidth. The vertex shader uses the displacement form `p' = x + sum_j CC_j (v'_j - v_j)`,
     so the rest pose stays exact and the error scales with how far vertices moved (about
-    2^-11 |CC_j| |v'_j - v_j| per term), not with their coordinates. Measured node position
-    error against float32 (test Packing.HalfFloatPositionErrorIsSmallInDisplacementForm):
-      1024x768, 68 vertices, moved up to 16.7 px: 0.0044 px  (plain form sum_j CC_j v'_j: 0.42 px)
-      butterfly, 2 nested polygons, moved up to 28.8 px: 0.020 px  (plain form: 0.57 px)
-    and 0.0045 px max difference of the GPU's inverse maps (GpuDeform.HalfFloatCoefficients). */
+    `2^-11 |CC_j| |v'_j - v_j|` per term), not with their coordinates. The measured node
+    position errors against float32 are in docs/gpu/README.md, "Half-float coefficients"
+    (tests Packing.HalfFloatPositionErrorIsSmallInDisplacementForm and
+    GpuDeform.HalfFloatCoefficients). */
     bool halfFloat = false;
     /** Largest texture side to use; 0 means GL_MAX_TEXTURE_SIZE. Smaller values force the
     texture-array fallback (choosePackLayout) and exist for tests. */
@@ -92,7 +124,8 @@ struct CV_EXPORTS GLDeformerParams {
     int pipeline = GPU_PIPELINE_COMPUTE;
 };
 
-/** The GPU multicage deformation inside the caller's own OpenGL context, without readback.
+/** @brief The GPU multicage deformation inside the caller's own OpenGL context, without
+readback.
 
 Needs a desktop OpenGL 4.3+ core context current on the calling thread for the constructor,
 every member function and the destructor (the context of a GLFW window, say). It changes
@@ -104,74 +137,123 @@ texture-array fallback when the layout exceeds the texture limit) and builds the
 generated for this multicage. A pose update is then one small texture upload plus three
 compute dispatches (GPU_PIPELINE_COMPUTE) or one draw call (GPU_PIPELINE_VERTEX_SHADER).
 
+@code
     GLDeformer d(image, bind(cage));        // context current
     d.setPose(pose);
     glViewport(x, y, w, h); d.draw();       // into the bound framebuffer, or:
-    GLuint tex = d.render();                // into d's own texture (outputSize()) */
+    GLuint tex = d.render();                // into d's own texture (outputSize())
+@endcode
+@sa Deformer (BACKEND_GPU) for the same on a headless context with readback.
+*/
 class CV_EXPORTS GLDeformer {
   public:
-    /** Uploads a binding made on the CPU (bind()). image: 8U/16U/32F, 1, 3 or 4 channels. */
+    /** @brief Uploads a binding made on the CPU (bind()).
+    @param image 8U/16U/32F, 1, 3 or 4 channels, of binding.imageSize.
+    @param binding a non-empty binding.
+    @param params the options.
+    @throws cv::Exception when no OpenGL 4.3 context is current (GpuNotSupported), or the
+    image does not match. */
     GLDeformer(InputArray image, const Binding& binding, const GLDeformerParams& params = {});
-    /** Binds on the GPU (mean value coordinates in a compute shader, Algorithm 1): the
-    coefficients are written straight into the packed texture and never leave the GPU
-    unless binding() is called. */
+    /** @brief Binds on the GPU: mean value coordinates in a compute shader (Algorithm 1, as
+    bind()).
+
+    The coefficients are written straight into the packed texture and never leave the GPU
+    unless binding() is called.
+    @param image as the other constructor, of rest.imageSize().
+    @param rest the multicage; it must pass validateGeometry() (else cv::Exception, StsBadArg).
+    @param gridStep pixels between nodes, >= 1.
+    @param params the options. */
     GLDeformer(InputArray image, const Multicage& rest, int gridStep,
                const GLDeformerParams& params = {});
+    /** @brief Deletes the GL objects (the context must be current). */
     ~GLDeformer();
+    /** @brief Not copyable: the object owns GL objects. */
     GLDeformer(const GLDeformer&) = delete;
+    /** @brief Not copyable: the object owns GL objects.
+    @return nothing: deleted. */
     GLDeformer& operator=(const GLDeformer&) = delete;
 
-    /** The pose: vertexCount() points, or coefficientCount() with the frame corners last.
+    /** @brief Sets the pose that the next render(), renderMaps() or draw() shows.
+
     A pose whose frame corners lie on the frame of another size W'xH' (a resize pose,
-    resizePose() in resize.hpp; the rule is the CPU backend's) renders a W'xH' image: render(),
-    renderMaps() and draw() then draw the new frame. Throws StsOutOfRange when W' or H' exceeds
-    what this GPU draws (GL_MAX_TEXTURE_SIZE, GL_MAX_VIEWPORT_DIMS). */
+    resizePose(); the rule is the CPU backend's) renders a W'xH' image: render(), renderMaps()
+    and draw() then draw the new frame.
+    @param pose vertexCount() points, or coefficientCount() with the frame corners last.
+    @throws cv::Exception (StsOutOfRange) when W' or H' exceeds what this GPU draws
+    (GL_MAX_TEXTURE_SIZE, GL_MAX_VIEWPORT_DIMS). */
     void setPose(InputArray pose);
-    /** Replaces the image (same size and type as before). */
+    /** @brief Replaces the image.
+    @param image the same size and type as before (else cv::Exception, StsBadArg). */
     void setImage(InputArray image);
-    /** Draws the deformed image into the bound framebuffer with the paper's vertex-shader
-    program (whatever params.pipeline says: it draws into the caller's framebuffer): the pose's
-    frame (the image's, or a resize pose's new one: outputSize()) fills the current viewport; flipY
-    puts image row 0 at the top (a window), false at the bottom (what glReadPixels returns first).
-    Uncovered pixels are left untouched. */
+    /** @brief Draws the deformed image into the bound framebuffer with the paper's
+    vertex-shader program (whatever params.pipeline says: it draws into the caller's
+    framebuffer).
+
+    The pose's frame (the image's, or a resize pose's new one: outputSize()) fills the current
+    viewport. Uncovered pixels are left untouched.
+    @param flipY true puts image row 0 at the top (a window), false at the bottom (what
+    glReadPixels returns first). */
     void draw(bool flipY = true);
-    /** Renders into outputTexture() (outputSize(); border where no triangle covers a pixel)
-    and returns it. A pose of another size than the last render's makes a new texture of that
-    size (the old one is deleted: ask outputTexture() again after each render). */
+    /** @brief Renders into outputTexture() (outputSize()).
+
+    A pose of another size than the last render's makes a new texture of that size (the old
+    one is deleted: ask outputTexture() again after each render).
+    @param border the value of pixels no triangle covers.
+    @return outputTexture(). */
     unsigned render(const Scalar& border = Scalar());
-    /** Renders the inverse maps (RG32F: source x, y per pixel; -1e4 where uncovered) into
-    mapsTexture() (outputSize(), remade like outputTexture()) and returns it. */
+    /** @brief Renders the inverse maps (RG32F: source x, y per pixel; -1e4 where uncovered)
+    into mapsTexture() (outputSize(), remade like outputTexture()).
+    @return mapsTexture(). */
     unsigned renderMaps();
-    /** Reads outputTexture() back: the size of the last render(), the input's type. */
+    /** @brief Reads outputTexture() back.
+    @param[out] dst the size of the last render(), the input's type. */
     void readOutput(OutputArray dst);
-    /** Reads mapsTexture() back as two CV_32F maps for cv::remap (the last renderMaps()'s size). */
+    /** @brief Reads mapsTexture() back as two maps for cv::remap.
+    @param[out] mapx source x per pixel, CV_32F of the last renderMaps()'s size.
+    @param[out] mapy source y per pixel, the same. */
     void readMaps(OutputArray mapx, OutputArray mapy);
-    /** The deformed mesh of the last render() or renderMaps() in the compute pipeline:
-    (grid height + 2) x (grid width + 2) CV_32FC2, the binding's node grid inside a ring of
-    vertices on the image frame (for overlays, and to compare with the CPU backend's mesh).
-    The vertex-shader pipeline keeps no mesh: StsNotImplemented. */
+    /** @brief The deformed mesh of the last render() or renderMaps() in the compute pipeline
+    (for overlays, and to compare with the CPU backend's mesh).
+    @param[out] mesh (grid height + 2) x (grid width + 2) CV_32FC2: the binding's node grid
+    inside a ring of vertices on the image frame.
+    @throws cv::Exception (StsNotImplemented) in the vertex-shader pipeline, which keeps no
+    mesh. */
     void readMesh(OutputArray mesh);
-    /** The size the current pose renders into: the image's, or a resize pose's new size. */
+    /** @brief The size the current pose renders into.
+    @return the image's size, or a resize pose's new size. */
     Size outputSize() const;
 
+    /** @brief The GL name of the deformed image's texture (GL_TEXTURE_2D).
+    @return the texture (0 until render() or readOutput() makes one). */
     unsigned outputTexture() const;
+    /** @brief The GL name of the inverse maps' texture (GL_TEXTURE_2D, RG32F).
+    @return the texture (0 until renderMaps() or readMaps() makes one). */
     unsigned mapsTexture() const;
-    unsigned coefficientTexture() const;  //!< GL_TEXTURE_2D, or GL_TEXTURE_2D_ARRAY if layered
+    /** @brief The GL name of the packed coefficients' texture.
+    @return GL_TEXTURE_2D, or GL_TEXTURE_2D_ARRAY if layered. */
+    unsigned coefficientTexture() const;
+    /** @brief The packing of the coefficient texture.
+    @return the layout (PackLayout::layers > 1 for a texture array). */
     const PackLayout& layout() const;
-    size_t coefficientBytes() const;  //!< GPU memory of the packed coefficients
-    /** The binding (from the GPU texture when bound on the GPU: read back on first use). */
+    /** @brief GPU memory of the packed coefficients.
+    @return bytes: texels x layers x 4 channels x 2 or 4 bytes. */
+    size_t coefficientBytes() const;
+    /** @brief The binding; when bound on the GPU, read back from the texture on first use.
+    @return a reference valid for the GLDeformer's lifetime. */
     const Binding& binding();
-    /** Where construction spent its time, in milliseconds (for the bench). */
+    /** @brief Where construction spent its time, in milliseconds (for the bench). */
     struct Timings {
         double shaderBuild = 0;  //!< compiling and linking the generated shaders
         double packUpload = 0;   //!< packing a CPU binding and uploading it (0 if bound here)
         double binding = 0;      //!< the compute-shader binding (0 if given a CPU binding)
     };
+    /** @brief Where construction spent its time.
+    @return the times in milliseconds. */
     const Timings& timings() const;
-    /** glFinish(): waits until every command so far has run (for timing). */
+    /** @brief glFinish(): waits until every command so far has run (for timing). */
     void finish();
 
-    /** GPU time of each stage of the last render()/renderMaps() and read*(), in ms, from
+    /** @brief GPU time of each stage of the last render()/renderMaps() and read*(), in ms, from
     GL_TIMESTAMP queries; -1 for a stage that did not run (or profiling off). The
     vertex-shader pipeline reports its one draw call as `raster`. */
     struct StageTimes {
@@ -180,11 +262,14 @@ class CV_EXPORTS GLDeformer {
         double gather = -1;     //!< compute: inverse maps and image sampling
         double readback = -1;   //!< readOutput() / readMaps()
     };
-    /** Turns the timestamp queries on (they cost a little; off by default). */
+    /** @brief Turns the timestamp queries on (they cost a little; off by default).
+    @param on true to profile the following renders. */
     void setProfiling(bool on);
-    /** Waits for the last pose's queries and returns their times. */
+    /** @brief Waits for the last pose's queries and returns their times.
+    @return the stage times (all -1 with profiling off). */
     StageTimes stageTimes() const;
-    /** The GpuPipeline in use. */
+    /** @brief The GpuPipeline in use.
+    @return GPU_PIPELINE_COMPUTE or GPU_PIPELINE_VERTEX_SHADER. */
     int pipeline() const;
 
   private:
@@ -192,15 +277,27 @@ class CV_EXPORTS GLDeformer {
     std::unique_ptr<Impl> impl_;
 };
 
-/** Mean value binding (Algorithm 1, as bind()) computed in a compute shader on a private
-headless EGL context (the process's shared one), read back to the CPU. Throws a cv::Exception when no EGL context with
-OpenGL 4.3 can be made. */
+/** @brief Mean value binding (Algorithm 1, as bind()) computed in a compute shader on the
+process's shared headless EGL context (HeadlessGLContext::shared()), read back to the CPU.
+@param multicage the multicage; it must pass validateGeometry().
+@param gridStep pixels between nodes, >= 1.
+@return the binding, MEAN_VALUE coordinates.
+@throws cv::Exception (GpuNotSupported) when no EGL context with OpenGL 4.3 can be made.
+*/
 CV_EXPORTS Binding bindOnGpu(const Multicage& multicage, int gridStep = 1);
 
-/** Whether a headless EGL context can be made here (any OpenGL 4.3, Mesa's llvmpipe
-included); *description gets the device (vendor, renderer, GL version, platform) or the
-reason there is none. Probes once per process: later calls answer from the first. */
+/** @brief Whether a headless EGL context can be made here (any OpenGL 4.3, Mesa's llvmpipe
+included), i.e. whether BACKEND_GPU works.
+
+Probes once per process: later calls answer from the first.
+@param[out] description when not null, receives the device (vendor, renderer, GL version,
+platform) or the reason there is none.
+@return true when a context can be made.
+@sa autoBackendUsesGpu
+*/
 CV_EXPORTS bool gpuAvailable(std::string* description = nullptr);
+
+//! @} multicage_gpu
 
 }  // namespace multicage
 }  // namespace cv

@@ -1,7 +1,11 @@
-// Automatic multicage proposal from an image (the paper's §6 future work).
-//
-//   segment -> clean -> nested contours -> dilate by a margin -> simplify to a vertex budget
-//   (keeping every polygon simple and all polygons disjoint) -> orient by depth -> validate
+/** @file
+@brief Automatic multicage proposal from an image (the paper's §6 future work).
+
+    segment -> clean -> nested contours -> dilate by a margin -> simplify to a vertex budget
+    (keeping every polygon simple and all polygons disjoint) -> orient by depth -> validate
+
+@ingroup multicage_propose
+*/
 #ifndef OPENCV2_MULTICAGE_PROPOSE_HPP
 #define OPENCV2_MULTICAGE_PROPOSE_HPP
 
@@ -10,7 +14,13 @@
 namespace cv {
 namespace multicage {
 
-/** How proposeMulticage() decides which pixels belong to an object. */
+//! @addtogroup multicage_propose
+//! @{
+
+/** @brief How proposeMulticage() decides which pixels belong to an object
+(ProposeParams::method).
+@sa proposeMethodName, docs/propose/README.md
+*/
 enum ProposeMethod {
     /** The subject model's map fused with the faces and GrabCut where a model runs
     (ProposeParams::segmenter); else PROPOSE_THRESHOLD when the image border is mostly one
@@ -39,7 +49,9 @@ enum ProposeMethod {
     PROPOSE_LABELS = 7
 };
 
-/** What protectFeatures() protects inside a polygon. */
+/** @brief What protectFeatures() protects inside a polygon (ProposeParams::protect).
+@sa protectDetectorName, docs/faces/README.md
+*/
 enum ProtectDetector {
     /** Salient blobs (ProposeParams::method inside the polygon; PROPOSE_AUTO: fine-grained
     saliency). */
@@ -60,8 +72,12 @@ enum ProtectDetector {
     PROTECT_ALL = 2
 };
 
-/** Where proposeMulticage() learns what the subject of a photo is (ProposeParams::segmenter).
-Masks and label images (PROPOSE_MASK, PROPOSE_LABELS) are the caller's word and use none. */
+/** @brief Where proposeMulticage() learns what the subject of a photo is
+(ProposeParams::segmenter).
+
+Masks and label images (PROPOSE_MASK, PROPOSE_LABELS) are the caller's word and use none.
+@sa segmenterModelFile, subjectMap, docs/models.md
+*/
 enum ProposeSegmenter {
     /** SEGMENTER_MODEL when a subject model is found (segmenterModelFile()), else
     SEGMENTER_CLASSIC. */
@@ -75,19 +91,21 @@ enum ProposeSegmenter {
     SEGMENTER_CLASSIC = 2
 };
 
-/** Environment variable naming a subject model file, looked at after
+/** @brief Environment variable naming a subject model file, looked at after
 ProposeParams::segmenterModel (docs/models.md). */
 #define MULTICAGE_SEGMENTER_ENV "MULTICAGE_SEGMENTER_MODEL"
-/** Environment variable naming the folder that holds the installed data (its models/
+/** @brief Environment variable naming the folder that holds the installed data (its models/
 subfolder): where set, it replaces the build tree's and the install prefix's share/multicage,
 for a prefix moved after installing. */
 #define MULTICAGE_DATA_ENV "MULTICAGE_DATA_DIR"
 
-/** Folder of OpenCV's Haar cascades on Debian (package opencv-data). */
+/** @brief Folder of OpenCV's Haar cascades on Debian (package opencv-data). */
 #define MULTICAGE_DEBIAN_CASCADE_DIR "/usr/share/opencv4/haarcascades"
 
-/** Parameters of proposeMulticage() and protectFeatures(). Every field has a default that
-works on photographs; lengths are in pixels of the input image. */
+/** @brief Parameters of proposeMulticage() and protectFeatures().
+
+Every field has a default that works on photographs; lengths are in pixels of the input
+image. */
 struct CV_EXPORTS ProposeParams {
     int method = PROPOSE_AUTO;    //!< ProposeMethod
     int maxVertices = 80;         //!< budget over all polygons (user vertices, frame excluded)
@@ -106,11 +124,11 @@ struct CV_EXPORTS ProposeParams {
     polygons are scaled back. Segmentation does not need more, and time falls with area. */
     int workingSize = 512;
     Rect rect;  //!< GrabCut's initial rectangle (empty: found automatically)
-    /** GrabCut's iterations. 2: on six photos (docs/propose/README.md) the mask after 2 is
-    the mask after 4 (intersection over union 0.98-1.0), in 25-45% less time. Where GrabCut
-    finds the subject from the image frame inward (no face, no rect), it goes on past them, up
-    to 5, until an iteration moves at most 1% of the pixels: a subject still being carved out
-    of its start (docs/propose/README.md, "GrabCut until its labels settle"). */
+    /** GrabCut's iterations. 2, because on the benchmark photos the mask after 2 is the mask
+    after 4, in less time (docs/propose/history.md, "Speed"). Where GrabCut finds the subject
+    from the image frame inward (no face, no rect), it goes on past them, up to 5, until an
+    iteration moves at most 1% of the pixels: a subject still being carved out of its start
+    (docs/propose/README.md, "The frame-inward GrabCut"). */
     int grabCutIterations = 2;
     int grabCutMaxSide = 240;  //!< GrabCut's own working size (its cost is per pixel)
     /** ProtectDetector: what protectFeatures() protects. The default, PROTECT_ALL, is the
@@ -126,10 +144,10 @@ struct CV_EXPORTS ProposeParams {
     bool faceEyes = false;
     /** In a cage bound with mean value coordinates (Multicage::coordinates()), a face's
     polygon also holds four small fixed polygons (anchors, 16 vertices) spread over the face:
-    they cut what leaks into the face from a moved outline by a quarter to a third. Off, and in
-    a cage with local mean value or harmonic coordinates (the protected proposal's), where
-    they change nothing, the face's polygon holds its eyes instead where a face is at least
-    60 px wide and the eye cascades find both. */
+    they cut what leaks into the face from a moved outline (docs/faces/README.md measures by
+    how much). Off, and in a cage with local mean value or harmonic coordinates (the protected
+    proposal's), where they change nothing, the face's polygon holds its eyes instead where a
+    face is at least 60 px wide and the eye cascades find both. */
     bool faceAnchors = true;
     /** Faces are searched on a copy whose longer side is at most this (0: full size): the
     cascades' cost grows with area. The smallest face found is 24 pixels of the copy, 7.5% of
@@ -145,78 +163,104 @@ struct CV_EXPORTS ProposeParams {
     String segmenterModel;
 };
 
-/** Proposes a valid, oriented multicage that encloses the objects of an image.
+/** @brief Proposes a valid, oriented multicage that encloses the objects of an image.
 
-Inputs:
-  image   8-bit (or 16-bit / float, rescaled) 1, 3 or 4 channels; for PROPOSE_MASK a
-          one-channel mask; for PROPOSE_LABELS a one-channel label image
-  params  method, vertex budgets, margin, minimum region area, maximum depth, ...
-Outputs:
-  a Multicage of the image's size whose polygons enclose the segmented regions at distance
-  `margin`, one polygon per region, nested as the regions are (an object inside another
-  object's hole gets depth 2), oriented (orient()), and always passing validate(): vertices
-  strictly inside the frame, every polygon simple, all polygons pairwise disjoint. Where
-  simplification would make polygons cross, the tolerance grows, then the convex hull is
-  tried, then the smaller (or inner) polygon is dropped.
-
-Returns a multicage with no polygon when no region is larger than minRegionArea. Throws a
-cv::Exception (StsBadArg) for an empty image or a constant one (nothing to segment) and for
-parameters out of range. */
+The result's polygons enclose the segmented regions at distance `margin`, one polygon per
+region, nested as the regions are (an object inside another object's hole gets depth 2),
+oriented (orient()), and always pass validate(): vertices strictly inside the frame, every
+polygon simple, all polygons pairwise disjoint. Where simplification would make polygons
+cross, the tolerance grows, then the convex hull is tried, then the smaller (or inner)
+polygon is dropped.
+@param image 8-bit (or 16-bit / float, rescaled) 1, 3 or 4 channels; for PROPOSE_MASK a
+one-channel mask; for PROPOSE_LABELS a one-channel label image.
+@param params method, vertex budgets, margin, minimum region area, maximum depth, ...
+@return a Multicage of the image's size; one with no polygon when no region is larger than
+minRegionArea.
+@throws cv::Exception (StsBadArg) for an empty image or a constant one (nothing to segment)
+and for parameters out of range.
+@sa proposeProtectedMulticage, proposeSegmentation, docs/propose/README.md
+*/
 CV_EXPORTS Multicage proposeMulticage(InputArray image,
                                       const ProposeParams& params = ProposeParams());
 
-/** The multicage the tools propose by default (`multicage propose`, the editor, the demo):
-proposeMulticage(), then protectFeatures() inside every top-level polygon, so the result is an
-outline around each object plus inner polygons protecting its salient features. With
+/** @brief The multicage the tools propose by default (`multicage propose`, the editor, the
+demo).
+
+proposeMulticage(), then protectFeatures() inside every top-level polygon, so the result is
+an outline around each object plus inner polygons protecting its salient features. With
 PROPOSE_MASK or PROPOSE_LABELS the input is a mask, not a photo: nothing is added. The inner
-polygons share params' budgets (maxVertices, maxPolygons) with the outlines. */
+polygons share params' budgets (maxVertices, maxPolygons) with the outlines.
+@param image as proposeMulticage().
+@param params as proposeMulticage(); protect picks what the inner polygons protect.
+@return the valid, oriented multicage.
+@throws cv::Exception as proposeMulticage().
+*/
 CV_EXPORTS Multicage proposeProtectedMulticage(InputArray image,
                                                const ProposeParams& params = ProposeParams());
 
-/** The segmentation that proposeMulticage() encloses, after cleaning: CV_8UC1 of the image's
-size, 255 on the region pixels the polygons must contain (the same regions, before the
-budget keeps the largest). For PROPOSE_LABELS it holds the label components. */
+/** @brief The segmentation that proposeMulticage() encloses, after cleaning.
+@param image as proposeMulticage(); not empty (else cv::Exception, StsBadArg).
+@param[out] mask CV_8UC1 of the image's size, 255 on the region pixels the polygons must
+contain (the same regions, before the budget keeps the largest). For PROPOSE_LABELS it holds
+the label components.
+@param params as proposeMulticage().
+*/
 CV_EXPORTS void proposeSegmentation(InputArray image, OutputArray mask,
                                     const ProposeParams& params = ProposeParams());
 
-/** Automatic feature preservation: proposes protective inner polygons around the salient
-features inside polygon `polygon` of `cage`, so that moving that polygon leaves them almost
-rigid (paper §3.1: an inner polygon protects what it encloses).
+/** @brief Automatic feature preservation: proposes protective inner polygons around the
+salient features inside polygon `polygon` of `cage`, so that moving that polygon leaves them
+almost rigid (paper §3.1: an inner polygon protects what it encloses).
 
-Inputs:
-  image    the image the cage was drawn on (its size must match cage.imageSize())
-  cage     a valid multicage
-  polygon  index of the polygon the user will move
-  params   segmentation method (PROPOSE_AUTO: saliency within the polygon), margin, budgets;
-           maxVertices is the budget of the whole result, existing vertices included
-Outputs:
-  a copy of cage with the new polygons appended (existing polygons and poses unchanged,
-  poses extended with the new vertices at rest), oriented and valid. Features are kept inside
-  the polygon at least `margin` from its edges and from the polygons already nested in it.
-  No feature found or no budget left: the cage is returned unchanged. */
+Features are kept inside the polygon at least `margin` from its edges and from the polygons
+already nested in it. No feature found or no budget left: the cage is returned unchanged.
+@param image the image the cage was drawn on (its size must match cage.imageSize(), else
+StsBadSize).
+@param cage a multicage that passes validateGeometry() (else StsBadArg).
+@param polygon index of the polygon the user will move (out of range: StsOutOfRange).
+@param params segmentation method (PROPOSE_AUTO: saliency within the polygon), margin,
+budgets; maxVertices is the budget of the whole result, existing vertices included.
+@return a copy of cage with the new polygons appended (existing polygons and poses unchanged,
+poses extended with the new vertices at rest), oriented and valid.
+@throws cv::Exception as said above, and for an empty image (StsBadArg).
+*/
 CV_EXPORTS Multicage protectFeatures(InputArray image, const Multicage& cage, int polygon,
                                      const ProposeParams& params = ProposeParams());
 
-/** Faces in an image, as protectFeatures() with PROTECT_FACES finds them: frontal and
-profile (both directions) detections on a copy at most params.faceWorkingSize wide or high,
-histogram-equalised; in a colour image only boxes whose middle is mostly skin-coloured
-(Haar cascades also fire on crowds and clothing), in an image without colour only frontal boxes
-on which 5 search windows agree or in which an eye is found (patterns such as a coin's portrait
-fire the cascade too); optionally confirmed by an eye (params.faceEyes); detections of one
-face (sharing at least a quarter of the smaller box) merged into their bounding box, so the
-boxes of two faces may overlap a little. Rectangles in input pixels, largest first. Throws cv::Exception (StsObjectNotFound) when the frontal cascade is not
-installed: "... install the Debian package opencv-data, or set ProposeParams::cascadeDir". */
+/** @brief Faces in an image, as protectFeatures() with PROTECT_FACES finds them.
+
+Frontal and profile (both directions) detections on a copy at most params.faceWorkingSize
+wide or high, histogram-equalised; in a colour image only boxes whose middle is mostly
+skin-coloured (Haar cascades also fire on crowds and clothing), in an image without colour
+only frontal boxes on which 5 search windows agree or in which an eye is found (patterns such
+as a coin's portrait fire the cascade too); optionally confirmed by an eye (params.faceEyes);
+detections of one face (sharing at least a quarter of the smaller box) merged into their
+bounding box, so the boxes of two faces may overlap a little.
+@param image the photo.
+@param params faceWorkingSize, faceEyes and cascadeDir are read.
+@return rectangles in input pixels, largest first.
+@throws cv::Exception (StsObjectNotFound) when the frontal cascade is not installed:
+"... install the Debian package opencv-data, or set ProposeParams::cascadeDir".
+*/
 CV_EXPORTS std::vector<Rect> detectFaces(InputArray image,
                                          const ProposeParams& params = ProposeParams());
 
-/** Path of the frontal face cascade protectFeatures() would use (params.cascadeDir, else
-the Debian folders), or an empty string when none is installed. */
+/** @brief Path of the frontal face cascade protectFeatures() would use.
+@param params cascadeDir is read; empty: the Debian folders.
+@return the path, or an empty string when none is installed.
+*/
 CV_EXPORTS String faceCascadeFile(const ProposeParams& params = ProposeParams());
 
-/** proposeProtectedMulticage() that also returns the faces it found (with PROTECT_FACES or
-PROTECT_ALL; empty otherwise). With faces, the outlines are made to enclose every face with
-room for its protective polygon, and each face gets an inner polygon in the outline around
-it. */
+/** @brief proposeProtectedMulticage() that also returns the faces it found.
+
+With faces, the outlines are made to enclose every face with room for its protective
+polygon, and each face gets an inner polygon in the outline around it.
+@param image as proposeMulticage().
+@param params as proposeProtectedMulticage().
+@param[out] faces when not null, receives the faces found (with PROTECT_FACES or PROTECT_ALL;
+empty otherwise), in input pixels.
+@return the valid, oriented multicage.
+*/
 CV_EXPORTS Multicage proposeProtectedMulticage(InputArray image, const ProposeParams& params,
                                                std::vector<Rect>* faces);
 
@@ -234,29 +278,48 @@ CV_EXPORTS String segmenterModelFile(const ProposeParams& params = ProposeParams
 
 /** @brief The learned subject map of an image: what the subject model sees as the subject.
 
+The model is read once per process and shared by every thread (its runs take turns).
 @param image   8-bit (or 16-bit / float, rescaled) 1, 3 or 4 channels
 @param map     CV_32FC1 of the image's size, 0 (background) to 1 (subject)
 @param params  segmenterModel and the look-up of segmenterModelFile()
-
-The model is read once per process and shared by every thread (its runs take turns). Throws
-cv::Exception (StsObjectNotFound) when no model is found, and (StsParseError) naming the file
-when it is not a subject model: a truncated, corrupt or foreign file, or a default model whose
-size or sha256 is not the pinned one (docs/models.md). */
+@throws cv::Exception (StsObjectNotFound) when no model is found, and (StsParseError) naming
+the file when it is not a subject model: a truncated, corrupt or foreign file, or a default
+model whose size or sha256 is not the pinned one (docs/models.md). */
 CV_EXPORTS void subjectMap(InputArray image, OutputArray map,
                            const ProposeParams& params = ProposeParams());
 
-/** Name of a ProposeSegmenter ("auto", "model", "classic"), and back (-1: unknown). */
+/** @brief Name of a ProposeSegmenter.
+@param segmenter a ProposeSegmenter.
+@return "auto", "model" or "classic"; "unknown" for any other value.
+@sa parseSegmenter */
 CV_EXPORTS const char* segmenterName(int segmenter);
+/** @brief The ProposeSegmenter called name.
+@param name "auto", "model" or "classic".
+@return the ProposeSegmenter, or -1 for an unknown name. */
 CV_EXPORTS int parseSegmenter(const String& name);
 
-/** Name of a ProtectDetector ("saliency", "faces", "all"), and back (-1: unknown). */
+/** @brief Name of a ProtectDetector.
+@param detector a ProtectDetector.
+@return "saliency", "faces" or "all"; "unknown" for any other value.
+@sa parseProtectDetector */
 CV_EXPORTS const char* protectDetectorName(int detector);
+/** @brief The ProtectDetector called name.
+@param name "saliency", "faces" or "all".
+@return the ProtectDetector, or -1 for an unknown name. */
 CV_EXPORTS int parseProtectDetector(const String& name);
 
-/** Name of a ProposeMethod ("auto", "threshold", "adaptive", "grabcut", "saliency",
-"spectral", "mask", "labels"), and back; parseProposeMethod returns -1 for an unknown name. */
+/** @brief Name of a ProposeMethod.
+@param method a ProposeMethod.
+@return "auto", "threshold", "adaptive", "grabcut", "saliency", "spectral", "mask" or
+"labels"; "unknown" for any other value.
+@sa parseProposeMethod */
 CV_EXPORTS const char* proposeMethodName(int method);
+/** @brief The ProposeMethod called name.
+@param name one of the names proposeMethodName() gives.
+@return the ProposeMethod, or -1 for an unknown name. */
 CV_EXPORTS int parseProposeMethod(const String& name);
+
+//! @} multicage_propose
 
 }  // namespace multicage
 }  // namespace cv

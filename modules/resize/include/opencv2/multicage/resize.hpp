@@ -1,5 +1,8 @@
-// Content-aware resizing (the paper's §6: "multicage deformation as constraints in image
-// resizing"): bind once, then every target size is one pose.
+/** @file
+@brief Content-aware resizing (the paper's §6: "multicage deformation as constraints in image
+resizing"): bind once, then every target size is one pose.
+@ingroup multicage_resize
+*/
 #ifndef OPENCV2_MULTICAGE_RESIZE_HPP
 #define OPENCV2_MULTICAGE_RESIZE_HPP
 
@@ -9,15 +12,18 @@
 namespace cv {
 namespace multicage {
 
-/** Parameters of resizePose() and contentAwareResize(). */
+//! @addtogroup multicage_resize
+//! @{
+
+/** @brief Parameters of resizePose() and contentAwareResize(). */
 struct CV_EXPORTS ResizeParams {
     /** CoordinateType of the binding contentAwareResize() makes (COORDINATES_FROM_CAGE: the
     cage's). Local mean value coordinates by default: what an outline holds then follows the
     outline's similarity exactly, where Algorithm 1's global sums leak the frame's stretch
     into it (docs/resize). */
     int coordinates = LOCAL_MEAN_VALUE;
-    int gridStep = 1;              //!< its grid step (DeformParams::gridStep)
-    int backend = BACKEND_AUTO;    //!< its Backend
+    int gridStep = 1;            //!< its grid step (DeformParams::gridStep)
+    int backend = BACKEND_AUTO;  //!< its Backend
     /** ProtectDetector of the default proposal (an empty cage in contentAwareResize()):
     faces first, then salient features (no face cascade installed: features only); -1:
     ProposeParams' own default. */
@@ -35,21 +41,23 @@ struct CV_EXPORTS ResizeParams {
     double maxScale = 8.0;
 };
 
-/** The pose that resizes an image bound to `cage` into an image of newSize (docs/resize).
+/** @brief The pose that resizes an image bound to `cage` into an image of newSize
+(docs/resize).
 
 Rule (with sx = W'/W, sy = H'/H the frame's scales):
   - the frame corners go to the new frame (-0.5,-0.5)-(W'-0.5,H'-0.5);
-  - each outline (a depth-1 polygon) moves by a similarity p' = c' + s (p - c) of its bounding
-    box's centre c: s = 1 when 1 lies between min(sx, sy) and max(sx, sy) (the subject keeps
-    its size in pixels: the background absorbs the aspect change), else the one of the two
-    nearer 1; s shrinks further (uniformly, never squashed) when the outline would not fit
-    in the new frame with its gaps to the frame scaled as the frame is;
+  - each outline (a depth-1 polygon) moves by a similarity `p' = c' + s (p - c)` of its
+    bounding box's centre c: s = 1 when 1 lies between min(sx, sy) and max(sx, sy) (the
+    subject keeps its size in pixels: the background absorbs the aspect change), else the one
+    of the two nearer 1; s shrinks further (uniformly, never squashed) when the outline would
+    not fit in the new frame with its gaps to the frame scaled as the frame is;
   - c' is where the frame's own scaling puts c, so subjects keep their places and their
     distances scale with the frame; an outline within 1% of a side of the frame (a subject cut
     by the image border) keeps its gap to that side instead, so it stays on that border;
   - every inner polygon (depth >= 2: faces, features, what a person nested to protect) moves
     by the similarity of the outline around it, so what an outline holds keeps its shape;
   - the background between the frame and the outlines absorbs the rest.
+
 Where outlines of two subjects would cross, or the pose would fold a triangle of the mesh,
 the outlines are blended towards the frame's own scaling (the cv::resize pose, always valid and
 fold-free by linear precision) by the least amount that makes it valid, while every inner
@@ -57,36 +65,69 @@ polygon stays a similarity (so with local mean value coordinates what it holds k
 exactly); only where that cannot start does everything blend. The returned pose always
 validates and folds no triangle of `binding`'s mesh.
 
-cage: a valid multicage; newSize: each side at least 1 and 1/64 of the image's, and at most
-params.maxScale x the image's (else cv::Exception StsOutOfRange naming the limit). Returns
-vertexCount()+4 points, frame corners last: Deformer::deform renders it into a newSize image.
-The first form checks folds on a binding of cage with params.coordinates (local mean value by
+This form checks folds on a binding of cage with params.coordinates (local mean value by
 default) at params.gridStep: the pose is fold-free for a Deformer bound the same way (it binds
-each call: use the second form with the Deformer's own binding to resize many times). */
+each call: use the form with a Binding, the Deformer's own, to resize many times).
+@param cage a multicage that passes validate() (else cv::Exception, StsBadArg).
+@param newSize each side at least 1 and 1/64 of the image's, and at most params.maxScale x the
+image's (else cv::Exception StsOutOfRange naming the limit; checkResizeSize()).
+@param params coordinates, gridStep and maxScale are read.
+@return vertexCount()+4 points, frame corners last: Deformer::deform renders it into a newSize
+image.
+*/
 CV_EXPORTS std::vector<Point2f> resizePose(const Multicage& cage, Size newSize,
                                            const ResizeParams& params = ResizeParams());
-/** resizePose() checking folds on this binding (Deformer::binding()): no binding made. */
+/** @brief resizePose() checking folds on this binding (Deformer::binding()): no binding made.
+@param cage as the other form.
+@param binding a binding of cage (its image size and coefficient count; else cv::Exception,
+StsBadArg).
+@param newSize as the other form.
+@param params maxScale is read.
+@return as the other form.
+*/
 CV_EXPORTS std::vector<Point2f> resizePose(const Multicage& cage, const Binding& binding,
                                            Size newSize,
                                            const ResizeParams& params = ResizeParams());
 
-/** Resizes image to newSize keeping what the multicage protects: binds image to cage (an empty
-cage: resizeCage()), then deforms it to resizePose(). dst: newSize, the image's type. For
-several sizes of one image, make a Deformer once and deform it to
-resizePose(cage, deformer->binding(), size) per size. */
+/** @brief Resizes image to newSize keeping what the multicage protects: binds image to cage,
+then deforms it to resizePose().
+
+For several sizes of one image, make a Deformer once and deform it to
+resizePose(cage, deformer->binding(), size) per size.
+@param image the image, as Deformer::create takes it; not empty (else cv::Exception,
+StsBadArg).
+@param newSize as resizePose().
+@param[out] dst newSize, the image's type.
+@param cage the multicage; an empty one (default-constructed): resizeCage(); one drawn on
+another size is scaled to the image (Multicage::scaled()).
+@param params the binding's coordinates, grid step and backend, and the default proposal's
+options.
+*/
 CV_EXPORTS void contentAwareResize(InputArray image, Size newSize, OutputArray dst,
                                    const Multicage& cage = Multicage(),
                                    const ResizeParams& params = ResizeParams());
 
-/** The multicage contentAwareResize() uses for image when given none: proposeProtectedMulticage()
-with params.protect, params.margin, params.segmenter and params.segmenterModel; for an image
-too thin to propose in (a strip under 3 pixels each way in the proposal's working copy), no
-polygon: it scales plainly. */
+/** @brief The multicage contentAwareResize() uses for image when given none.
+
+proposeProtectedMulticage() with params.protect, params.margin, params.segmenter and
+params.segmenterModel; for an image too thin to propose in (a strip under 3 pixels each way in
+the proposal's working copy), no polygon: it scales plainly.
+@param image the image.
+@param params protect, margin, segmenter and segmenterModel are read.
+@return the multicage, of the image's size.
+*/
 CV_EXPORTS Multicage resizeCage(InputArray image, const ResizeParams& params = ResizeParams());
 
-/** Throws cv::Exception (StsOutOfRange) unless newSize is a size resizePose() accepts for an
-image of imageSize (each side >= 1, >= 1/64 and <= maxScale x the image's). */
+/** @brief Checks that newSize is a size resizePose() accepts for an image of imageSize: each
+side >= 1, >= 1/64 and <= maxScale x the image's.
+@param imageSize the image's size, not empty (else StsBadSize).
+@param newSize the target size.
+@param maxScale the largest factor a side may grow by (ResizeParams::maxScale).
+@throws cv::Exception (StsOutOfRange) naming the limit newSize breaks.
+*/
 CV_EXPORTS void checkResizeSize(Size imageSize, Size newSize, double maxScale = 8.0);
+
+//! @} multicage_resize
 
 }  // namespace multicage
 }  // namespace cv

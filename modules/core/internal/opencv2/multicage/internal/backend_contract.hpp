@@ -5,10 +5,9 @@
 #ifndef MULTICAGE_INTERNAL_BACKEND_CONTRACT_HPP
 #define MULTICAGE_INTERNAL_BACKEND_CONTRACT_HPP
 
-#include <opencv2/multicage/multicage.hpp>
-
 #include <array>
 #include <cmath>
+#include <opencv2/multicage/multicage.hpp>
 
 namespace cv {
 namespace multicage {
@@ -34,9 +33,10 @@ inline Size frameOutputSize(const Point2f* corners, Size imageSize) {
     auto near = [](float a, float b) { return std::abs(a - b) <= tol; };
     const float right = corners[1].x + 0.5f, bottom = corners[3].y + 0.5f;
     const int w = cvRound(right), h = cvRound(bottom);
-    const bool onFrame = near(corners[0].x, -0.5f) && near(corners[0].y, -0.5f) && near(corners[1].y, -0.5f) &&
-                         near(corners[3].x, -0.5f) && near(corners[2].x, corners[1].x) &&
-                         near(corners[2].y, corners[3].y) && near(right, float(w)) && near(bottom, float(h));
+    const bool onFrame = near(corners[0].x, -0.5f) && near(corners[0].y, -0.5f) &&
+                         near(corners[1].y, -0.5f) && near(corners[3].x, -0.5f) &&
+                         near(corners[2].x, corners[1].x) && near(corners[2].y, corners[3].y) &&
+                         near(right, float(w)) && near(bottom, float(h));
     return onFrame && w >= 1 && h >= 1 ? Size(w, h) : imageSize;
 }
 

@@ -3,7 +3,6 @@
 #define MULTICAGE_GEOMETRY_HPP
 
 #include <opencv2/core.hpp>
-
 #include <string>
 #include <vector>
 
@@ -15,7 +14,9 @@ using Polygon = std::vector<Point2f>;
 
 /** A = 1/2 sum(x_i y_{i+1} - x_{i+1} y_i); > 0 is clockwise on screen (y down). */
 double signedArea(const Polygon& polygon);
-inline bool isFinite(Point2f p) { return std::isfinite(p.x) && std::isfinite(p.y); }
+inline bool isFinite(Point2f p) {
+    return std::isfinite(p.x) && std::isfinite(p.y);
+}
 /** Sign of det(b - a, c - a): +1, 0 or -1. */
 int orientation(Point2d a, Point2d b, Point2d c);
 /** True when the closed segments share at least one point. */

@@ -3,7 +3,6 @@
 #define MULTICAGE_POINT_INPUT_HPP
 
 #include <opencv2/core.hpp>
-
 #include <vector>
 
 namespace cv {
