@@ -156,3 +156,24 @@ def test_cpp_block_compiles_as_written(tmp_path, page, number, line, code):
     r = subprocess.run(["g++", "-std=c++17", "-fsyntax-only", *includes, str(tmp_path / "block.cpp")],
                        capture_output=True, text=True, timeout=300)
     assert r.returncode == 0, f"{page}, block {number} (line {line}) does not compile as written:\n{source}\n{r.stderr[-3000:]}"
+
+
+def test_readme_first_run_runs_as_written(tmp_path):
+    """Issue 40 item 2: the README's first run of the command line, line by line, as written
+    (`multicage` being the tool built beside this module), in a folder where samples/ is the
+    repository's: every command exits 0 and writes what it names."""
+    cli = os.environ.get("MULTICAGE_CLI")
+    if not cli or not os.path.isfile(cli):
+        pytest.skip("MULTICAGE_CLI is not set to the built multicage tool")
+    text = (SOURCE_DIR / "README.md").read_text()
+    match = re.search(r"A first run.*?^```sh\n(.*?)^```", text, re.S | re.M)
+    assert match, "README.md has no 'A first run' block"
+    (tmp_path / "samples").symlink_to(SOURCE_DIR / "samples")
+    commands = [line.split("#")[0].strip() for line in match.group(1).splitlines() if line.strip()]
+    assert len(commands) >= 3 and all(c.startswith("multicage ") for c in commands), commands
+    for command in commands:
+        args = command.split()[1:]
+        r = subprocess.run([os.path.abspath(cli), *args], cwd=tmp_path, capture_output=True, text=True, timeout=600)
+        assert r.returncode == 0, f"`{command}` fails as written:\n{r.stderr}"
+        written = args[args.index("-o") + 1]
+        assert (tmp_path / written).is_file(), f"`{command}` did not write {written}"
