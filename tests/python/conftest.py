@@ -56,6 +56,20 @@ def butterfly_cage(butterfly_cage_path):
     return mc.Multicage.load(str(butterfly_cage_path))
 
 
+def box_mask(shape, box):
+    """A mask of `shape` with 255 on the pascal_voc box (pixel edges)."""
+    m = np.zeros(shape, np.uint8)
+    x0, y0, x1, y1 = (int(v) for v in box)
+    m[y0:y1, x0:x1] = 255
+    return m
+
+
+def mask_box(mask):
+    """The pascal_voc box (pixel edges) of a mask's non-zero pixels."""
+    ys, xs = np.nonzero(mask)
+    return np.array([xs.min(), ys.min(), xs.max() + 1, ys.max() + 1], np.float64)
+
+
 def square(x0, y0, x1, y1):
     """Corners of an axis-aligned rectangle, clockwise on screen."""
     return np.array([[x0, y0], [x1, y0], [x1, y1], [x0, y1]], np.float32)

@@ -7,26 +7,14 @@ import numpy as np
 import pytest
 
 import multicage as mc
-from conftest import SAMPLES, square
+from conftest import box_mask, mask_box, square
 
 FORMATS = ("pascal_voc", "coco", "yolo", "albumentations")
 
 
 @pytest.fixture()
-def cage():
-    return mc.Multicage.load(str(SAMPLES / "butterfly.yml"))
-
-
-def box_mask(shape, box):
-    m = np.zeros(shape, np.uint8)
-    x0, y0, x1, y1 = (int(v) for v in box)
-    m[y0:y1, x0:x1] = 255
-    return m
-
-
-def mask_box(mask):
-    ys, xs = np.nonzero(mask)
-    return np.array([xs.min(), ys.min(), xs.max() + 1, ys.max() + 1], np.float64)
+def cage(butterfly_cage):
+    return butterfly_cage
 
 
 # Conversions written out here, apart from the module's, so that a wrong one there shows.
