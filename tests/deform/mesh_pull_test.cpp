@@ -8,9 +8,9 @@
 #include <cstdlib>
 #include <cstring>
 #include <functional>
+#include <opencv2/multicage/internal/cpu_dispatch.hpp>
 
 #include "cpu_deformer.hpp"
-#include "cpu_level.hpp"
 #include "testing.hpp"
 
 using namespace cv;
@@ -378,8 +378,8 @@ TEST(MeshPull, TheFoldCheckFollowsItsRuleOnEveryKernel) {
     EXPECT_LT(folded, cases) << "and some none";
 }
 
-// MULTICAGE_CPU caps the kernels (cpu_level.hpp), so that a machine with AVX-512 runs and times
-// the AVX2 and portable ones end to end too: the deform tests run again under each cap
+// MULTICAGE_CPU caps the kernels (internal/cpu_dispatch.hpp), so that a machine with AVX-512 runs
+// and times the AVX2 and portable ones end to end too: the deform tests run again under each cap
 // (tests/deform/CMakeLists.txt, DeformKernels.*), and this checks the cap took hold there.
 TEST(CpuLevel, TheEnvironmentCapsTheKernels) {
     const char* cap = std::getenv("MULTICAGE_CPU");

@@ -1,14 +1,8 @@
-// Compiled for AVX-512, AVX2 and the baseline (GCC function multiversioning), with fused
-// multiply-add off: the baseline (SSE2) has none, and the draws must not depend on the CPU.
+// Compiled for AVX-512, AVX2 and the baseline (MULTICAGE_CPU_CLONES), with fused multiply-add
+// off: the baseline (SSE2) has none, and the draws must not depend on the CPU.
 #include "fan_sums.hpp"
 
-#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && \
-    !defined(__SANITIZE_ADDRESS__)
-#define MULTICAGE_FAN_CLONES \
-    __attribute__((target_clones("arch=x86-64-v4", "arch=x86-64-v3", "default")))
-#else
-#define MULTICAGE_FAN_CLONES
-#endif
+#include <opencv2/multicage/internal/cpu_dispatch.hpp>
 
 namespace cv {
 namespace multicage {
@@ -19,9 +13,10 @@ namespace multicage {
 #elif defined(__clang__)
 #pragma clang fp contract(off)
 #endif
-MULTICAGE_FAN_CLONES
-void accumulateFanSums(const double* const* rows, const double* dx, const double* dy, int moved,
-                       int count, double* __restrict sx, double* __restrict sy) {
+namespace {
+MULTICAGE_ALWAYS_INLINE void accumulateFanSumsKernel(const double* const* rows, const double* dx,
+                                                     const double* dy, int moved, int count,
+                                                     double* __restrict sx, double* __restrict sy) {
     int q = 0;
     // Four vertices per pass over the sums (each sum still adds its terms one at a time, in
     // vertex order).
@@ -47,6 +42,12 @@ void accumulateFanSums(const double* const* rows, const double* dx, const double
         for (int i = 0; i < count; ++i) sx[i] += c[i] * x0, sy[i] += c[i] * y0;
     }
 }
+}  // namespace
+
+MULTICAGE_CPU_CLONES(void, accumulateFanSums,
+                     (const double* const* rows, const double* dx, const double* dy, int moved,
+                      int count, double* __restrict sx, double* __restrict sy),
+                     (rows, dx, dy, moved, count, sx, sy))
 #if defined(__GNUC__) && !defined(__clang__)
 #pragma GCC pop_options
 #elif defined(__clang__)

@@ -17,15 +17,9 @@
 #include "local_regions.hpp"
 #include "mean_value.hpp"
 
-// The row kernel is compiled twice, for AVX2+FMA and for the baseline, and the loader picks
-// the one this CPU runs (GCC function multiversioning): 8 nodes per instruction where possible.
-#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && \
-    !defined(__SANITIZE_ADDRESS__)
-#define MULTICAGE_TARGET_CLONES \
-    __attribute__((target_clones("arch=x86-64-v4", "arch=x86-64-v3", "default")))
-#else
-#define MULTICAGE_TARGET_CLONES
-#endif
+// The row kernels are compiled for AVX-512, AVX2 and the baseline, and the CPU's level picks one
+// (MULTICAGE_CPU_CLONES): 8 or 16 nodes per instruction where possible.
+#include <opencv2/multicage/internal/cpu_dispatch.hpp>
 
 namespace cv {
 namespace multicage {
@@ -86,10 +80,11 @@ namespace {
 #elif defined(__clang__)
 #pragma clang fp contract(off)
 #endif
-MULTICAGE_TARGET_CLONES
-void accumulateDisplacements(const Mat& coefficients, const int* moved, const Point2f* delta,
-                             int count_q, size_t begin, int count, float* __restrict px,
-                             float* __restrict py) {
+MULTICAGE_ALWAYS_INLINE void accumulateDisplacementsKernel(const Mat& coefficients,
+                                                           const int* moved, const Point2f* delta,
+                                                           int count_q, size_t begin, int count,
+                                                           float* __restrict px,
+                                                           float* __restrict py) {
     int q = 0;
     for (; q + 4 <= count_q; q += 4) {
         const float* __restrict c0 = coefficients.ptr<float>(moved[q]) + begin;
@@ -113,6 +108,11 @@ void accumulateDisplacements(const Mat& coefficients, const int* moved, const Po
         for (int k = 0; k < count; ++k) px[k] += c[k] * dx, py[k] += c[k] * dy;
     }
 }
+
+MULTICAGE_CPU_CLONES(void, accumulateDisplacements,
+                     (const Mat& coefficients, const int* moved, const Point2f* delta, int count_q,
+                      size_t begin, int count, float* __restrict px, float* __restrict py),
+                     (coefficients, moved, delta, count_q, begin, count, px, py))
 #if defined(__GNUC__) && !defined(__clang__)
 #pragma GCC pop_options
 #elif defined(__clang__)
@@ -247,10 +247,10 @@ struct SumsAt {
 // out[i] receives vertex i's row; tbuf is n*m scratch.
 // keep (local mean value coordinates; nullptr: every node) is 0 at nodes whose region this
 // polygon does not bound: their weights are 0, and nothing of this polygon flags them.
-MULTICAGE_TARGET_CLONES
-void rawWeightsRow(const Point2f* v, int n, float sign, const float* xs, int m, float y,
-                   float* const* out, float* tbuf, int* nearSingular, const SumsAt& sums,
-                   const int* keep) {
+MULTICAGE_ALWAYS_INLINE void rawWeightsRowKernel(const Point2f* v, int n, float sign,
+                                                 const float* xs, int m, float y, float* const* out,
+                                                 float* tbuf, int* nearSingular, const SumsAt& sums,
+                                                 const int* keep) {
     for (int i = 0; i < n; ++i) {  // r_i, kept in the output row until pass 3
         const float vx = v[i].x, dy = v[i].y - y;
         float* r = out[i];
@@ -326,6 +326,12 @@ void rawWeightsRow(const Point2f* v, int n, float sign, const float* xs, int m, 
         }
 }
 
+MULTICAGE_CPU_CLONES(void, rawWeightsRow,
+                     (const Point2f* v, int n, float sign, const float* xs, int m, float y,
+                      float* const* out, float* tbuf, int* nearSingular, const SumsAt& sums,
+                      const int* keep),
+                     (v, n, sign, xs, m, y, out, tbuf, nearSingular, sums, keep))
+
 // Sums of the rest vertices' coordinates, for the Gram matrix of the linear-precision projection.
 struct VertexMoments {
     double n = 0, sx = 0, sy = 0, sxx = 0, sxy = 0, syy = 0;
@@ -380,10 +386,12 @@ inline void projectionTerms(const VertexMoments mo, double y, int m, const doubl
 // active (local mean value coordinates; nullptr: all) flags the vertices of the polygons that
 // bound the nodes' region: the projection spreads over those alone (M holds their moments), and
 // the others stay exactly 0.
-MULTICAGE_TARGET_CLONES
-void normalizeAndProject(float* const* out, int c, const Point2f* v, const VertexMoments& M,
-                         double y, int m, const SumsAt& s, int* nearSingular, double* kappa,
-                         float* inv, float* l0, float* l1, float* l2, const unsigned char* active) {
+MULTICAGE_ALWAYS_INLINE void normalizeAndProjectKernel(float* const* out, int c, const Point2f* v,
+                                                       const VertexMoments& M, double y, int m,
+                                                       const SumsAt& s, int* nearSingular,
+                                                       double* kappa, float* inv, float* l0,
+                                                       float* l1, float* l2,
+                                                       const unsigned char* active) {
     projectionTerms(M, y, m, s.xs, s.W, s.absW, s.sx, s.sy, nearSingular, kappa, inv, l0, l1, l2);
     for (int j = 0; j < c; ++j) {
         const float vx = v[j].x, dy = static_cast<float>(v[j].y - y);
@@ -398,6 +406,12 @@ void normalizeAndProject(float* const* out, int c, const Point2f* v, const Verte
         }
     }
 }
+
+MULTICAGE_CPU_CLONES(void, normalizeAndProject,
+                     (float* const* out, int c, const Point2f* v, const VertexMoments& M, double y,
+                      int m, const SumsAt& s, int* nearSingular, double* kappa, float* inv,
+                      float* l0, float* l1, float* l2, const unsigned char* active),
+                     (out, c, v, M, y, m, s, nearSingular, kappa, inv, l0, l1, l2, active))
 
 // Algorithm 1 for one node in double precision, with the exact vertex/edge policy.
 // Writes the c coefficients to cc and returns the conditioning |sum w| / sum |w|.

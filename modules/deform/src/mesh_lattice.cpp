@@ -10,9 +10,8 @@
 #include <atomic>
 #include <cmath>
 #include <opencv2/core/utility.hpp>
+#include <opencv2/multicage/internal/cpu_dispatch.hpp>
 #include <vector>
-
-#include "cpu_level.hpp"
 #if defined(__GNUC__) && defined(__x86_64__)
 #include <immintrin.h>
 #endif
@@ -87,9 +86,9 @@ void expandRow(const float* r, const float* d, const int* left, const float* wei
 // The same 8 pixels at a time: 8 neighbouring pixels lie in at most 8 lattice intervals (the
 // spacing is at least 1 px), so their values come from one load of 8 and a permutation in
 // registers (`local`: each pixel's interval less the first's), not from 8 loads.
-__attribute__((target("avx2"))) void expandRowAvx2(const float* r, const float* d, const int* left,
-                                                   const float* weight, const int* local, int W,
-                                                   float* out) {
+MULTICAGE_TARGET_X86_64_V3 void expandRowAvx2(const float* r, const float* d, const int* left,
+                                              const float* weight, const int* local, int W,
+                                              float* out) {
     int x = 0;
     for (; x + 8 <= W; x += 8) {
         const __m256i idx = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(local + x));

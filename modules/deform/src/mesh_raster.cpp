@@ -15,6 +15,7 @@
 #include <opencv2/core/utility.hpp>
 #include <opencv2/multicage/deformer.hpp>
 #include <opencv2/multicage/internal/apply_rows.hpp>
+#include <opencv2/multicage/internal/cpu_dispatch.hpp>
 
 #include "cpu_deformer.hpp"
 #include "mesh_lattice.hpp"
@@ -320,13 +321,6 @@ namespace {
 
 // AVX-512 too: eight doubles per instruction for the orientations (no fused multiply-add in
 // this file, and the products of floats are exact anyway: the same count on every clone).
-#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && \
-    !defined(__SANITIZE_ADDRESS__)
-#define MULTICAGE_FOLD_CLONES \
-    __attribute__((target_clones("arch=x86-64-v4", "arch=x86-64-v3", "default")))
-#else
-#define MULTICAGE_FOLD_CLONES
-#endif
 
 // The triangles of one row of cells (node rows p0/p1 deformed, r0/r1 rest) whose orientation
 // differs between the two meshes. The sign of cross(b - a, c - a): differences in float,
@@ -335,9 +329,8 @@ namespace {
 // row pair (kCellTriangles: triangle 0 from (0,0) to (1,0) and (0,1); triangle 1 from (1,0) to
 // (1,1) and (0,1)); they are formed in blocks of cells as planes of floats, so that the loop
 // over cells vectorises: a random pose is checked on every node of a mesh, once per drawn pose.
-MULTICAGE_FOLD_CLONES
-int foldedInRow(const Point2f* p0, const Point2f* p1, const Point2f* r0, const Point2f* r1,
-                int cells) {
+MULTICAGE_ALWAYS_INLINE int foldedInRowKernel(const Point2f* p0, const Point2f* p1,
+                                              const Point2f* r0, const Point2f* r1, int cells) {
     static_assert(kCellTriangles[0][0][0] == 0 && kCellTriangles[0][0][1] == 0 &&
                       kCellTriangles[0][1][0] == 1 && kCellTriangles[0][1][1] == 0 &&
                       kCellTriangles[0][2][0] == 0 && kCellTriangles[0][2][1] == 1 &&
@@ -373,6 +366,11 @@ int foldedInRow(const Point2f* p0, const Point2f* p1, const Point2f* r0, const P
     }
     return folded;
 }
+
+MULTICAGE_CPU_CLONES(int, foldedInRow,
+                     (const Point2f* p0, const Point2f* p1, const Point2f* r0, const Point2f* r1,
+                      int cells),
+                     (p0, p1, r0, r1, cells))
 
 }  // namespace
 

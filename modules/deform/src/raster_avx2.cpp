@@ -8,12 +8,14 @@
 #include "raster_options.hpp"
 // clang-format on
 
+#include <opencv2/multicage/internal/cpu_dispatch.hpp>
+
 #include "raster_kernels.hpp"
 
 #if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__)
 #include <immintrin.h>
 #define MULTICAGE_AVX2_RASTER 1
-#define MULTICAGE_V3 __attribute__((target("arch=x86-64-v3")))
+#define MULTICAGE_V3 MULTICAGE_TARGET_X86_64_V3
 #endif
 
 namespace cv {
@@ -33,10 +35,8 @@ namespace {
 // 8 at a time from their owner's affine map (looked up in registers). No branch depends on a
 // span's length. Every value is computed with the double operations of setUpTriangles,
 // triangleBounds, rowSpan and drawTriangle, in their order (no fused multiply-adds in this file),
-// so the bits are the baseline kernel's (tests/deform/raster_reference_test.cpp). A smooth
-// 512x512 mesh of grid step 4, one thread, on an AMD EPYC without AVX-512 (rasterizeMaps): 4.4-4.6
-// ms baseline, 3.2-3.3 ms here; it stays compute-bound (the pixel stage about half of it; storing
-// without reading the maps back, or 4 pixels per vector, made no difference).
+// so the bits are the baseline kernel's (tests/deform/raster_reference_test.cpp). Its timings
+// against the baseline: docs/cpu-kernels.md.
 
 constexpr int kCells = 4;        // cells per group: two triangles each, 8 triangles
 constexpr int kOwnedWidth = 32;  // the columns one byte vector of owners holds

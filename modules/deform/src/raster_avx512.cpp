@@ -7,6 +7,7 @@
 #include "raster_options.hpp"
 // clang-format on
 
+#include <opencv2/multicage/internal/cpu_dispatch.hpp>
 #include <vector>
 
 #include "raster_kernels.hpp"
@@ -18,7 +19,7 @@
 #pragma GCC diagnostic ignored "-Wuninitialized"
 #include <immintrin.h>
 #define MULTICAGE_AVX512_RASTER 1
-#define MULTICAGE_V4 __attribute__((target("arch=x86-64-v4")))
+#define MULTICAGE_V4 MULTICAGE_TARGET_X86_64_V4
 #endif
 
 namespace cv {

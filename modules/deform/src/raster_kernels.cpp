@@ -9,8 +9,7 @@
 #include "raster_kernels.hpp"
 
 #include <atomic>
-
-#include "cpu_level.hpp"
+#include <opencv2/multicage/internal/cpu_dispatch.hpp>
 
 namespace cv {
 namespace multicage {
@@ -18,16 +17,22 @@ namespace raster {
 
 namespace {
 
-MULTICAGE_TARGET_CLONES
-void drawCellRow(const Point2f* p0, const Point2f* p1, const Point2f* r0, const Point2f* r1,
-                 int cells, int y0, int y1, Point2f lo, Point2f hi, Mat& mapx, Mat& mapy,
-                 TriangleSetup& s) {
+MULTICAGE_ALWAYS_INLINE void drawCellRowKernel(const Point2f* p0, const Point2f* p1,
+                                               const Point2f* r0, const Point2f* r1, int cells,
+                                               int y0, int y1, Point2f lo, Point2f hi, Mat& mapx,
+                                               Mat& mapy, TriangleSetup& s) {
     for (int first = 0; first < cells; first += kRunCells) {
         const int n = std::min(kRunCells, cells - first);
         prepareRun(p0, p1, r0, r1, first, n, s);
         for (int t = 0; t < 2 * n; ++t) drawTriangle(s, t, y0, y1, lo, hi, mapx, mapy);
     }
 }
+
+MULTICAGE_CPU_CLONES(void, drawCellRow,
+                     (const Point2f* p0, const Point2f* p1, const Point2f* r0, const Point2f* r1,
+                      int cells, int y0, int y1, Point2f lo, Point2f hi, Mat& mapx, Mat& mapy,
+                      TriangleSetup& s),
+                     (p0, p1, r0, r1, cells, y0, y1, lo, hi, mapx, mapy, s))
 
 DrawCellRowFn bestKernel() {
     if (haveAvx512Kernel() && cpuHasX86_64_v4()) return drawCellRowAvx512;

@@ -15,15 +15,6 @@ namespace cv {
 namespace multicage {
 namespace raster {
 
-// Loops compiled twice, for AVX2 and for the baseline (GCC function multiversioning), without
-// fused multiply-adds: both give the same bits.
-#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && \
-    !defined(__SANITIZE_ADDRESS__)
-#define MULTICAGE_TARGET_CLONES __attribute__((target_clones("arch=x86-64-v3", "default")))
-#else
-#define MULTICAGE_TARGET_CLONES
-#endif
-
 // The triangles of a run of cells, two per cell ((a,b,c) then (b,d,c)), in drawing order.
 constexpr int kRunCells = 64, kRunTriangles = 2 * kRunCells;
 
