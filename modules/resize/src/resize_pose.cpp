@@ -155,8 +155,10 @@ void checkResizeSize(Size imageSize, Size newSize, double maxScale) {
                    int(std::floor(limitW)), int(std::floor(limitH))));
 }
 
-std::vector<Point2f> resizePose(const Multicage& cage, const Binding& binding, Size newSize,
-                                const ResizeParams& params) {
+namespace {
+
+void checkResizeInputs(const Multicage& cage, const Binding& binding, Size newSize,
+                       const ResizeParams& params) {
     const Size image = cage.imageSize();
     checkResizeSize(image, newSize, params.maxScale);
     std::string why;
@@ -165,15 +167,44 @@ std::vector<Point2f> resizePose(const Multicage& cage, const Binding& binding, S
                   ("multicage: resize: the multicage is not valid: %s", why.c_str()));
     if (binding.imageSize != image || binding.coefficientCount() != cage.vertexCount() + 4)
         CV_Error(Error::StsBadArg, "multicage: resize: the binding is not of this multicage");
+}
 
-    const Nesting nesting(cage);
-    std::vector<Similarity> outlines(cage.polygonCount());
+// The two poses a resize blends between, the similarity pose and the frame-scaling pose (vertex
+// for vertex), and what keeps inner polygons similarities while their outline blends.
+struct ResizeBlend {
+    Size image, newSize;
+    Nesting nesting;
+    std::vector<Similarity> outlines;  // per polygon: its similarity, at depth 1
+    std::vector<Point2f> rest, similar, scaled;
+    std::vector<int> owner;       // per vertex: the depth-2 polygon it moves with, -1: none
+    std::vector<Point2f> centre;  // per polygon: its centre, at depth 2
+    double startScale;            // stage 1's start scale of the inner polygons
+
+    ResizeBlend(const Multicage& cage, Size target);
+    std::vector<Point2f> operator()(double t, bool whole) const;
+    bool validStart(const Multicage& cage, bool whole, std::vector<Point2f>& start);
+
+  private:
+    void poseSimilarities(const Multicage& cage);
+    void moveFrameCorners();
+    void groupInnerPolygons(const Multicage& cage);
+};
+
+ResizeBlend::ResizeBlend(const Multicage& cage, Size target)
+    : image(cage.imageSize()), newSize(target), nesting(cage) {
+    outlines.resize(cage.polygonCount());
     for (int i = 0; i < cage.polygonCount(); ++i)
         if (nesting.depth[i] == 1) outlines[i] = outlineSimilarity(cage.polygon(i), image, newSize);
+    poseSimilarities(cage);
+    moveFrameCorners();
+    groupInnerPolygons(cage);
+    startScale =
+        std::min(double(newSize.width) / image.width, double(newSize.height) / image.height);
+}
 
-    // The similarity pose and the frame-scaling pose, vertex for vertex.
-    const std::vector<Point2f> rest = cage.vertices();
-    std::vector<Point2f> similar(rest.size()), scaled(rest.size());
+void ResizeBlend::poseSimilarities(const Multicage& cage) {
+    rest = cage.vertices();
+    similar.resize(rest.size()), scaled.resize(rest.size());
     for (size_t k = 0; k < rest.size(); ++k) scaled[k] = frameScaling(rest[k], image, newSize);
     const double tol = touchTolerance(image);
     for (int i = 0; i < cage.polygonCount(); ++i) {
@@ -191,17 +222,23 @@ std::vector<Point2f> resizePose(const Multicage& cage, const Binding& binding, S
             if (v <= tol || image.height - v <= tol) similar[k].x = scaled[k].x;
         }
     }
+}
+
+// Both poses put the frame's corners on the new frame's.
+void ResizeBlend::moveFrameCorners() {
     const std::array<Point2f, 4> frame = {{{-0.5f, -0.5f},
                                            {newSize.width - 0.5f, -0.5f},
                                            {newSize.width - 0.5f, newSize.height - 0.5f},
                                            {-0.5f, newSize.height - 0.5f}}};
     const size_t users = rest.size() - 4;
     for (int k = 0; k < 4; ++k) similar[users + k] = scaled[users + k] = frame[k];
+}
 
-    // Inner polygons' centres, for keeping them similarities while their outline blends: a
-    // depth-2 polygon and everything nested in it move as one (the eyes with their face).
-    std::vector<int> owner(rest.size(), -1);  // per vertex: the depth-2 polygon it moves with
-    std::vector<Point2f> centre(cage.polygonCount());
+// Inner polygons' centres, for keeping them similarities while their outline blends: a depth-2
+// polygon and everything nested in it move as one (the eyes with their face).
+void ResizeBlend::groupInnerPolygons(const Multicage& cage) {
+    owner.assign(rest.size(), -1);
+    centre.resize(cage.polygonCount());
     for (int i = 0; i < cage.polygonCount(); ++i) {
         if (nesting.depth[i] != 2) continue;
         const std::vector<Point2f> poly = cage.polygon(i);
@@ -214,30 +251,73 @@ std::vector<Point2f> resizePose(const Multicage& cage, const Binding& binding, S
         for (int k = 0; k < static_cast<int>(cage.polygon(i).size()); ++k)
             owner[cage.polygonOffset(i) + k] = nesting.group[i];
     }
-    // Stage 1 (t in [0, 1]): outlines go t of the way from the frame's scaling to their
-    // similarity; inner polygons stay similarities all the way, their centre carried from the
-    // frame's scaling of it to the outline's similarity of it, their scale from a start scale to
-    // the outline's. The start scale is the frame's smaller scale (a uniform copy at that scale
-    // fits inside the frame's scaling of a roughly convex, upright polygon, so inside the
-    // outline at t = 0), halved up to twice while the start still crosses something (a
-    // slanted polygon; smaller still, its inside would be too thin for the fold margin below). With
-    // local coordinates what they hold then keeps its shape exactly, whatever t the fold check
-    // allows. Stage 2 (whole = true): every vertex blends, inner ones included.
-    double startScale =
-        std::min(double(newSize.width) / image.width, double(newSize.height) / image.height);
-    auto blend = [&](double t, bool whole) {
-        std::vector<Point2f> pose(rest.size());
-        for (size_t k = 0; k < rest.size(); ++k) {
-            pose[k] = scaled[k] + float(t) * (similar[k] - scaled[k]);
-            const int i = owner[k];
-            if (i < 0 || whole) continue;
-            const Similarity& sim = outlines[nesting.outline[i]];
-            const Point2f c = frameScaling(centre[i], image, newSize), cs = sim(centre[i]);
-            const double s0 = std::min(sim.s, startScale), s = s0 + t * (sim.s - s0);
-            pose[k] = c + float(t) * (cs - c) + float(s) * (rest[k] - centre[i]);
-        }
-        return pose;
-    };
+}
+
+// Stage 1 (t in [0, 1]): outlines go t of the way from the frame's scaling to their similarity;
+// inner polygons stay similarities all the way, their centre carried from the frame's scaling of
+// it to the outline's similarity of it, their scale from a start scale to the outline's. The
+// start scale is the frame's smaller scale (a uniform copy at that scale fits inside the frame's
+// scaling of a roughly convex, upright polygon, so inside the outline at t = 0), halved up to
+// twice while the start still crosses something (a slanted polygon; smaller still, its inside
+// would be too thin for the fold margin of foldFreeBlend()). With local coordinates what they
+// hold then keeps its shape exactly, whatever t the fold check allows. Stage 2 (whole = true):
+// every vertex blends, inner ones included.
+std::vector<Point2f> ResizeBlend::operator()(double t, bool whole) const {
+    std::vector<Point2f> pose(rest.size());
+    for (size_t k = 0; k < rest.size(); ++k) {
+        pose[k] = scaled[k] + float(t) * (similar[k] - scaled[k]);
+        const int i = owner[k];
+        if (i < 0 || whole) continue;
+        const Similarity& sim = outlines[nesting.outline[i]];
+        const Point2f c = frameScaling(centre[i], image, newSize), cs = sim(centre[i]);
+        const double s0 = std::min(sim.s, startScale), s = s0 + t * (sim.s - s0);
+        pose[k] = c + float(t) * (cs - c) + float(s) * (rest[k] - centre[i]);
+    }
+    return pose;
+}
+
+// The stage's pose at t = 0 in start, and whether it is valid (stage 1 halves its start scale up
+// to twice until it is; stage 2's is the frame's scaling itself: always valid).
+bool ResizeBlend::validStart(const Multicage& cage, bool whole, std::vector<Point2f>& start) {
+    start = (*this)(0, whole);
+    bool startValid = whole || validGeometry(cage, start, newSize);
+    for (int halve = 0; !startValid && halve < 2; ++halve) {
+        startScale *= 0.5, start = (*this)(0, whole);
+        startValid = validGeometry(cage, start, newSize);
+    }
+    return startValid;
+}
+
+// Up to where the first triangle of the interpolated mesh p0 + t (p1 - p0) shrinks to a
+// twentieth of its area under the frame's scaling (0 when the start is already that thin):
+// deform() applies the pose itself, and its positions differ from the interpolated ones by float
+// rounding (thousandths of a pixel: sums of up to a hundred products of pixel coordinates), far
+// less than that margin can take, so the pose folds nothing without a confirming apply.
+double foldFreeBlend(const Binding& binding, const Mat& p0, const Mat& p1, Size image,
+                     Size newSize) {
+    const double thin = 0.05 * binding.gridStep * binding.gridStep *
+                        std::min(1.0, double(newSize.area()) / image.area());
+    return std::min(1.0, firstFold(p0, p1, thin));
+}
+
+// Polygons crossing at t = good: bisection to 1/256 below it (no mesh needed).
+double crossFreeBlend(const Multicage& cage, const ResizeBlend& blend, bool whole, double good) {
+    if (validGeometry(cage, blend(good, whole), blend.newSize)) return good;
+    double bad = good;
+    good = 0;
+    for (int it = 0; it < 8; ++it) {
+        const double t = 0.5 * (good + bad);
+        (validGeometry(cage, blend(t, whole), blend.newSize) ? good : bad) = t;
+    }
+    return good;
+}
+
+}  // namespace
+
+std::vector<Point2f> resizePose(const Multicage& cage, const Binding& binding, Size newSize,
+                                const ResizeParams& params) {
+    checkResizeInputs(cage, binding, newSize, params);
+    ResizeBlend blend(cage, newSize);
     // The mesh of the similarities (t = 1 of both stages). Node positions are linear in the
     // pose (Binding::apply), and the poses of a stage are affine in t, so the mesh at t is
     // P0 + t (P1 - P0): firstFold() finds where its first triangle folds in one pass. The
@@ -250,46 +330,25 @@ std::vector<Point2f> resizePose(const Multicage& cage, const Binding& binding, S
                 if (m->total() * m->elemSize() > (size_t(64) << 20)) m->release();
         }
     } releaseBig;
-    binding.apply(similar, p1);
-    const bool similarValid = validGeometry(cage, similar, newSize);
-    if (similarValid && foldedTriangles(p1) == 0) return similar;
+    binding.apply(blend.similar, p1);
+    const bool similarValid = validGeometry(cage, blend.similar, newSize);
+    if (similarValid && foldedTriangles(p1) == 0) return blend.similar;
     // Subjects that would cross, or a fold: the least blend towards the frame's scaling that is
     // valid, outlines first (what they protect keeps its shape), then everything (t = 0 of
     // stage 2 is the frame's scaling itself: always valid).
     for (bool whole : {false, true}) {
-        std::vector<Point2f> start = blend(0, whole);
-        bool startValid = whole || validGeometry(cage, start, newSize);
-        for (int halve = 0; !startValid && halve < 2; ++halve) {
-            startScale *= 0.5, start = blend(0, whole);
-            startValid = validGeometry(cage, start, newSize);
-        }
-        if (!startValid) continue;
+        std::vector<Point2f> start;
+        if (!blend.validStart(cage, whole, start)) continue;
         binding.apply(start, p0);
-        // Up to where the first triangle of the interpolated mesh shrinks to a twentieth of its
-        // area under the frame's scaling (0 when the start is already that thin): deform()
-        // applies the pose itself, and its positions differ from the interpolated ones by
-        // float rounding (thousandths of a pixel: sums of up to a hundred products of pixel
-        // coordinates), far less than that margin can take, so the pose folds nothing without
-        // a confirming apply.
-        const double thin = 0.05 * binding.gridStep * binding.gridStep *
-                            std::min(1.0, double(newSize.area()) / image.area());
-        double good = std::min(1.0, firstFold(p0, p1, thin));
+        double good = foldFreeBlend(binding, p0, p1, blend.image, newSize);
         if (!whole && good == 0) continue;
-        // Polygons crossing: bisection to 1/256 below that (no mesh needed).
-        if (!validGeometry(cage, blend(good, whole), newSize)) {
-            double bad = good;
-            good = 0;
-            for (int it = 0; it < 8; ++it) {
-                const double t = 0.5 * (good + bad);
-                (validGeometry(cage, blend(t, whole), newSize) ? good : bad) = t;
-            }
-        }
+        good = crossFreeBlend(cage, blend, whole, good);
         CV_LOG_INFO(nullptr, "multicage: resize: subjects would cross or the mesh fold; "
                                  << (whole ? "the pose" : "the outlines") << " go " << good
                                  << " of the way from the frame's scaling to the similarities");
         return blend(good, whole);
     }
-    return scaled;  // not reached: stage 2 at t = 0 is the frame's scaling
+    return blend.scaled;  // not reached: stage 2 at t = 0 is the frame's scaling
 }
 
 std::vector<Point2f> resizePose(const Multicage& cage, Size newSize, const ResizeParams& params) {
