@@ -102,107 +102,12 @@ class VertexFans {
   public:
     VertexFans() = default;
     VertexFans(const Multicage& cage, bool local) {
-        static const double radii[] = {0.3, 1.5, 3.0, 6.0};
-        constexpr int kDirections = 16, kRings = 4;
-        const Size size = cage.imageSize();
-        const std::vector<Point2f> vertices = cage.vertices();
-        const int users = cage.vertexCount();
         const VertexRoom room = vertexRoom(cage, polygonsOf(cage));
-        auto inside = [&](Point2d p) {
-            return p.x > -0.5 && p.y > -0.5 && p.x < size.width - 0.5 && p.y < size.height - 0.5;
-        };
-        for (int j = 0; j < users; ++j) {
-            const Point2d v(vertices[j]);
-            const int centre = static_cast<int>(points_.size());
-            points_.push_back(Point2f(v));
-            centres_.push_back(centre);
-            triangleStart_.push_back(static_cast<int>(triangles_.size()));
-            std::vector<int> index(kRings * kDirections, -1);
-            for (int r = 0; r < kRings; ++r)
-                for (int k = 0; k < kDirections; ++k) {
-                    // 22.5-degree steps; the irrational offset keeps the samples off the polygon
-                    // edges (where the exact-edge policy would apply).
-                    const double a = 2 * CV_PI * (k + 0.3183098861837907) / kDirections;
-                    const Point2d p = v + radii[r] * Point2d(std::cos(a), std::sin(a));
-                    if (!inside(p)) continue;
-                    index[r * kDirections + k] = static_cast<int>(points_.size());
-                    points_.push_back(Point2f(p));
-                }
-            for (int k = 0; k < kDirections; ++k) {
-                const int k1 = (k + 1) % kDirections;
-                addTriangle(centre, index[k], index[k1]);
-                for (int r = 0; r + 1 < kRings; ++r) {  // the quads between rings
-                    const int a = index[r * kDirections + k], b = index[r * kDirections + k1];
-                    const int c = index[(r + 1) * kDirections + k],
-                              d = index[(r + 1) * kDirections + k1];
-                    addTriangle(a, c, b), addTriangle(b, c, d);
-                }
-                // Wide sectors too: a mesh triangle with a corner on the vertex spans up to 90
-                // degrees there, and flips when the pose opens that sector past 180 degrees,
-                // though every narrow sector stays positive. Every 90-degree sector lies in one
-                // of these 112.5-degree ones, which must stay under 180 degrees. Only within half
-                // the distance to any other edge: beyond, a wide sector may reach across another
-                // polygon's edge, into a region that moves apart, and turn over with no fold.
-                for (int r = 0; r < kRings; ++r)
-                    if (radii[r] <= 0.5 * room.clearance[j])
-                        addTriangle(centre, index[r * kDirections + k],
-                                    index[r * kDirections + (k + 5) % kDirections]);
-            }
-        }
-        // Algorithm 1 at the sample points: every polygon's raw weights (signed as if oriented
-        // by the orientation rule), the frame's, all divided by their total.
-        const int count = static_cast<int>(points_.size()), c = users + 4;
-        Mat total(count, c, CV_64F, Scalar(0));
-        std::vector<std::pair<std::vector<Point2f>, int>> polygons;
-        for (int p = 0; p < cage.polygonCount(); ++p)
-            polygons.emplace_back(cage.polygon(p), cage.polygonOffset(p));
-        polygons.emplace_back(cage.frame(), users);
-        // Local coordinates: the region of each sample (the deepest polygon holding it, the
-        // frame's = polygonCount()) and each polygon's parent; polygon p is summed at a sample
-        // only where it bounds the sample's region (p is the region, or one of its children).
-        const int frameIndex = cage.polygonCount();
-        std::vector<int> region(count, frameIndex), parent(frameIndex, frameIndex);
-        if (local) {
-            const std::vector<geometry::Polygon> all = polygonsOf(cage);
-            const std::vector<int> depthOf = geometry::depths(all),
-                                   up = geometry::parents(all, depthOf);
-            for (int p = 0; p < frameIndex; ++p)
-                if (up[p] >= 0) parent[p] = up[p];
-            for (int i = 0; i < count; ++i)
-                for (int p = 0; p < frameIndex; ++p)
-                    if ((region[i] == frameIndex || depthOf[p] > depthOf[region[i]]) &&
-                        geometry::contains(cage.polygon(p), points_[i]))
-                        region[i] = p;
-        }
-        for (size_t p = 0; p < polygons.size(); ++p) {
-            double sign = 1;
-            if (static_cast<int>(p) < cage.polygonCount())
-                sign = (cage.signedArea(static_cast<int>(p)) > 0) ==
-                               (cage.depth(static_cast<int>(p)) % 2 == 0)
-                           ? 1
-                           : -1;
-            Mat w;
-            meanValueCoordinates(polygons[p].first, points_, w, false);
-            const int pi = static_cast<int>(p);
-            for (int i = 0; i < count; ++i) {
-                const bool bounds =
-                    !local || pi == region[i] || (pi != frameIndex && parent[pi] == region[i]);
-                if (!bounds) continue;
-                for (int k = 0; k < w.cols; ++k)
-                    total.at<double>(i, polygons[p].second + k) = sign * w.at<float>(i, k);
-            }
-        }
-        coefficients_.create(count, c, CV_64F);
-        for (int i = 0; i < count; ++i) {
-            const double sum = cv::sum(total.row(i))[0];
-            coefficients_.row(i) = total.row(i) * (1.0 / sum);
-        }
-        // The centre of each fan is the vertex itself: exactly its pose position.
-        for (int j = 0; j < users; ++j) {
-            coefficients_.row(centres_[j]).setTo(0);
-            coefficients_.at<double>(centres_[j], j) = 1;
-        }
-        byVertex_ = coefficients_.colRange(0, users).t();
+        const std::vector<Point2f> vertices = cage.vertices();
+        for (int j = 0; j < cage.vertexCount(); ++j)
+            addFan(Point2d(vertices[j]), room.clearance[j], cage.imageSize());
+        const Mat total = rawWeights(cage, local);
+        normalise(total, cage.vertexCount());
         restPoints_.assign(points_.begin(), points_.end());
         for (const Vec3i& t : triangles_) {
             const Point2d ra(points_[t[0]]), rb(points_[t[1]]), rc(points_[t[2]]);
@@ -251,8 +156,124 @@ class VertexFans {
     }
 
   private:
+    static constexpr int kDirections = 16, kRings = 4;
+
     void addTriangle(int a, int b, int c) {  // -1: a sample outside the frame
         if (a >= 0 && b >= 0 && c >= 0) triangles_.emplace_back(a, b, c);
+    }
+
+    /** The fan of the user vertex v: its centre, the ring samples inside the frame, and the
+    triangles between them; clearance: v's distance to the nearest edge not incident to it. */
+    void addFan(Point2d v, double clearance, Size size) {
+        static const double radii[] = {0.3, 1.5, 3.0, 6.0};
+        auto inside = [&](Point2d p) {
+            return p.x > -0.5 && p.y > -0.5 && p.x < size.width - 0.5 && p.y < size.height - 0.5;
+        };
+        const int centre = static_cast<int>(points_.size());
+        points_.push_back(Point2f(v));
+        centres_.push_back(centre);
+        triangleStart_.push_back(static_cast<int>(triangles_.size()));
+        std::vector<int> index(kRings * kDirections, -1);
+        for (int r = 0; r < kRings; ++r)
+            for (int k = 0; k < kDirections; ++k) {
+                // 22.5-degree steps; the irrational offset keeps the samples off the polygon
+                // edges (where the exact-edge policy would apply).
+                const double a = 2 * CV_PI * (k + 0.3183098861837907) / kDirections;
+                const Point2d p = v + radii[r] * Point2d(std::cos(a), std::sin(a));
+                if (!inside(p)) continue;
+                index[r * kDirections + k] = static_cast<int>(points_.size());
+                points_.push_back(Point2f(p));
+            }
+        for (int k = 0; k < kDirections; ++k) {
+            const int k1 = (k + 1) % kDirections;
+            addTriangle(centre, index[k], index[k1]);
+            for (int r = 0; r + 1 < kRings; ++r) {  // the quads between rings
+                const int a = index[r * kDirections + k], b = index[r * kDirections + k1];
+                const int c = index[(r + 1) * kDirections + k],
+                          d = index[(r + 1) * kDirections + k1];
+                addTriangle(a, c, b), addTriangle(b, c, d);
+            }
+            // Wide sectors too: a mesh triangle with a corner on the vertex spans up to 90
+            // degrees there, and flips when the pose opens that sector past 180 degrees, though
+            // every narrow sector stays positive. Every 90-degree sector lies in one of these
+            // 112.5-degree ones, which must stay under 180 degrees. Only within half the
+            // distance to any other edge: beyond, a wide sector may reach across another
+            // polygon's edge, into a region that moves apart, and turn over with no fold.
+            for (int r = 0; r < kRings; ++r)
+                if (radii[r] <= 0.5 * clearance)
+                    addTriangle(centre, index[r * kDirections + k],
+                                index[r * kDirections + (k + 5) % kDirections]);
+        }
+    }
+
+    /** Local coordinates: the region of each sample (the deepest polygon holding it, the
+    frame's = polygonCount()) and each polygon's parent (the frame's = polygonCount()). */
+    void sampleRegions(const Multicage& cage, std::vector<int>& region,
+                       std::vector<int>& parent) const {
+        const int frameIndex = cage.polygonCount(), count = static_cast<int>(points_.size());
+        const std::vector<geometry::Polygon> all = polygonsOf(cage);
+        const std::vector<int> depthOf = geometry::depths(all),
+                               up = geometry::parents(all, depthOf);
+        for (int p = 0; p < frameIndex; ++p)
+            if (up[p] >= 0) parent[p] = up[p];
+        for (int i = 0; i < count; ++i)
+            for (int p = 0; p < frameIndex; ++p)
+                if ((region[i] == frameIndex || depthOf[p] > depthOf[region[i]]) &&
+                    geometry::contains(cage.polygon(p), points_[i]))
+                    region[i] = p;
+    }
+
+    /** Algorithm 1 at the sample points, before the division by the total: every polygon's raw
+    weights (signed as if oriented by the orientation rule) and the frame's, samples x (users +
+    4). With local coordinates polygon p is summed at a sample only where it bounds the sample's
+    region (p is the region, or one of its children). */
+    Mat rawWeights(const Multicage& cage, bool local) const {
+        const int users = cage.vertexCount();
+        const int count = static_cast<int>(points_.size()), c = users + 4;
+        Mat total(count, c, CV_64F, Scalar(0));
+        std::vector<std::pair<std::vector<Point2f>, int>> polygons;
+        for (int p = 0; p < cage.polygonCount(); ++p)
+            polygons.emplace_back(cage.polygon(p), cage.polygonOffset(p));
+        polygons.emplace_back(cage.frame(), users);
+        const int frameIndex = cage.polygonCount();
+        std::vector<int> region(count, frameIndex), parent(frameIndex, frameIndex);
+        if (local) sampleRegions(cage, region, parent);
+        for (size_t p = 0; p < polygons.size(); ++p) {
+            double sign = 1;
+            if (static_cast<int>(p) < cage.polygonCount())
+                sign = (cage.signedArea(static_cast<int>(p)) > 0) ==
+                               (cage.depth(static_cast<int>(p)) % 2 == 0)
+                           ? 1
+                           : -1;
+            Mat w;
+            meanValueCoordinates(polygons[p].first, points_, w, false);
+            const int pi = static_cast<int>(p);
+            for (int i = 0; i < count; ++i) {
+                const bool bounds =
+                    !local || pi == region[i] || (pi != frameIndex && parent[pi] == region[i]);
+                if (!bounds) continue;
+                for (int k = 0; k < w.cols; ++k)
+                    total.at<double>(i, polygons[p].second + k) = sign * w.at<float>(i, k);
+            }
+        }
+        return total;
+    }
+
+    /** The cage coordinates of the samples: the raw weights divided by their total, each fan's
+    centre exactly its vertex. */
+    void normalise(const Mat& total, int users) {
+        const int count = total.rows;
+        coefficients_.create(count, total.cols, CV_64F);
+        for (int i = 0; i < count; ++i) {
+            const double sum = cv::sum(total.row(i))[0];
+            coefficients_.row(i) = total.row(i) * (1.0 / sum);
+        }
+        // The centre of each fan is the vertex itself: exactly its pose position.
+        for (int j = 0; j < users; ++j) {
+            coefficients_.row(centres_[j]).setTo(0);
+            coefficients_.at<double>(centres_[j], j) = 1;
+        }
+        byVertex_ = coefficients_.colRange(0, users).t();
     }
 
     struct FoldScratch {
