@@ -310,109 +310,128 @@ void runPropose(const ProposeOptions& options) {
         if (!cue.empty()) std::cerr << "multicage propose: note: " << cue << std::endl;
     }
 }
+
+// propose's help: the methods, the subject cues, what is protected, datasets, examples.
+std::string proposeHelp() {
+    return std::string() +
+           "Propose a multicage for IMAGE: find its objects, put one polygon around each (a "
+           "margin "
+           "away), nest polygons where objects sit inside others, and simplify them to a vertex "
+           "budget. The result is always valid: simple, disjoint polygons inside the image, "
+           "oriented by depth.\n"
+           "Methods: auto (threshold on a plain background, else grabcut), "
+           "threshold (Otsu on the "
+           "distance from the border colour), adaptive (local threshold, uneven light), grabcut "
+           "(from --rect, or from the image frame inward where that holds the salient part), "
+           "saliency (fine grained), spectral "
+           "(spectral residual saliency, coarse and fast), mask (IMAGE is a mask: non-zero is "
+           "object), labels (IMAGE is a label image: each label its own polygon).\n"
+           "With --method auto the subject of a photo comes from a learned subject model "
+           "(U^2-Net-P, docs/models.md) fused with the faces and GrabCut, when the model is "
+           "installed (--segmenter auto, when no other is given), else from the classic cues "
+           "alone; "
+           "--segmenter classic or model picks one. " +
+           subjectCueHelp() + "\n" +
+           "By default the result is a multicage: an outline around each object, plus inner "
+           "polygons "
+           "around the faces and salient features inside it (moving the outline then leaves them "
+           "almost rigid); --protect DETECTOR picks what is protected: all (the default: faces, "
+           "then textured salient features), faces (frontal and profile faces, OpenCV's Haar "
+           "cascades from the Debian package opencv-data), saliency (textured salient features "
+           "only); --no-protect gives the outlines only.\n"
+           "The cage file gets a pose named `rest` (every vertex at rest): edit it, or add poses, "
+           "and `multicage deform` applies them.\n"
+           "A dataset: several images or folders, and -o a folder: one cage per image, "
+           "OUT/STEM.yml (what MulticageWarp(cage_dir=OUT) reads), proposed in parallel; cages "
+           "already there are kept (an interrupted run resumes); an image that fails is named and "
+           "skipped, and the exit status is 1 once the others are written.\n"
+           "Examples:\n"
+           "  multicage propose photo.jpg -o cage.yml --overlay check.png\n"
+           "  multicage propose dataset/images/ -o dataset/cages/\n"
+           "  multicage propose photo.jpg -o cage.yml --method grabcut --rect 40 30 400 300\n"
+           "  multicage propose mask.png -o cage.yml --method mask --margin 12 --max-vertices 40\n"
+           "Then: multicage deform photo.jpg cage.yml -o out.png --pose NAME (or multicage-editor "
+           "photo.jpg "
+           "cage.yml to draw a pose).";
+}
+
+// What to read and write: IMAGE (or a dataset's images and folders), -o, a dataset's --jobs and
+// --overwrite, --overlay.
+void addProposeInputOptions(CLI::App* cmd, ProposeOptions& o) {
+    cmd->add_option("image", o.inputs,
+                    "Input image (or mask / label image with --method mask / labels); for a "
+                    "dataset, several images or folders (searched recursively)")
+        ->required();
+    cmd->add_option("-o,--output", o.output,
+                    "Cage file to write (.yml, .yaml or .json), written only on success; for a "
+                    "dataset, a folder (created if needed) that gets STEM.yml per image")
+        ->required();
+    cmd->add_option("-j,--jobs", o.jobs, "Dataset: images proposed at once (default: one per core)")
+        ->check(wholeNumber(1, 256));
+    cmd->add_flag("--overwrite", o.overwrite,
+                  "Dataset: propose again where a cage file exists (by default it is kept, so an "
+                  "interrupted run resumes where it stopped)");
+    cmd->add_option("--overlay", o.overlay,
+                    "Also write the image with the polygons drawn, coloured by depth");
+}
+
+// How objects are found and simplified: --method, the vertex and polygon budgets, --margin,
+// --min-area, --working-size, --rect.
+void addProposeShapeOptions(CLI::App* cmd, ProposeOptions& o) {
+    cmd->add_option("--method", o.method, "How objects are found (see above)")
+        ->capture_default_str()
+        ->check(CLI::IsMember({"auto", "threshold", "adaptive", "grabcut", "saliency", "spectral",
+                               "mask", "labels"}));
+    cmd->add_option("--max-vertices", o.maxVertices, "Vertex budget of the whole multicage")
+        ->capture_default_str()
+        ->check(CLI::Range(4, 100000));
+    cmd->add_option("--max-polygon-vertices", o.maxPolygonVertices, "Vertex budget of one polygon")
+        ->capture_default_str()
+        ->check(CLI::Range(4, 100000));
+    cmd->add_option("--max-polygons", o.maxPolygons,
+                    "At most this many polygons (the largest regions win)")
+        ->capture_default_str()
+        ->check(CLI::Range(1, 10000));
+    cmd->add_option("--max-depth", o.maxDepth, "Deepest nesting (1: no polygon inside another)")
+        ->capture_default_str()
+        ->check(CLI::Range(1, 100));
+    cmd->add_option(
+           "--margin", o.margin,
+           "Pixels between an object and its polygon (default: 1.2% of the image diagonal)")
+        ->check(CLI::Range(0.f, 10000.f));
+    cmd->add_option("--min-area", o.minArea,
+                    "Drop regions and holes smaller than this fraction of the image")
+        ->capture_default_str()
+        ->check(CLI::Range(0.0, 0.999));
+    cmd->add_option("--working-size", o.workingSize,
+                    "Segment a copy at most this many pixels wide or high (0: full size)")
+        ->capture_default_str()
+        ->check(CLI::Range(0, 100000));
+    cmd->add_option("--rect", o.rect, "GrabCut's starting rectangle: X Y WIDTH HEIGHT in pixels")
+        ->expected(4);
+}
+
+// What the inner polygons protect: --protect, --cascade-dir, --no-protect.
+void addProposeProtectOptions(CLI::App* cmd, ProposeOptions& o) {
+    cmd->add_option("--protect", o.protect,
+                    "What the inner polygons protect: all, faces or saliency (see above). On "
+                    "(all) by default except with --method mask or labels")
+        ->check(CLI::IsMember({"all", "faces", "saliency"}));
+    cmd->add_option("--cascade-dir", o.cascadeDir,
+                    "Folder of the Haar face cascades (default: /usr/share/opencv4/haarcascades, "
+                    "from the Debian package opencv-data)");
+    cmd->add_flag("--no-protect", o.noProtect,
+                  "Outlines only: one polygon per object, no inner polygons")
+        ->excludes("--protect");
+}
 }  // namespace
 
 void addProposeCommand(CLI::App& app) {
     auto o = std::make_shared<ProposeOptions>();
-    CLI::App* cmd = app.add_subcommand(
-        "propose",
-        std::string() +
-            "Propose a multicage for IMAGE: find its objects, put one polygon around each (a "
-            "margin "
-            "away), nest polygons where objects sit inside others, and simplify them to a vertex "
-            "budget. The result is always valid: simple, disjoint polygons inside the image, "
-            "oriented by depth.\n"
-            "Methods: auto (threshold on a plain background, else grabcut), "
-            "threshold (Otsu on the "
-            "distance from the border colour), adaptive (local threshold, uneven light), grabcut "
-            "(from --rect, or from the image frame inward where that holds the salient part), "
-            "saliency (fine grained), spectral "
-            "(spectral residual saliency, coarse and fast), mask (IMAGE is a mask: non-zero is "
-            "object), labels (IMAGE is a label image: each label its own polygon).\n"
-            "With --method auto the subject of a photo comes from a learned subject model "
-            "(U^2-Net-P, docs/models.md) fused with the faces and GrabCut, when the model is "
-            "installed (--segmenter auto, when no other is given), else from the classic cues "
-            "alone; "
-            "--segmenter classic or model picks one. " +
-            subjectCueHelp() + "\n" +
-            "By default the result is a multicage: an outline around each object, plus inner "
-            "polygons "
-            "around the faces and salient features inside it (moving the outline then leaves them "
-            "almost rigid); --protect DETECTOR picks what is protected: all (the default: faces, "
-            "then textured salient features), faces (frontal and profile faces, OpenCV's Haar "
-            "cascades from the Debian package opencv-data), saliency (textured salient features "
-            "only); --no-protect gives the outlines only.\n"
-            "The cage file gets a pose named `rest` (every vertex at rest): edit it, or add poses, "
-            "and `multicage deform` applies them.\n"
-            "A dataset: several images or folders, and -o a folder: one cage per image, "
-            "OUT/STEM.yml (what MulticageWarp(cage_dir=OUT) reads), proposed in parallel; cages "
-            "already there are kept (an interrupted run resumes); an image that fails is named and "
-            "skipped, and the exit status is 1 once the others are written.\n"
-            "Examples:\n"
-            "  multicage propose photo.jpg -o cage.yml --overlay check.png\n"
-            "  multicage propose dataset/images/ -o dataset/cages/\n"
-            "  multicage propose photo.jpg -o cage.yml --method grabcut --rect 40 30 400 300\n"
-            "  multicage propose mask.png -o cage.yml --method mask --margin 12 --max-vertices 40\n"
-            "Then: multicage deform photo.jpg cage.yml -o out.png --pose NAME (or multicage-editor "
-            "photo.jpg "
-            "cage.yml to draw a pose).");
-    cmd->add_option("image", o->inputs,
-                    "Input image (or mask / label image with --method mask / labels); for a "
-                    "dataset, several images or folders (searched recursively)")
-        ->required();
-    cmd->add_option("-o,--output", o->output,
-                    "Cage file to write (.yml, .yaml or .json), written only on success; for a "
-                    "dataset, a folder (created if needed) that gets STEM.yml per image")
-        ->required();
-    cmd->add_option("-j,--jobs", o->jobs,
-                    "Dataset: images proposed at once (default: one per core)")
-        ->check(wholeNumber(1, 256));
-    cmd->add_flag("--overwrite", o->overwrite,
-                  "Dataset: propose again where a cage file exists (by default it is kept, so an "
-                  "interrupted run resumes where it stopped)");
-    cmd->add_option("--overlay", o->overlay,
-                    "Also write the image with the polygons drawn, coloured by depth");
-    cmd->add_option("--method", o->method, "How objects are found (see above)")
-        ->capture_default_str()
-        ->check(CLI::IsMember({"auto", "threshold", "adaptive", "grabcut", "saliency", "spectral",
-                               "mask", "labels"}));
-    cmd->add_option("--max-vertices", o->maxVertices, "Vertex budget of the whole multicage")
-        ->capture_default_str()
-        ->check(CLI::Range(4, 100000));
-    cmd->add_option("--max-polygon-vertices", o->maxPolygonVertices, "Vertex budget of one polygon")
-        ->capture_default_str()
-        ->check(CLI::Range(4, 100000));
-    cmd->add_option("--max-polygons", o->maxPolygons,
-                    "At most this many polygons (the largest regions win)")
-        ->capture_default_str()
-        ->check(CLI::Range(1, 10000));
-    cmd->add_option("--max-depth", o->maxDepth, "Deepest nesting (1: no polygon inside another)")
-        ->capture_default_str()
-        ->check(CLI::Range(1, 100));
-    cmd->add_option(
-           "--margin", o->margin,
-           "Pixels between an object and its polygon (default: 1.2% of the image diagonal)")
-        ->check(CLI::Range(0.f, 10000.f));
-    cmd->add_option("--min-area", o->minArea,
-                    "Drop regions and holes smaller than this fraction of the image")
-        ->capture_default_str()
-        ->check(CLI::Range(0.0, 0.999));
-    cmd->add_option("--working-size", o->workingSize,
-                    "Segment a copy at most this many pixels wide or high (0: full size)")
-        ->capture_default_str()
-        ->check(CLI::Range(0, 100000));
-    cmd->add_option("--rect", o->rect, "GrabCut's starting rectangle: X Y WIDTH HEIGHT in pixels")
-        ->expected(4);
-    cmd->add_option("--protect", o->protect,
-                    "What the inner polygons protect: all, faces or saliency (see above). On "
-                    "(all) by default except with --method mask or labels")
-        ->check(CLI::IsMember({"all", "faces", "saliency"}));
-    cmd->add_option("--cascade-dir", o->cascadeDir,
-                    "Folder of the Haar face cascades (default: /usr/share/opencv4/haarcascades, "
-                    "from the Debian package opencv-data)");
-    cmd->add_flag("--no-protect", o->noProtect,
-                  "Outlines only: one polygon per object, no inner polygons")
-        ->excludes("--protect");
+    CLI::App* cmd = app.add_subcommand("propose", proposeHelp());
+    addProposeInputOptions(cmd, *o);
+    addProposeShapeOptions(cmd, *o);
+    addProposeProtectOptions(cmd, *o);
     addSegmenterOptions(cmd, o->segmenter);
     cmd->callback([o] { runPropose(*o); });
 }
