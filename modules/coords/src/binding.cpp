@@ -498,6 +498,128 @@ struct LocalBinding {
     }
 };
 
+// Binds rows of nodes with mean value coordinates (Algorithm 1 a row at a time, the linear-
+// precision projection, the exact redo of near-singular nodes), with one thread's scratch; it
+// keeps the worst-conditioned node it bound.
+class RowBinder {
+  public:
+    // The row in chunks of nodes small enough that every pass over a chunk (distances,
+    // half-angle tangents, weights and sums, normalisation) stays in the L1/L2 cache. Each
+    // node's arithmetic is the same whatever the chunk.
+    static constexpr int kChunk = 256;
+
+    double worst = 2.0;  // the least conditioning |W| / sum |w_j| bound so far, and where
+    Point2f worstAt;
+
+    // local: nullptr for (global) mean value coordinates; maxN: the most vertices of a polygon.
+    RowBinder(Binding& b, const std::vector<BoundPolygon>& polygons, const VertexMoments& moments,
+              const LocalBinding* local, int maxN)
+        : b_(b),
+          polygons_(polygons),
+          moments_(moments),
+          local_(local),
+          c_(b.coefficientCount()),
+          m_(b.gridSize.width),
+          xs_(m_),
+          tbuf_(static_cast<size_t>(maxN) * kChunk),
+          inv_(kChunk),
+          l0_(kChunk),
+          l1_(kChunk),
+          l2_(kChunk),
+          kappa_(m_),
+          sums_(m_),
+          nearSingular_(m_),
+          region_(local ? m_ : 0),
+          keep_(local ? kChunk : 0),
+          runOut_(local ? c_ : 0),
+          out_(c_),
+          chunkOut_(c_),
+          exact_(c_) {
+        for (int gx = 0; gx < m_; ++gx) xs_[gx] = b.node(gx, 0).x, sums_.xs[gx] = xs_[gx];
+    }
+
+    void bindRow(int gy) {
+        const double y = b_.node(0, gy).y;
+        for (int j = 0; j < c_; ++j)
+            out_[j] = b_.coefficients.ptr<float>(j) + static_cast<size_t>(gy) * m_;
+        std::fill(nearSingular_.begin(), nearSingular_.end(), 0);
+        sums_.clear();
+        if (local_) local_->regions->regionsOfRow(xs_.data(), m_, y, region_.data());
+        for (int k0 = 0; k0 < m_; k0 += kChunk) {
+            const int K = std::min(kChunk, m_ - k0);
+            for (int j = 0; j < c_; ++j) chunkOut_[j] = out_[j] + k0;
+            const SumsAt at(sums_, k0);
+            rawWeights(k0, K, y, at);
+            if (local_)
+                projectRegionRuns(k0, K, y);
+            else
+                normalizeAndProject(chunkOut_.data(), c_, b_.restVertices.data(), moments_, y, K,
+                                    at, nearSingular_.data() + k0, kappa_.data() + k0, inv_.data(),
+                                    l0_.data(), l1_.data(), l2_.data(), nullptr);
+        }
+        redoNearSingular(y);
+    }
+
+  private:
+    // Every polygon's raw weights at nodes [k0, k0 + K), into chunkOut_ and the row's sums.
+    void rawWeights(int k0, int K, double y, const SumsAt& at) {
+        for (size_t q = 0; q < polygons_.size(); ++q) {
+            const BoundPolygon& p = polygons_[q];
+            if (local_) {  // a polygon bounding no region of this chunk adds nothing
+                int any = 0;
+                for (int k = 0; k < K; ++k)
+                    any |= keep_[k] = local_->regions->bounds(static_cast<int>(q), region_[k0 + k]);
+                if (!any) continue;  // its weights here: zeroed by the projection
+            }
+            rawWeightsRow(p.v.data(), static_cast<int>(p.v.size()), p.sign, xs_.data() + k0, K,
+                          float(y), chunkOut_.data() + p.first, tbuf_.data(),
+                          nearSingular_.data() + k0, at, local_ ? keep_.data() : nullptr);
+        }
+    }
+
+    // Local coordinates: each run of nodes of one region is projected onto that region's
+    // vertices.
+    void projectRegionRuns(int k0, int K, double y) {
+        for (int a = 0; a < K;) {
+            const int r = region_[k0 + a];
+            int e = a + 1;
+            while (e < K && region_[k0 + e] == r) ++e;
+            for (int j = 0; j < c_; ++j) runOut_[j] = chunkOut_[j] + a;
+            normalizeAndProject(
+                runOut_.data(), c_, b_.restVertices.data(), local_->regionMoments[r], y, e - a,
+                SumsAt(sums_, k0 + a), nearSingular_.data() + k0 + a, kappa_.data() + k0 + a,
+                inv_.data(), l0_.data(), l1_.data(), l2_.data(), local_->activeVertices[r].data());
+            a = e;
+        }
+    }
+
+    // The row's near-singular nodes again, exactly (bindNodeExact); the worst conditioning.
+    void redoNearSingular(double y) {
+        for (int k = 0; k < m_; ++k) {
+            if (nearSingular_[k]) {
+                kappa_[k] = bindNodeExact(
+                    polygons_, Point2d(xs_[k], y), exact_.data(), c_,
+                    local_ ? local_->boundingPolygons[region_[k]] : std::vector<bool>());
+                for (int j = 0; j < c_; ++j) out_[j][k] = static_cast<float>(exact_[j]);
+            }
+            if (kappa_[k] < worst) worst = kappa_[k], worstAt = Point2f(xs_[k], float(y));
+        }
+    }
+
+    Binding& b_;
+    const std::vector<BoundPolygon>& polygons_;
+    const VertexMoments& moments_;
+    const LocalBinding* local_;
+    const int c_, m_;  // coefficients, nodes of a row
+    std::vector<float> xs_, tbuf_, inv_, l0_, l1_, l2_;
+    std::vector<double> kappa_;
+    RowSums sums_;
+    std::vector<int> nearSingular_;  // int, not uchar: the AVX2 kernel needs no packing
+    std::vector<int> region_, keep_;
+    std::vector<float*> runOut_, out_, chunkOut_;
+    std::vector<double> exact_;
+};
+
 }  // namespace
 
 Binding bind(const Multicage& multicage, int coordinates, int gridStep) {
@@ -510,93 +632,24 @@ Binding bind(const Multicage& multicage, int coordinates, int gridStep) {
         CV_Error_(Error::StsOutOfRange, ("multicage: unknown coordinate type %d", coordinates));
     const bool local = coordinates == LOCAL_MEAN_VALUE;
     Binding b = emptyBinding(multicage, coordinates, gridStep);
-    const int c = b.coefficientCount(), m = b.gridSize.width, N = b.nodeCount();
+    const int c = b.coefficientCount(), N = b.nodeCount();
 
     int maxN = 4;
     const std::vector<BoundPolygon> polygons = boundPolygons(multicage, c, &maxN);
     const VertexMoments moments(b.restVertices);
     std::unique_ptr<LocalBinding> localBinding;
     if (local) localBinding.reset(new LocalBinding(multicage, polygons, c));
-    const LocalRegions* regions = local ? localBinding->regions.get() : nullptr;
     b.coefficients.create(c, N, CV_32F);
     adviseHugePages(b.coefficients);
     std::mutex worstLock;
     double worst = 2.0;
-    constexpr int kChunk = 256;
     Point2f worstAt;
     parallel_for_(Range(0, b.gridSize.height), [&](const Range& rows) {
-        std::vector<float> xs(m), tbuf(static_cast<size_t>(maxN) * kChunk), inv(kChunk), l0(kChunk),
-            l1(kChunk), l2(kChunk);
-        std::vector<double> kappa(m);
-        RowSums sums(m);
-        std::vector<int> nearSingular(m);  // int, not uchar: the AVX2 kernel needs no packing
-        std::vector<int> region(local ? m : 0), keep(local ? kChunk : 0);
-        std::vector<float*> runOut(local ? c : 0);
-        std::vector<float*> out(c), chunkOut(c);
-        std::vector<double> exact(c);
-        double localWorst = 2.0;
-        Point2f localAt;
-        for (int gx = 0; gx < m; ++gx) xs[gx] = b.node(gx, 0).x, sums.xs[gx] = xs[gx];
-        for (int gy = rows.start; gy < rows.end; ++gy) {
-            const double y = b.node(0, gy).y;
-            for (int j = 0; j < c; ++j)
-                out[j] = b.coefficients.ptr<float>(j) + static_cast<size_t>(gy) * m;
-            std::fill(nearSingular.begin(), nearSingular.end(), 0);
-            sums.clear();
-            if (local) regions->regionsOfRow(xs.data(), m, y, region.data());
-            // The row in chunks of nodes small enough that every pass over a chunk (distances,
-            // half-angle tangents, weights and sums, normalisation) stays in the L1/L2 cache.
-            // Each node's arithmetic is the same whatever the chunk.
-            for (int k0 = 0; k0 < m; k0 += kChunk) {
-                const int K = std::min(kChunk, m - k0);
-                for (int j = 0; j < c; ++j) chunkOut[j] = out[j] + k0;
-                const SumsAt at(sums, k0);
-                for (size_t q = 0; q < polygons.size(); ++q) {
-                    const BoundPolygon& p = polygons[q];
-                    if (local) {  // a polygon bounding no region of this chunk adds nothing
-                        int any = 0;
-                        for (int k = 0; k < K; ++k)
-                            any |= keep[k] = regions->bounds(static_cast<int>(q), region[k0 + k]);
-                        if (!any) continue;  // its weights here: zeroed below
-                    }
-                    rawWeightsRow(p.v.data(), static_cast<int>(p.v.size()), p.sign, xs.data() + k0,
-                                  K, float(y), chunkOut.data() + p.first, tbuf.data(),
-                                  nearSingular.data() + k0, at, local ? keep.data() : nullptr);
-                }
-                if (!local) {
-                    normalizeAndProject(chunkOut.data(), c, b.restVertices.data(), moments, y, K,
-                                        at, nearSingular.data() + k0, kappa.data() + k0, inv.data(),
-                                        l0.data(), l1.data(), l2.data(), nullptr);
-                    continue;
-                }
-                // Each run of nodes of one region is projected onto that region's vertices.
-                for (int a = 0; a < K;) {
-                    const int r = region[k0 + a];
-                    int e = a + 1;
-                    while (e < K && region[k0 + e] == r) ++e;
-                    for (int j = 0; j < c; ++j) runOut[j] = chunkOut[j] + a;
-                    normalizeAndProject(runOut.data(), c, b.restVertices.data(),
-                                        localBinding->regionMoments[r], y, e - a,
-                                        SumsAt(sums, k0 + a), nearSingular.data() + k0 + a,
-                                        kappa.data() + k0 + a, inv.data(), l0.data(), l1.data(),
-                                        l2.data(), localBinding->activeVertices[r].data());
-                    a = e;
-                }
-            }
-            for (int k = 0; k < m; ++k) {
-                if (nearSingular[k]) {
-                    kappa[k] = bindNodeExact(
-                        polygons, Point2d(xs[k], y), exact.data(), c,
-                        local ? localBinding->boundingPolygons[region[k]] : std::vector<bool>());
-                    for (int j = 0; j < c; ++j) out[j][k] = static_cast<float>(exact[j]);
-                }
-                if (kappa[k] < localWorst)
-                    localWorst = kappa[k], localAt = Point2f(xs[k], float(y));
-            }
-        }
+        RowBinder binder(b, polygons, moments, localBinding.get(), maxN);
+        for (int gy = rows.start; gy < rows.end; ++gy) binder.bindRow(gy);
         std::lock_guard<std::mutex> lock(worstLock);
-        if (localWorst < worst || (localWorst == worst && (localAt.y < worstAt.y)))
-            worst = localWorst, worstAt = localAt;
+        if (binder.worst < worst || (binder.worst == worst && (binder.worstAt.y < worstAt.y)))
+            worst = binder.worst, worstAt = binder.worstAt;
     });
     b.minConditioning = std::min(worst, 1.0);
     b.worstNode = worstAt;
