@@ -226,6 +226,201 @@ bool mapsAreSane(const Mat& mapx, const Mat& mapy, Size size) {
     return true;
 }
 
+/** What the bytes pick before the Deformer exists: the image, the multicage, the parameters and
+the pose (in this order of bytes). */
+struct FuzzCase {
+    Size imageSize;
+    int type = 0;
+    Mat image;
+    Multicage cage;
+    DeformParams params;
+    std::vector<Point2f> pose;
+};
+
+Mat randomImage(Size size, int type) {
+    Mat image(size, type);
+    randu(image, Scalar::all(0), Scalar::all(type == CV_32FC1 || type == CV_32FC4 ? 1 : 255));
+    return image;
+}
+
+FuzzCase makeCase(Bytes& in) {
+    FuzzCase c;
+    // Up to 40x40 (was 64x64: 2.6 times the pixels for no other kind of input; issue 22).
+    c.imageSize = Size(1 + in.next() % 40, 1 + in.next() % 40);
+    static const int types[] = {CV_8UC1,  CV_8UC3, CV_8UC4, CV_16UC1, CV_16UC3, CV_32FC1,
+                                CV_32FC4, CV_8UC3, CV_8UC1, CV_8UC3,  CV_64FC1, CV_8UC2};
+    const uint8_t typeByte = in.next();
+    c.type = types[typeByte % 12];
+    c.image = randomImage(c.imageSize, c.type);
+    c.cage = makeCage(in, c.imageSize);
+    DeformParams& params = c.params;
+    params.backend = BACKEND_CPU;
+    params.coordinates = in.next() % 8 == 0 ? HARMONIC : MEAN_VALUE;
+    params.gridStep = 1 + in.next() % 4;
+    // A harmonic binding factorises a sparse system of one unknown per node: at most ~12x12
+    // nodes here (a coarser grid on larger images), else it takes most of the fuzzing time.
+    if (params.coordinates == HARMONIC)
+        params.gridStep =
+            std::max(params.gridStep, (std::max(c.imageSize.width, c.imageSize.height) + 11) / 12);
+    const uint8_t budget = in.next();
+    if (budget < 16) {  // tiny budgets: raise the grid step, or refuse
+        params.memoryBudget = size_t(budget) * 1024;
+        params.autoGridStep = budget & 1;
+    }
+    c.pose = makePose(in, c.cage);
+    return c;
+}
+
+/** deform, computeMaps and foldedTriangles at the fuzzed pose: false when the pose is refused
+with a message, a finding when an output breaks the contract. */
+bool deformsWithinContract(Deformer& d, const FuzzCase& c) {
+    try {
+        Mat out, mapx, mapy;
+        d.deform(c.pose, out);
+        if (out.size() != c.image.size() || out.type() != c.image.type())
+            finding("output of another size or type");
+        d.computeMaps(c.pose, mapx, mapy);
+        if (!mapsAreSane(mapx, mapy, c.imageSize))
+            finding("a map entry is neither uncovered nor in the image");
+        if (d.foldedTriangles(c.pose) < 0) finding("negative fold-over count");
+    } catch (const cv::Exception&) {
+        return false;  // a bad pose (count, NaN, infinity) refused with a message
+    }
+    return true;
+}
+
+/** At rest every point stays, up to rounding. Checked up to 1e6 px: far beyond that the
+frame's bilinear map (expanded, with u*v terms ~ (p/W)(p/H)) cancels and loses relative
+precision (a point at 3e20 moved by 8e15 px, 2.5e-5 of it). */
+void checkPointsStayAtRest(const std::vector<Point2f>& given, const std::vector<Point2f>& out) {
+    for (size_t i = 0; i < out.size(); ++i) {
+        const Point2f p = given[i], q = out[i];
+        if (!finite(std::vector<Point2f>{p}, 1e6f)) continue;
+        const float tolerance = 1e-3f + 1e-6f * std::max(std::abs(p.x), std::abs(p.y));
+        if (!(std::abs(q.x - p.x) <= tolerance && std::abs(q.y - p.y) <= tolerance)) {
+            std::fprintf(stderr, "(%g, %g) landed at (%g, %g)\n", p.x, p.y, q.x, q.y);
+            finding("at the rest pose transformPoints moved a point");
+        }
+    }
+}
+
+/** transformPoints, at the fuzzed pose and at rest. */
+void checkTransformPoints(Bytes& in, Deformer& d, const Multicage& cage,
+                          const std::vector<Point2f>& pose, const std::vector<Point2f>& rest) {
+    std::vector<Point2f> given;
+    const std::vector<Point2f> points = makePoints(in, cage);
+    const Mat array = pointsArray(in.next(), points, given);
+    const bool pointsFinite = finite(given);
+    for (int atRest = 0; atRest < 2; ++atRest) {
+        Mat landed;
+        try {
+            if (atRest)
+                d.transformPoints(rest, array, landed);
+            else
+                d.transformPoints(pose, array, landed);
+        } catch (const cv::Exception& e) {
+            if (!pointsFinite) continue;
+            std::fprintf(stderr, "%s\n", e.what());
+            finding("transformPoints refused finite points at a pose deform() accepted");
+        }
+        if (!pointsFinite) finding("transformPoints took a point that is not finite");
+        if (landed.total() != given.size() || (!given.empty() && landed.type() != CV_32FC2))
+            finding("transformPoints gave another number of points or not CV_32FC2");
+        if (given.empty()) continue;
+        const std::vector<Point2f> out(landed.begin<Point2f>(), landed.end<Point2f>());
+        if (finite(given, 1e6f) && finite(pose, 1e6f) && !finite(out))
+            finding("transformPoints gave a non-finite point for finite moderate input");
+        if (atRest) checkPointsStayAtRest(given, out);
+    }
+}
+
+/** A pose randomPose gave: within the amplitude, valid, folding nothing of the Deformer's mesh. */
+void checkDrawnPose(Deformer& d, const Multicage& cage, const std::vector<Point2f>& rest,
+                    const std::vector<Point2f>& drawn, double amplitude) {
+    if (static_cast<int>(drawn.size()) != cage.vertexCount())
+        finding("randomPose gave another vertex count");
+    for (int j = 0; j < cage.vertexCount(); ++j)
+        if (!(norm(drawn[j] - rest[j]) <= amplitude * (1 + 1e-5) + 1e-3))
+            finding("randomPose moved a vertex beyond the amplitude");
+    std::string why;
+    if (!validatePose(cage, drawn, &why)) {
+        std::fprintf(stderr, "%s\n", why.c_str());
+        finding("randomPose gave a pose validatePose() refuses");
+    }
+    if (d.foldedTriangles(drawn) != 0)
+        finding("randomPose gave a pose that folds the Deformer's mesh");
+}
+
+/** randomPose on the Deformer's binding; the pose it drew (empty when it refused). */
+std::vector<Point2f> checkRandomPose(Bytes& in, Deformer& d, const Multicage& cage,
+                                     const std::vector<Point2f>& rest) {
+    const Binding& binding = d.binding();
+    std::vector<Point2f> drawn;
+    static const double amplitudes[] = {0.0, 0.5, 2.0, 8.0, 40.0, 1e6, -1.0, NAN, INFINITY, 3.0};
+    const double amplitude = amplitudes[in.next() % 10];
+    RNG rng(1 + in.next() * 257u + in.next());
+    RandomPoseParams rp;
+    rp.attempts = 1 + in.next() % 4;
+    rp.scaleDowns = in.next() % 4;
+    const bool cageMatchesBinding =
+        cage.imageSize() == binding.imageSize && rest == cage.vertices();
+    const bool mayRefuse = !(amplitude >= 0 && std::isfinite(amplitude)) ||
+                           !cage.validateGeometry() || !cageMatchesBinding;
+    try {
+        drawn = randomPose(cage, binding, amplitude, rng, rp);
+    } catch (const cv::Exception& e) {
+        if (!mayRefuse) {
+            std::fprintf(stderr, "%s\n", e.what());
+            finding("randomPose refused a valid multicage and amplitude");
+        }
+    }
+    if (!drawn.empty()) {
+        if (mayRefuse && !cageMatchesBinding)
+            finding("randomPose took a binding of another multicage");
+        checkDrawnPose(d, cage, rest, drawn, amplitude);
+    }
+    return drawn;
+}
+
+/** deformBatch: the same bits as deform() one at a time; own is the Deformer's deform() of
+the fuzzed pose before the batch. */
+void checkDeformBatch(Bytes& in, Deformer& d, const FuzzCase& c, const std::vector<Point2f>& rest,
+                      const std::vector<Point2f>& drawn, const Mat& own) {
+    std::vector<std::vector<Point2f>> poses = {
+        c.pose, std::vector<Point2f>(rest.begin(), rest.begin() + c.cage.vertexCount())};
+    if (!drawn.empty()) poses.push_back(drawn);
+    const int n = static_cast<int>(poses.size());
+    const uint8_t mode = in.next() % 4;
+    std::vector<Mat> images;
+    if (mode >= 1) {  // one image per pose; 2: the last of another size; 3: one too few
+        for (int k = 0; k < n; ++k) images.push_back(randomImage(c.imageSize, c.type));
+        if (mode == 2)
+            images.back() = Mat(c.imageSize.height + 1, c.imageSize.width, c.type, Scalar::all(1));
+        if (mode == 3) images.pop_back();
+    }
+    std::vector<Mat> outs;
+    try {
+        d.deformBatch(poses, outs, images);
+    } catch (const cv::Exception& e) {
+        if (mode <= 1) {
+            std::fprintf(stderr, "%s\n", e.what());
+            finding("deformBatch refused poses deform() accepted");
+        }
+        return;
+    }
+    if (mode >= 2) finding("deformBatch took images of another size, or another number of them");
+    if (static_cast<int>(outs.size()) != n) finding("deformBatch gave another number of images");
+    Mat again;
+    d.deform(c.pose, again);
+    if (!sameMat(again, own)) finding("deformBatch changed the Deformer's own image");
+    for (int k = 0; k < n; ++k) {
+        if (mode == 1) d.setImage(images[k]);
+        Mat one;
+        d.deform(poses[k], one);
+        if (!sameMat(one, outs[k])) finding("deformBatch differs from deform() one at a time");
+    }
+}
+
 }  // namespace
 
 extern "C" int LLVMFuzzerInitialize(int*, char***) {
@@ -236,177 +431,21 @@ extern "C" int LLVMFuzzerInitialize(int*, char***) {
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     if (size > 1024) return -1;
     Bytes in{data, size};
-    // Up to 40x40 (was 64x64: 2.6 times the pixels for no other kind of input; issue 22).
-    const Size imageSize(1 + in.next() % 40, 1 + in.next() % 40);
-    static const int types[] = {CV_8UC1,  CV_8UC3, CV_8UC4, CV_16UC1, CV_16UC3, CV_32FC1,
-                                CV_32FC4, CV_8UC3, CV_8UC1, CV_8UC3,  CV_64FC1, CV_8UC2};
-    const uint8_t typeByte = in.next();
-    const int type = types[typeByte % 12];
-    Mat image(imageSize, type);
-    randu(image, Scalar::all(0), Scalar::all(type == CV_32FC1 || type == CV_32FC4 ? 1 : 255));
-    const Multicage cage = makeCage(in, imageSize);
-    DeformParams params;
-    params.backend = BACKEND_CPU;
-    params.coordinates = in.next() % 8 == 0 ? HARMONIC : MEAN_VALUE;
-    params.gridStep = 1 + in.next() % 4;
-    // A harmonic binding factorises a sparse system of one unknown per node: at most ~12x12
-    // nodes here (a coarser grid on larger images), else it takes most of the fuzzing time.
-    if (params.coordinates == HARMONIC)
-        params.gridStep =
-            std::max(params.gridStep, (std::max(imageSize.width, imageSize.height) + 11) / 12);
-    const uint8_t budget = in.next();
-    if (budget < 16) {  // tiny budgets: raise the grid step, or refuse
-        params.memoryBudget = size_t(budget) * 1024;
-        params.autoGridStep = budget & 1;
-    }
-    const std::vector<Point2f> pose = makePose(in, cage);
-
+    const FuzzCase c = makeCase(in);
     Ptr<Deformer> d;
     try {
-        d = Deformer::create(image, cage, params);
+        d = Deformer::create(c.image, c.cage, c.params);
     } catch (const cv::Exception&) {
         return 0;  // invalid multicage, unsupported image, over budget: refused with a message
     }
     if (d->backend() != BACKEND_CPU) finding("BACKEND_CPU gave another backend");
-    try {
-        Mat out, mapx, mapy;
-        d->deform(pose, out);
-        if (out.size() != image.size() || out.type() != image.type())
-            finding("output of another size or type");
-        d->computeMaps(pose, mapx, mapy);
-        if (!mapsAreSane(mapx, mapy, imageSize))
-            finding("a map entry is neither uncovered nor in the image");
-        if (d->foldedTriangles(pose) < 0) finding("negative fold-over count");
-    } catch (const cv::Exception&) {
-        return 0;  // a bad pose (count, NaN, infinity) refused with a message
-    }
+    if (!deformsWithinContract(*d, c)) return 0;
     Mat own;
-    d->deform(pose, own);
+    d->deform(c.pose, own);
     const Binding& binding = d->binding();
     const std::vector<Point2f> rest(binding.restVertices.begin(), binding.restVertices.end());
-
-    // transformPoints, at the fuzzed pose and at rest.
-    {
-        std::vector<Point2f> given;
-        const std::vector<Point2f> points = makePoints(in, cage);
-        const Mat array = pointsArray(in.next(), points, given);
-        const bool pointsFinite = finite(given);
-        for (int atRest = 0; atRest < 2; ++atRest) {
-            Mat landed;
-            try {
-                if (atRest)
-                    d->transformPoints(rest, array, landed);
-                else
-                    d->transformPoints(pose, array, landed);
-            } catch (const cv::Exception& e) {
-                if (!pointsFinite) continue;
-                std::fprintf(stderr, "%s\n", e.what());
-                finding("transformPoints refused finite points at a pose deform() accepted");
-            }
-            if (!pointsFinite) finding("transformPoints took a point that is not finite");
-            if (landed.total() != given.size() || (!given.empty() && landed.type() != CV_32FC2))
-                finding("transformPoints gave another number of points or not CV_32FC2");
-            if (given.empty()) continue;
-            const std::vector<Point2f> out(landed.begin<Point2f>(), landed.end<Point2f>());
-            if (finite(given, 1e6f) && finite(pose, 1e6f) && !finite(out))
-                finding("transformPoints gave a non-finite point for finite moderate input");
-            // At rest every point stays, up to rounding. Checked up to 1e6 px: far beyond that the
-            // frame's bilinear map (expanded, with u*v terms ~ (p/W)(p/H)) cancels and loses
-            // relative precision (a point at 3e20 moved by 8e15 px, 2.5e-5 of it).
-            for (size_t i = 0; atRest && i < out.size(); ++i) {
-                const Point2f p = given[i], q = out[i];
-                if (!finite(std::vector<Point2f>{p}, 1e6f)) continue;
-                const float tolerance = 1e-3f + 1e-6f * std::max(std::abs(p.x), std::abs(p.y));
-                if (!(std::abs(q.x - p.x) <= tolerance && std::abs(q.y - p.y) <= tolerance)) {
-                    std::fprintf(stderr, "(%g, %g) landed at (%g, %g)\n", p.x, p.y, q.x, q.y);
-                    finding("at the rest pose transformPoints moved a point");
-                }
-            }
-        }
-    }
-
-    // randomPose on the Deformer's binding.
-    std::vector<Point2f> drawn;
-    {
-        static const double amplitudes[] = {0.0, 0.5,  2.0, 8.0,      40.0,
-                                            1e6, -1.0, NAN, INFINITY, 3.0};
-        const double amplitude = amplitudes[in.next() % 10];
-        RNG rng(1 + in.next() * 257u + in.next());
-        RandomPoseParams rp;
-        rp.attempts = 1 + in.next() % 4;
-        rp.scaleDowns = in.next() % 4;
-        const bool cageMatchesBinding =
-            cage.imageSize() == binding.imageSize && rest == cage.vertices();
-        const bool mayRefuse = !(amplitude >= 0 && std::isfinite(amplitude)) ||
-                               !cage.validateGeometry() || !cageMatchesBinding;
-        try {
-            drawn = randomPose(cage, binding, amplitude, rng, rp);
-        } catch (const cv::Exception& e) {
-            if (!mayRefuse) {
-                std::fprintf(stderr, "%s\n", e.what());
-                finding("randomPose refused a valid multicage and amplitude");
-            }
-        }
-        if (!drawn.empty()) {
-            if (mayRefuse && !cageMatchesBinding)
-                finding("randomPose took a binding of another multicage");
-            if (static_cast<int>(drawn.size()) != cage.vertexCount())
-                finding("randomPose gave another vertex count");
-            for (int j = 0; j < cage.vertexCount(); ++j)
-                if (!(norm(drawn[j] - rest[j]) <= amplitude * (1 + 1e-5) + 1e-3))
-                    finding("randomPose moved a vertex beyond the amplitude");
-            std::string why;
-            if (!validatePose(cage, drawn, &why)) {
-                std::fprintf(stderr, "%s\n", why.c_str());
-                finding("randomPose gave a pose validatePose() refuses");
-            }
-            if (d->foldedTriangles(drawn) != 0)
-                finding("randomPose gave a pose that folds the Deformer's mesh");
-        }
-    }
-
-    // deformBatch: the same bits as deform() one at a time.
-    {
-        std::vector<std::vector<Point2f>> poses = {
-            pose, std::vector<Point2f>(rest.begin(), rest.begin() + cage.vertexCount())};
-        if (!drawn.empty()) poses.push_back(drawn);
-        const int n = static_cast<int>(poses.size());
-        const uint8_t mode = in.next() % 4;
-        std::vector<Mat> images;
-        if (mode >= 1) {
-            for (int k = 0; k < n; ++k) {
-                Mat other(imageSize, type);
-                randu(other, Scalar::all(0),
-                      Scalar::all(type == CV_32FC1 || type == CV_32FC4 ? 1 : 255));
-                images.push_back(other);
-            }
-            if (mode == 2)
-                images.back() = Mat(imageSize.height + 1, imageSize.width, type, Scalar::all(1));
-            if (mode == 3) images.pop_back();
-        }
-        std::vector<Mat> outs;
-        try {
-            d->deformBatch(poses, outs, images);
-        } catch (const cv::Exception& e) {
-            if (mode <= 1) {
-                std::fprintf(stderr, "%s\n", e.what());
-                finding("deformBatch refused poses deform() accepted");
-            }
-            return 0;
-        }
-        if (mode >= 2)
-            finding("deformBatch took images of another size, or another number of them");
-        if (static_cast<int>(outs.size()) != n)
-            finding("deformBatch gave another number of images");
-        Mat again;
-        d->deform(pose, again);
-        if (!sameMat(again, own)) finding("deformBatch changed the Deformer's own image");
-        for (int k = 0; k < n; ++k) {
-            if (mode == 1) d->setImage(images[k]);
-            Mat one;
-            d->deform(poses[k], one);
-            if (!sameMat(one, outs[k])) finding("deformBatch differs from deform() one at a time");
-        }
-    }
+    checkTransformPoints(in, *d, c.cage, c.pose, rest);
+    const std::vector<Point2f> drawn = checkRandomPose(in, *d, c.cage, rest);
+    checkDeformBatch(in, *d, c, rest, drawn, own);
     return 0;
 }
