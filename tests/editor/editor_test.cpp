@@ -204,54 +204,46 @@ TEST(EditorScript, RejectsUnknownCommandsAndBadArgumentsWithTheLine) {
 
 // ------------------------------------------------------------------ the window, scripted
 
-TEST(EditorWindow, ScriptedSessionUnderXvfb) {
-    const std::string xvfb = MULTICAGE_XVFB_RUN;
-    ASSERT_FALSE(xvfb.empty())
-        << "xvfb-run was not found at configure time: install xvfb and xauth "
-           "(.ci/deps.sh) and reconfigure; the editor test needs a display";
-    const std::string dir = multicage_testing::tempDir("editor_script");
-    const Mat image = texturedImage(Size(493, 356));
-    const Multicage cage = twoOctagons();
-    ASSERT_TRUE(imwrite(dir + "/in.png", image));
-    cage.save(dir + "/cage.yml");
-    const std::vector<Point2f> rest0 = cage.vertices();
+namespace {
 
-    std::ofstream(dir + "/script.txt") << "load " << dir << "/in.png " << dir << "/cage.yml\n"
-                                       << "wait 2\n"
-                                          "drag 5 4 0\n"  // rest edit
-                                          "mode pose\n"
-                                          "drag 0 30 -20\n"  // pose edit
-                                          "wait 3\n"
-                                       << "screenshot " << dir << "/pose.png\n"
-                                       << "show-cage 0\nwait 2\n"
-                                       << "screenshot " << dir << "/nocage.png\n"
-                                       << "show-cage 1\n"
-                                          "add-pose bent\n"
-                                       << "save " << dir << "/out.yml\n"
-                                       << "export " << dir << "/mvc.png\n"
-                                       << "status " << dir << "/status.txt\n"
-                                       << "mode rest\n"
-                                          "drag 0 240 100\n"  // into polygon 1: crossing
-                                          "wait 2\n"
-                                       << "screenshot " << dir << "/invalid.png\n"
-                                       << "status " << dir << "/status_invalid.txt\n"
-                                       << "export " << dir << "/invalid_export.png\n"
-                                       << "undo\n"
-                                          "mode pose\n"
-                                          "coords harmonic\n"
-                                          "export-grid-step 2\n"
-                                          "wait 2\n"
-                                       << "export " << dir << "/harmonic.png\n"
-                                       << "quit\n";
-    const std::string cmd = "MESA_SHADER_CACHE_DIR='" MULTICAGE_SHADER_CACHE "' '" + xvfb +
-                            "' -a -s '-screen 0 1280x800x24' '" MULTICAGE_EDITOR "' --script '" +
-                            dir + "/script.txt' > '" + dir + "/log.txt' 2>&1";
-    const int rc = std::system(cmd.c_str());
-    const std::string log = readText(dir + "/log.txt");
-    ASSERT_EQ(rc, 0) << cmd << "\n" << log;
+// The scripted session: a rest edit (vertex 5 by (4, 0)) and a pose edit (vertex 0 by
+// (30, -20)), screenshots with and without the cage, the pose saved as "bent" and exported,
+// then a crossing rest edit (invalid: screenshot, status, export), undone, and a harmonic export.
+std::string sessionScript(const std::string& dir) {
+    std::ostringstream s;
+    s << "load " << dir << "/in.png " << dir << "/cage.yml\n"
+      << "wait 2\n"
+         "drag 5 4 0\n"  // rest edit
+         "mode pose\n"
+         "drag 0 30 -20\n"  // pose edit
+         "wait 3\n"
+      << "screenshot " << dir << "/pose.png\n"
+      << "show-cage 0\nwait 2\n"
+      << "screenshot " << dir << "/nocage.png\n"
+      << "show-cage 1\n"
+         "add-pose bent\n"
+      << "save " << dir << "/out.yml\n"
+      << "export " << dir << "/mvc.png\n"
+      << "status " << dir << "/status.txt\n"
+      << "mode rest\n"
+         "drag 0 240 100\n"  // into polygon 1: crossing
+         "wait 2\n"
+      << "screenshot " << dir << "/invalid.png\n"
+      << "status " << dir << "/status_invalid.txt\n"
+      << "export " << dir << "/invalid_export.png\n"
+      << "undo\n"
+         "mode pose\n"
+         "coords harmonic\n"
+         "export-grid-step 2\n"
+         "wait 2\n"
+      << "export " << dir << "/harmonic.png\n"
+      << "quit\n";
+    return s.str();
+}
 
-    // The screenshot shows the image and the cage: not blank, vertex handles (pure yellow,
-    // drawn only with the overlay) present, and far fewer without the overlay.
+// The screenshot shows the image and the cage: not blank, vertex handles (pure yellow, drawn
+// only with the overlay) present, and far fewer without the overlay.
+void expectScreenshotShowsTheCage(const std::string& dir, const std::string& log) {
     const Mat pose = imread(dir + "/pose.png"), nocage = imread(dir + "/nocage.png");
     ASSERT_FALSE(pose.empty()) << log;
     ASSERT_FALSE(nocage.empty()) << log;
@@ -264,8 +256,11 @@ TEST(EditorWindow, ScriptedSessionUnderXvfb) {
     std::printf("handle-coloured pixels: %d with the cage, %d without\n", handles, handlesHidden);
     EXPECT_GT(handles, 16 * 30);  // 16 vertices, 8x8 px each
     EXPECT_GT(handles, 4 * handlesHidden + 100);
-    // An invalid edit is drawn in red, with the reason in the status.
-    const Mat invalid = imread(dir + "/invalid.png");
+}
+
+// An invalid edit is drawn in red, with the reason in the status.
+void expectInvalidEditInRedWithReason(const std::string& dir) {
+    const Mat pose = imread(dir + "/pose.png"), invalid = imread(dir + "/invalid.png");
     ASSERT_FALSE(invalid.empty());
     const int red = countColour(invalid, Vec3b(40, 40, 255), 30),
               redBefore = countColour(pose, Vec3b(40, 40, 255), 30);
@@ -276,30 +271,32 @@ TEST(EditorWindow, ScriptedSessionUnderXvfb) {
     EXPECT_NE(statusInvalid.find("rest_valid: 0"), std::string::npos) << statusInvalid;
     EXPECT_EQ(statusInvalid.find("rest_reason: \n"), std::string::npos) << statusInvalid;
     EXPECT_NE(readText(dir + "/status.txt").find("rest_valid: 1"), std::string::npos);
+}
 
-    // The saved cage round-trips: rest with the rest edit, the pose "bent" with the pose edit.
+// The saved cage round-trips: rest with the rest edit, the pose "bent" with the pose edit.
+void expectSavedCageHoldsTheEdits(const std::string& dir, const std::vector<Point2f>& expectedRest,
+                                  const std::vector<Point2f>& expectedPose) {
     const Multicage saved = Multicage::load(dir + "/out.yml");
     ASSERT_EQ(saved.polygonCount(), 2);
-    std::vector<Point2f> expectedRest(rest0.begin(), rest0.begin() + 16);
-    expectedRest[5] += Point2f(4, 0);
     const std::vector<Point2f> savedRest = saved.vertices();
     for (int i = 0; i < 16; ++i)
         EXPECT_NEAR(norm(savedRest[i] - expectedRest[i]), 0, 1e-3) << "vertex " << i;
     const int bent = saved.findPose("bent");
     ASSERT_GE(bent, 0);
-    std::vector<Point2f> expectedPose = expectedRest;
-    expectedPose[0] += Point2f(30, -20);
     for (int i = 0; i < 16; ++i)
         EXPECT_NEAR(norm(saved.pose(bent).vertices[i] - expectedPose[i]), 0, 1e-3)
             << "pose vertex " << i;
     EXPECT_TRUE(saved.validate());
+}
 
-    // The export is the library's deformation of the saved pose: it moved near the dragged
-    // vertex, and agrees with a CPU Deformer reference everywhere.
+// The export is the library's deformation of the saved pose: it moved near the dragged vertex,
+// and agrees with a CPU Deformer reference everywhere. While the rest was invalid, export kept
+// the last valid binding and pose.
+void expectExportIsTheLibrarysDeformation(const std::string& dir, const Mat& image,
+                                          const std::vector<Point2f>& expectedPose, Rect near) {
+    const Multicage saved = Multicage::load(dir + "/out.yml");
     const Mat mvc = imread(dir + "/mvc.png");
     ASSERT_EQ(mvc.size(), image.size());
-    const Point2f v0 = expectedPose[0];
-    const Rect near(cvRound(v0.x) - 15, cvRound(v0.y) + 5, 30, 30);
     EXPECT_GT(meanAbsDiff(mvc, image, near), 20.0)
         << "the image did not move near the dragged vertex";
     DeformParams cpu;
@@ -309,13 +306,15 @@ TEST(EditorWindow, ScriptedSessionUnderXvfb) {
     const double agreement = multicage_testing::psnr(mvc, reference);
     std::printf("export vs CPU reference: PSNR %.1f dB\n", agreement);
     EXPECT_GT(agreement, 35.0);
-    // While the rest was invalid, export kept the last valid binding and pose.
     const Mat invalidExport = imread(dir + "/invalid_export.png");
     ASSERT_EQ(invalidExport.size(), image.size());
     EXPECT_EQ(norm(invalidExport, mvc, NORM_INF), 0.0);
+}
 
-    // Harmonic coordinates: the inside of polygon 1 depends only on polygon 1, which did not
-    // move, so it equals the input exactly; near the dragged vertex it moved.
+// Harmonic coordinates: the inside of polygon 1 depends only on polygon 1, which did not move,
+// so it equals the input exactly; near the dragged vertex it moved.
+void expectHarmonicExportKeepsTheUnmovedPolygon(const std::string& dir, const Mat& image,
+                                                Rect near) {
     const Mat harmonic = imread(dir + "/harmonic.png");
     ASSERT_EQ(harmonic.size(), image.size());
     const Rect inside1(362 - 50, 178 - 50, 100, 100);
@@ -325,6 +324,41 @@ TEST(EditorWindow, ScriptedSessionUnderXvfb) {
     minMaxLoc(d.reshape(1), nullptr, &maxDiff);
     EXPECT_LE(maxDiff, 1.0) << "pixels inside the unmoved polygon changed";
     EXPECT_GT(meanAbsDiff(harmonic, image, near), 20.0);
+}
+
+}  // namespace
+
+TEST(EditorWindow, ScriptedSessionUnderXvfb) {
+    const std::string xvfb = MULTICAGE_XVFB_RUN;
+    ASSERT_FALSE(xvfb.empty())
+        << "xvfb-run was not found at configure time: install xvfb and xauth "
+           "(.ci/deps.sh) and reconfigure; the editor test needs a display";
+    const std::string dir = multicage_testing::tempDir("editor_script");
+    const Mat image = texturedImage(Size(493, 356));
+    const Multicage cage = twoOctagons();
+    ASSERT_TRUE(imwrite(dir + "/in.png", image));
+    cage.save(dir + "/cage.yml");
+    const std::vector<Point2f> rest0 = cage.vertices();
+
+    std::ofstream(dir + "/script.txt") << sessionScript(dir);
+    const std::string cmd = "MESA_SHADER_CACHE_DIR='" MULTICAGE_SHADER_CACHE "' '" + xvfb +
+                            "' -a -s '-screen 0 1280x800x24' '" MULTICAGE_EDITOR "' --script '" +
+                            dir + "/script.txt' > '" + dir + "/log.txt' 2>&1";
+    const int rc = std::system(cmd.c_str());
+    const std::string log = readText(dir + "/log.txt");
+    ASSERT_EQ(rc, 0) << cmd << "\n" << log;
+
+    ASSERT_NO_FATAL_FAILURE(expectScreenshotShowsTheCage(dir, log));
+    ASSERT_NO_FATAL_FAILURE(expectInvalidEditInRedWithReason(dir));
+    std::vector<Point2f> expectedRest(rest0.begin(), rest0.begin() + 16);
+    expectedRest[5] += Point2f(4, 0);
+    std::vector<Point2f> expectedPose = expectedRest;
+    expectedPose[0] += Point2f(30, -20);
+    ASSERT_NO_FATAL_FAILURE(expectSavedCageHoldsTheEdits(dir, expectedRest, expectedPose));
+    const Point2f v0 = expectedPose[0];
+    const Rect near(cvRound(v0.x) - 15, cvRound(v0.y) + 5, 30, 30);
+    ASSERT_NO_FATAL_FAILURE(expectExportIsTheLibrarysDeformation(dir, image, expectedPose, near));
+    expectHarmonicExportKeepsTheUnmovedPolygon(dir, image, near);
 }
 
 namespace {
