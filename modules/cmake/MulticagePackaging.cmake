@@ -26,8 +26,13 @@ set(CPACK_DEBIAN_ENABLE_COMPONENT_DEPENDS ON)
 set(CPACK_DEBIAN_LIBRARY_PACKAGE_NAME libmulticage-dev)
 # The public headers include OpenCV's; GPU work needs Mesa's EGL (a GPU's own driver, or
 # llvmpipe), faces OpenCV's cascades: without them the CPU and the classic cues are used.
+# A build with MULTICAGE_WITH_GPU=OFF uses no EGL at all.
 set(CPACK_DEBIAN_LIBRARY_PACKAGE_DEPENDS "libopencv-dev")
-set(CPACK_DEBIAN_LIBRARY_PACKAGE_RECOMMENDS "libegl-mesa0, libgl1-mesa-dri, opencv-data")
+if(MULTICAGE_WITH_GPU)
+    set(CPACK_DEBIAN_LIBRARY_PACKAGE_RECOMMENDS "libegl-mesa0, libgl1-mesa-dri, opencv-data")
+else()
+    set(CPACK_DEBIAN_LIBRARY_PACKAGE_RECOMMENDS "opencv-data")
+endif()
 set(CPACK_COMPONENT_LIBRARY_DESCRIPTION "the multicage library, headers and CMake package")
 
 set(CPACK_DEBIAN_TOOLS_PACKAGE_NAME multicage-tools)

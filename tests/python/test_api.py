@@ -2,6 +2,7 @@
 images as cv2 gives them (every dtype and channel count, views and crops), propose."""
 
 import copy
+import re
 
 import cv2
 import numpy as np
@@ -192,6 +193,9 @@ def test_gpu_available_and_auto_backend_agree_with_auto(butterfly, butterfly_cag
         assert auto == "cpu", "auto skips software OpenGL: the CPU backend is faster there"
     if available:
         assert mc.Deformer(butterfly, butterfly_cage, grid_step=8, backend="gpu").backend == "gpu"
+    else:  # backend='gpu' fails with the reason gpu_available() gives (MULTICAGE_WITH_GPU=OFF too)
+        with pytest.raises(mc.Error, match="BACKEND_GPU requested but " + re.escape(description)):
+            mc.Deformer(butterfly, butterfly_cage, grid_step=8, backend="gpu")
     # The docs say the same.
     assert "auto_backend()" in mc.gpu_available.__doc__ and "software" in mc.gpu_available.__doc__
     assert "gpu_available()" in mc.auto_backend.__doc__

@@ -1,6 +1,12 @@
 /** @file
 @brief The GPU deformation for callers that own an OpenGL context (an editor, a game engine),
 and GPU binding (paper §4). All EGL/OpenGL code of the library lives in modules/gpu.
+
+A library configured with `-DMULTICAGE_WITH_GPU=OFF` has no EGL or OpenGL at all, and the
+same API: gpuAvailable() is false with the reason "built without GPU support
+(MULTICAGE_WITH_GPU=OFF)", HeadlessGLContext::shared() is nullptr, and the constructors,
+bindOnGpu() and Deformer::create with BACKEND_GPU throw cv::Exception saying so. Code that
+must know at compile time tests #MULTICAGE_HAVE_GPU.
 @ingroup multicage_gpu
 */
 #ifndef OPENCV2_MULTICAGE_GPU_HPP
@@ -8,6 +14,16 @@ and GPU binding (paper §4). All EGL/OpenGL code of the library lives in modules
 
 #include <memory>
 #include <opencv2/multicage/packing.hpp>
+
+#ifdef CV_DOXYGEN
+/** @brief 1 for a library built with the GPU backend, 0 for one configured with
+`-DMULTICAGE_WITH_GPU=OFF` (no EGL, OpenGL or libepoxy; the API reports it at run time).
+
+Defined by the CMake package: every target that links multicage::multicage compiles with it.
+@ingroup multicage_gpu
+*/
+#define MULTICAGE_HAVE_GPU 1
+#endif
 
 namespace cv {
 namespace multicage {
@@ -289,7 +305,9 @@ CV_EXPORTS Binding bindOnGpu(const Multicage& multicage, int gridStep = 1);
 /** @brief Whether a headless EGL context can be made here (any OpenGL 4.3, Mesa's llvmpipe
 included), i.e. whether BACKEND_GPU works.
 
-Probes once per process: later calls answer from the first.
+Probes once per process: later calls answer from the first. Always false in a library built
+with MULTICAGE_WITH_GPU=OFF (#MULTICAGE_HAVE_GPU 0), the description then saying "built
+without GPU support (MULTICAGE_WITH_GPU=OFF)".
 @param[out] description when not null, receives the device (vendor, renderer, GL version,
 platform) or the reason there is none.
 @return true when a context can be made.
