@@ -71,8 +71,8 @@ inline bool cellsPositive(const Point2f* p0, const Point2f* p1, int k0, int k1) 
     bool good = true;
     for (int k = k0; k < k1; ++k) {
         const Point2f a = p0[k], b = p0[k + 1], c = p1[k], d = p1[k + 1];
-        good &= clearlyPositive(b.x - a.x, b.y - a.y, c.x - a.x, c.y - a.y) &
-                clearlyPositive(d.x - b.x, d.y - b.y, c.x - b.x, c.y - b.y);
+        good &= clearlyPositive(b.x - a.x, b.y - a.y, c.x - a.x, c.y - a.y);
+        good &= clearlyPositive(d.x - b.x, d.y - b.y, c.x - b.x, c.y - b.y);
     }
     return good;
 }
