@@ -243,7 +243,7 @@ TEST(Cli, AnimateOfAFloatImageIsNotBlack) {
     ASSERT_EQ(frame.depth(), CV_16U);
     EXPECT_NEAR(meanLevel(frame) / 257, meanLevel(in), 6.0);
     EXPECT_EQ(countOf(r.err, "note:"), 1) << r.err;
-    r = run(args + "/a.gif", dir);
+    r = run(args + "/a" + multicage_testing::animationExtension(), dir);
     ASSERT_EQ(r.code, 0) << r.err;
     EXPECT_NE(r.err.find("scaled by 255"), std::string::npos) << r.err;
 }
@@ -338,10 +338,11 @@ TEST(Cli, AnimateFollowsTheCageFilesCoordinatesUnlessToldOtherwise) {
     cage.save(dir + "/harmonic.yml");
     const std::string args = "animate " + sample("butterfly.jpg") + " " + dir +
                              "/harmonic.yml --backend cpu --grid-step 4 -q";
-    Result r = run(args + " -o " + dir + "/a.gif", dir);
+    Result r = run(args + " -o " + dir + "/a" + multicage_testing::animationExtension(), dir);
     ASSERT_EQ(r.code, 0) << r.err;
     EXPECT_NE(r.out.find("harmonic coordinates"), std::string::npos) << r.out;
-    r = run(args + " -o " + dir + "/b.gif --coords mvc", dir);
+    r = run(args + " -o " + dir + "/b" + multicage_testing::animationExtension() + " --coords mvc",
+            dir);
     ASSERT_EQ(r.code, 0) << r.err;
     EXPECT_NE(r.out.find("mean value coordinates"), std::string::npos) << r.out;
 }
@@ -437,10 +438,10 @@ TEST(Cli, SmallerDeadEndsGivePlainAnswers) {
     EXPECT_EQ(r.code, 2);
     EXPECT_NE(r.err.find("'abc' is not a whole number"), std::string::npos) << r.err;
     r = run("animate " + sample("butterfly.jpg") + " " + sample("../butterfly_flap.yml") + " -o " +
-                dir + "/a.gif --duration 0",
+                dir + "/a" + multicage_testing::animationExtension() + " --duration 0",
             dir);
     EXPECT_NE(r.code, 0) << "--duration 0 was taken as the default";
-    EXPECT_FALSE(fs::exists(dir + "/a.gif"));
+    EXPECT_FALSE(fs::exists(dir + "/a" + multicage_testing::animationExtension()));
     EXPECT_NE(run("deform --help", dir).out.find("--border V [V V V]"), std::string::npos);
     r = run("propose " + sample("butterfly.jpg") + " -o " + dir + "/m.yml --method mask", dir);
     EXPECT_EQ(r.code, 1) << r.out;
@@ -567,11 +568,11 @@ TEST(Cli, EveryCommandAnswersTheSameFaultTheSameWay) {
         std::string name, run;  // run: the command with IMAGE / CAGE where the fault goes
     } commands[] = {
         {"deform", "deform IMAGE " + cage + out + ".png"},
-        {"animate", "animate IMAGE " + flap + out + ".gif"},
+        {"animate", "animate IMAGE " + flap + out + multicage_testing::animationExtension()},
         {"propose", "propose IMAGE" + out + ".yml"},
         {"resize", "resize IMAGE --size 600x356" + out + ".png"},
         {"deform", "deform " + image + " CAGE" + out + ".png"},
-        {"animate", "animate " + image + " CAGE" + out + ".gif"},
+        {"animate", "animate " + image + " CAGE" + out + multicage_testing::animationExtension()},
         {"resize", "resize " + image + " --cage CAGE --size 600x356" + out + ".png"},
         {"pose", "pose CAGE --name p --translate 0 1 1" + out + ".yml"},
     };
@@ -606,9 +607,10 @@ TEST(Cli, EveryCommandAnswersTheSameFaultTheSameWay) {
                   "no images found in " + dir + "/folder.png");
     }
     // Values out of range and bad counts of values, in each command that has the flag.
-    const std::string deformArgs[] = {"deform " + image + " " + cage + out + ".png",
-                                      "animate " + image + " " + flap + out + ".gif",
-                                      "resize " + image + " --size 600x356" + out + ".png"};
+    const std::string deformArgs[] = {
+        "deform " + image + " " + cage + out + ".png",
+        "animate " + image + " " + flap + out + multicage_testing::animationExtension(),
+        "resize " + image + " --size 600x356" + out + ".png"};
     for (const std::string& args : deformArgs) {
         const std::string name = args.substr(0, args.find(' '));
         check(name, args + " --grid-step 0", 2, "--grid-step");

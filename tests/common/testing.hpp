@@ -11,6 +11,13 @@
 
 namespace multicage_testing {
 
+/** Whether this build writes .gif (giflib was found: MULTICAGE_WITH_GIF). */
+constexpr bool kHaveGif = MULTICAGE_TEST_HAVE_GIF != 0;
+/** The extension of an animation file this build writes: ".gif", or ".avi" without giflib. */
+inline std::string animationExtension() {
+    return kHaveGif ? ".gif" : ".avi";
+}
+
 /** Path of a file in samples/data. */
 std::string samplePath(const std::string& name);
 /** Reads samples/data/NAME, failing the test if it cannot. */
