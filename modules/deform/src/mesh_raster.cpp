@@ -319,9 +319,6 @@ void rasterizeMaps(InputArray positionsIn, InputArray restIn, Size outputSize, O
 
 namespace {
 
-// AVX-512 too: eight doubles per instruction for the orientations (no fused multiply-add in
-// this file, and the products of floats are exact anyway: the same count on every clone).
-
 // The triangles of one row of cells (node rows p0/p1 deformed, r0/r1 rest) whose orientation
 // differs between the two meshes. The sign of cross(b - a, c - a): differences in float,
 // products and their difference in double (products of floats are exact in double, so the sign
@@ -329,6 +326,8 @@ namespace {
 // row pair (kCellTriangles: triangle 0 from (0,0) to (1,0) and (0,1); triangle 1 from (1,0) to
 // (1,1) and (0,1)); they are formed in blocks of cells as planes of floats, so that the loop
 // over cells vectorises: a random pose is checked on every node of a mesh, once per drawn pose.
+// A copy per CPU level (AVX-512: eight doubles per instruction); no fused multiply-add in this
+// file, and the products of floats are exact anyway: the same count from every copy.
 MULTICAGE_ALWAYS_INLINE int foldedInRowKernel(const Point2f* p0, const Point2f* p1,
                                               const Point2f* r0, const Point2f* r1, int cells) {
     static_assert(kCellTriangles[0][0][0] == 0 && kCellTriangles[0][0][1] == 0 &&

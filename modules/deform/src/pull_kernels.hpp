@@ -7,6 +7,7 @@
 
 // A file that includes this includes raster_options.hpp first, before any other header.
 #include <cmath>
+#include <utility>
 #include <vector>
 
 #include "mesh_pull.hpp"

@@ -1,4 +1,4 @@
-// The baseline triangle kernel: one triangle at a time, a span per row (AVX2 and baseline clones).
+// The baseline triangle kernel: one triangle at a time, a span per row (a copy per CPU level).
 
 // First, before any other header (clang-format would sort it among them): the rasteriser's
 // floating-point options.
