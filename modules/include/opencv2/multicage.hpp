@@ -52,6 +52,10 @@ what it encloses: move the outer one and the inner region stays nearly rigid.
     @defgroup multicage_resize Content-aware resizing
     Resizing as one pose per target size (the paper's §6 future work): what the multicage
     protects keeps its shape, the background absorbs the change (modules/resize).
+
+    @defgroup multicage_track Tracking a multicage through a clip
+    CageTracker: each polygon follows what it encloses from frame to frame, and a cut or a lost
+    polygon is reported so that the caller proposes again (modules/track).
 @}
 */
 
@@ -61,7 +65,7 @@ what it encloses: move the outer one and the inner region stays nearly rigid.
 
 /** @namespace cv::multicage
 @brief Multicage image deformation: the multicage, cage coordinates, packing, the GPU and CPU
-Deformers, proposal, animation, augmentation and content-aware resizing.
+Deformers, proposal, animation, augmentation, content-aware resizing and tracking.
 */
 
 #include <opencv2/multicage/animate.hpp>
@@ -74,5 +78,6 @@ Deformers, proposal, animation, augmentation and content-aware resizing.
 #include <opencv2/multicage/packing.hpp>
 #include <opencv2/multicage/propose.hpp>
 #include <opencv2/multicage/resize.hpp>
+#include <opencv2/multicage/track.hpp>
 
 #endif

@@ -1,0 +1,287 @@
+// CageTracker: each polygon of a multicage follows what it encloses, from frame to frame.
+#include <algorithm>
+#include <opencv2/calib3d.hpp>
+#include <opencv2/imgproc.hpp>
+#include <opencv2/multicage/track.hpp>
+#include <opencv2/video/tracking.hpp>
+
+namespace cv {
+namespace multicage {
+
+namespace {
+
+constexpr int kWindow = 21;              // the optical flow's window, pixels
+constexpr double kRekeyAgreement = 0.9;  // fewer agreeing points than this: a new key frame
+
+// The frame as 8-bit grey; anything but 8-bit 1, 3 or 4 channels is refused.
+Mat greyOf(InputArray frameIn) {
+    const Mat frame = frameIn.getMat();
+    if (frame.empty()) CV_Error(Error::StsBadArg, "CageTracker: the frame is empty");
+    if (frame.depth() != CV_8U ||
+        (frame.channels() != 1 && frame.channels() != 3 && frame.channels() != 4))
+        CV_Error(Error::StsUnsupportedFormat,
+                 "CageTracker: frames must be 8-bit with 1, 3 or 4 channels");
+    Mat grey;
+    if (frame.channels() == 1)
+        grey = frame.clone();
+    else
+        cvtColor(frame, grey, frame.channels() == 3 ? COLOR_BGR2GRAY : COLOR_BGRA2GRAY);
+    return grey;
+}
+
+// The polygon's own region: inside it and outside the polygons nested in it.
+Mat ownRegion(const Multicage& cage, int i, Size size) {
+    Mat mask = Mat::zeros(size, CV_8U);
+    std::vector<std::vector<Point>> shape(1);
+    auto fill = [&](int k, uchar value) {
+        const std::vector<Point2f> p = cage.polygon(k);
+        shape[0].assign(p.begin(), p.end());
+        fillPoly(mask, shape, Scalar(value), LINE_8);
+    };
+    fill(i, 255);
+    const std::vector<Point2f> outer = cage.polygon(i);
+    for (int k = 0; k < cage.polygonCount(); ++k)
+        if (cage.depth(k) > cage.depth(i) && pointPolygonTest(outer, cage.polygon(k)[0], false) > 0)
+            fill(k, 0);
+    return mask;
+}
+
+// Points of the region to follow: its corners, and a grid of it where corners are few (a
+// plain region still moves with its border).
+std::vector<Point2f> pointsToFollow(const Mat& grey, const Mat& region, bool outline,
+                                    const TrackParams& p) {
+    // An outline's corners whose flow window (21 x 21) lies inside it: a window over its border
+    // sees the background, which moves otherwise, and biases the flow towards it. (Around an
+    // inner polygon lies the subject, which mostly moves with it: all of its region serves.)
+    Mat inner;
+    if (outline) erode(region, inner, getStructuringElement(MORPH_RECT, Size(kWindow, kWindow)));
+    std::vector<Point2f> points;
+    goodFeaturesToTrack(grey, points, p.pointsPerPolygon, 0.01, 3,
+                        outline && countNonZero(inner) > 0 ? inner : region);
+    if (int(points.size()) >= 2 * p.minPoints) return points;
+    const Rect box = boundingRect(region);
+    const double area = std::max(1, countNonZero(region));
+    const int step = std::max(1, int(std::sqrt(area / std::max(1, p.pointsPerPolygon))));
+    for (int y = box.y + step / 2; y < box.br().y; y += step)
+        for (int x = box.x + step / 2; x < box.br().x; x += step)
+            if (region.at<uchar>(y, x)) points.emplace_back(float(x), float(y));
+    return points;
+}
+
+// Correlation of the frames' 32-bin grey-level histograms.
+double histogramCorrelation(const Mat& a, const Mat& b) {
+    const int bins = 32, channel = 0;
+    const float range[] = {0, 256};
+    const float* ranges[] = {range};
+    Mat ha, hb;
+    calcHist(&a, 1, &channel, Mat(), ha, 1, &bins, ranges);
+    calcHist(&b, 1, &channel, Mat(), hb, 1, &bins, ranges);
+    return compareHist(ha, hb, HISTCMP_CORREL);
+}
+
+// The points' flow from `from` to `to`, each starting at its guess, kept where the flow back
+// returns within maxRoundTrip.
+void followPoints(const Mat& from, const Mat& to, const std::vector<Point2f>& points,
+                  std::vector<Point2f>& moved, double maxRoundTrip, std::vector<uchar>& kept) {
+    std::vector<Point2f> back = points;
+    std::vector<uchar> status, statusBack;
+    std::vector<float> error;
+    const Size window(kWindow, kWindow);
+    const TermCriteria stop(TermCriteria::COUNT | TermCriteria::EPS, 30, 0.01);
+    calcOpticalFlowPyrLK(from, to, points, moved, status, error, window, 3, stop,
+                         OPTFLOW_USE_INITIAL_FLOW);
+    calcOpticalFlowPyrLK(to, from, moved, back, statusBack, error, window, 3, stop,
+                         OPTFLOW_USE_INITIAL_FLOW);
+    kept.assign(points.size(), 0);
+    for (size_t k = 0; k < points.size(); ++k)
+        kept[k] = status[k] && statusBack[k] && norm(back[k] - points[k]) <= maxRoundTrip;
+}
+
+// The similarity that carries the points `from` (those of `use`) closest to `to` in the least
+// squares (Umeyama 1991, without reflection): RANSAC's own fit stops at its sample's consensus,
+// and its random sample shows as jitter from frame to frame.
+Mat leastSquaresSimilarity(const std::vector<Point2f>& from, const std::vector<Point2f>& to,
+                           const std::vector<uchar>& use) {
+    Point2d mf(0, 0), mt(0, 0);
+    int n = 0;
+    for (size_t k = 0; k < from.size(); ++k)
+        if (use[k]) mf += Point2d(from[k]), mt += Point2d(to[k]), ++n;
+    mf /= n, mt /= n;
+    double sxx = 0, sxy = 0, var = 0;  // sum of (f . t) and (f x t) over centred points
+    for (size_t k = 0; k < from.size(); ++k) {
+        if (!use[k]) continue;
+        const Point2d f = Point2d(from[k]) - mf, t = Point2d(to[k]) - mt;
+        sxx += f.x * t.x + f.y * t.y, sxy += f.x * t.y - f.y * t.x, var += f.dot(f);
+    }
+    const double a = sxx / var, b = sxy / var;  // scale cos, scale sin
+    Mat m = (Mat_<double>(2, 3) << a, -b, 0, b, a, 0);
+    m.at<double>(0, 2) = mt.x - (a * mf.x - b * mf.y);
+    m.at<double>(1, 2) = mt.y - (b * mf.x + a * mf.y);
+    return m;
+}
+
+// The similarity most of a polygon's followed points agree on, and the part that agrees;
+// empty when too few do.
+Mat agreedMotion(const std::vector<Point2f>& from, const std::vector<Point2f>& to,
+                 const TrackParams& p, double& agreement) {
+    agreement = 0;
+    if (int(from.size()) < p.minPoints) return Mat();
+    std::vector<uchar> agree;
+    const Mat m = estimateAffinePartial2D(from, to, agree, RANSAC, p.agreementPx, 2000, 0.995);
+    const int agreeing = countNonZero(agree);
+    agreement = double(agreeing) / double(from.size());
+    if (m.empty() || agreeing < p.minPoints || agreement < p.minAgreement) return Mat();
+    return leastSquaresSimilarity(from, to, agree);
+}
+
+// The polygon that holds polygon i directly (one level up), or -1 for an outline.
+int parentOf(const Multicage& cage, int i) {
+    for (int k = 0; k < cage.polygonCount(); ++k)
+        if (cage.depth(k) == cage.depth(i) - 1 &&
+            pointPolygonTest(cage.polygon(k), cage.polygon(i)[0], false) > 0)
+            return k;
+    return -1;
+}
+
+// The part of the points that motion m carries to within tolerance of where they went.
+double agreementWith(const Mat& m, const std::vector<Point2f>& from, const std::vector<Point2f>& to,
+                     double tolerance) {
+    if (from.empty()) return 0;
+    std::vector<Point2f> carried;
+    transform(from, carried, m);
+    int agreeing = 0;
+    for (size_t k = 0; k < from.size(); ++k) agreeing += norm(carried[k] - to[k]) <= tolerance;
+    return double(agreeing) / double(from.size());
+}
+
+Mat identityMotion() {
+    return Mat::eye(2, 3, CV_64F);
+}
+
+// Whether a similarity turns by more than 5 degrees or scales by more than 5%: then the corners
+// of the flow's 21 x 21 window are a pixel off what it sees, the flow degrades, and a new key
+// frame is due. (A key frame moved on adds the error of its frame, so not on every frame.)
+bool farFromKey(const Mat& m) {
+    const double a = m.at<double>(0, 0), b = m.at<double>(1, 0);
+    const double scale = std::sqrt(a * a + b * b), turn = std::abs(std::atan2(b, a));
+    return turn > 5.0 * CV_PI / 180.0 || std::abs(scale - 1.0) > 0.05;
+}
+
+}  // namespace
+
+// The key frame the polygons are measured from, and where they moved since.
+struct CageTracker::Impl {
+    TrackParams params;
+    Multicage cage;     // on the last frame
+    Multicage keyCage;  // on the key frame
+    Mat keyGrey, lastGrey;
+    int type = -1;
+    std::vector<std::vector<Point2f>> keyPoints;  // per polygon, on the key frame
+    std::vector<Mat> motion;                      // per polygon: key frame -> last frame
+    std::vector<int> parent, outermostFirst;      // the nesting, and the polygons by depth
+
+    void setKey(const Multicage& c, const Mat& grey) {
+        keyCage = c, cage = c, keyGrey = grey, lastGrey = grey;
+        keyPoints.assign(c.polygonCount(), {});
+        motion.assign(c.polygonCount(), identityMotion());
+        parent.assign(c.polygonCount(), -1);
+        outermostFirst.resize(c.polygonCount());
+        for (int i = 0; i < c.polygonCount(); ++i)
+            parent[i] = parentOf(c, i), outermostFirst[i] = i;
+        std::stable_sort(outermostFirst.begin(), outermostFirst.end(),
+                         [&](int a, int b) { return c.depth(a) < c.depth(b); });
+        for (int i = 0; i < c.polygonCount(); ++i)
+            keyPoints[i] =
+                pointsToFollow(grey, ownRegion(c, i, grey.size()), c.depth(i) == 1, params);
+    }
+
+    // Polygon i's motion from the key frame to grey; empty when lost. An inner polygon whose
+    // points its parent's motion (`parentMotion`, empty for an outline) carries as well as
+    // minAgreement asks moves with its parent: the parent's many points fix a turn or a
+    // scale better than a small region's few, and a rigid subject stays rigid.
+    Mat follow(int i, const Mat& grey, const Mat& parentMotion, double& agreement) const {
+        const std::vector<Point2f>& key = keyPoints[i];
+        if (key.empty()) return parentMotion.empty() ? Mat() : parentMotion;
+        std::vector<Point2f> guess, from, to;
+        transform(key, guess, motion[i]);
+        std::vector<uchar> kept;
+        followPoints(keyGrey, grey, key, guess, params.maxRoundTripPx, kept);
+        for (size_t k = 0; k < key.size(); ++k)
+            if (kept[k]) from.push_back(key[k]), to.push_back(guess[k]);
+        if (!parentMotion.empty()) {
+            agreement = agreementWith(parentMotion, from, to, params.agreementPx);
+            if (agreement >= params.minAgreement) return parentMotion;
+        }
+        return agreedMotion(from, to, params, agreement);
+    }
+};
+
+CageTracker::CageTracker(const Multicage& cage, InputArray frame, const TrackParams& params)
+    : impl_(makePtr<Impl>()) {
+    impl_->params = params;
+    reset(cage, frame);
+}
+
+const Multicage& CageTracker::multicage() const {
+    return impl_->cage;
+}
+
+void CageTracker::reset(const Multicage& cage, InputArray frame) {
+    const Mat grey = greyOf(frame);
+    const Multicage fitted = cage.imageSize() == grey.size() ? cage : cage.scaled(grey.size());
+    std::string why;
+    if (!fitted.validate(&why))
+        CV_Error(Error::StsBadArg, "CageTracker: invalid multicage: " + why);
+    impl_->setKey(fitted, grey);
+    impl_->type = frame.type();
+}
+
+TrackReport CageTracker::track(InputArray frame) {
+    Impl& s = *impl_;
+    const Mat grey = greyOf(frame);
+    if (grey.size() != s.lastGrey.size() || frame.type() != s.type)
+        CV_Error(Error::StsBadArg, "CageTracker: the frame's size or type differs from the first");
+    TrackReport report;
+    report.histogramCorrelation = histogramCorrelation(s.lastGrey, grey);
+    s.lastGrey = grey;
+    if (report.histogramCorrelation < s.params.minHistogramCorrelation) {
+        report.state = TRACK_CUT;
+        report.why = format("a cut: the grey-level histograms correlate %.2f (below %.2f)",
+                            report.histogramCorrelation, s.params.minHistogramCorrelation);
+        return report;
+    }
+    Multicage next = s.keyCage;
+    std::vector<Mat> motion(s.keyCage.polygonCount());
+    bool rekey = false;
+    for (int i : s.outermostFirst) {
+        double agreement = 0;
+        const int parent = s.parent[i];
+        motion[i] = s.follow(i, grey, parent < 0 ? Mat() : motion[parent], agreement);
+        if (motion[i].empty()) {
+            report.lost.push_back(i);
+            continue;
+        }
+        std::vector<Point2f> vertices;
+        transform(s.keyCage.polygon(i), vertices, motion[i]);
+        next.setPolygon(i, vertices);
+        rekey = rekey || farFromKey(motion[i]) || agreement < kRekeyAgreement;
+    }
+    if (!report.lost.empty()) {
+        report.state = TRACK_LOST;
+        report.why = format("polygon %d: too few points agree on its motion", report.lost[0]);
+        return report;
+    }
+    if (!next.validate(&report.why)) {
+        report.state = TRACK_LOST;
+        report.why = "the moved multicage is invalid: " + report.why;
+        return report;
+    }
+    report.why.clear();
+    s.motion = motion;
+    s.cage = next;
+    if (rekey) s.setKey(next, grey);
+    return report;
+}
+
+}  // namespace multicage
+}  // namespace cv

@@ -1,0 +1,145 @@
+// CageTracker (issue 42 item 1): a multicage follows its subject through a clip, stays valid,
+// stands still where nothing moves, and says when it cannot follow (a cut, a lost polygon).
+#include <opencv2/imgproc.hpp>
+#include <opencv2/multicage/track.hpp>
+
+#include "testing.hpp"
+
+using namespace cv;
+using namespace cv::multicage;
+
+namespace {
+
+// A clip of a subject crossing a still scene: a 160x160 cut-out of messi5 moved over fruits.jpg
+// by `motion(t)` (a similarity about the cut-out's centre) on frame t.
+struct Crossing {
+    Mat background, subject;
+    Point2f start{120.f, 100.f};  // the cut-out's top-left on frame 0
+
+    Crossing() {
+        background = multicage_testing::readSample("fruits.jpg");
+        resize(background, background, Size(640, 480));
+        subject = multicage_testing::readSample("messi5.jpg")(Rect(200, 40, 160, 160)).clone();
+    }
+    // Frame t's motion of the subject: translation right and down, a slow turn, a slight zoom.
+    static Mat motion(int t, Point2f centre) {
+        Mat m = getRotationMatrix2D(centre, 1.5 * t, 1.0 + 0.01 * t);
+        m.at<double>(0, 2) += 9.0 * t;
+        m.at<double>(1, 2) += 4.0 * t;
+        return m;
+    }
+    Point2f centre() const { return start + Point2f(80.f, 80.f); }
+    Mat frame(int t) const {
+        Mat canvas = Mat::zeros(background.size(), CV_8UC3),
+            mask = Mat::zeros(canvas.size(), CV_8U);
+        subject.copyTo(canvas(Rect(Point(start), subject.size())));
+        mask(Rect(Point(start), subject.size())).setTo(255);
+        const Mat m = motion(t, centre());
+        Mat moved, movedMask;
+        warpAffine(canvas, moved, m, canvas.size(), INTER_LINEAR);
+        warpAffine(mask, movedMask, m, canvas.size(), INTER_NEAREST);
+        Mat out = background.clone();
+        moved.copyTo(out, movedMask);
+        return out;
+    }
+    // Where a point of the subject on frame 0 lies on frame t.
+    static Point2f truth(Point2f p, int t, Point2f centre) {
+        const Mat m = motion(t, centre);
+        return Point2f(
+            float(m.at<double>(0, 0) * p.x + m.at<double>(0, 1) * p.y + m.at<double>(0, 2)),
+            float(m.at<double>(1, 0) * p.x + m.at<double>(1, 1) * p.y + m.at<double>(1, 2)));
+    }
+    // An outline inside the cut-out and an inner polygon around the face in it.
+    Multicage cage() const {
+        Multicage c(background.size());
+        const Point2f s = start;
+        c.addPolygon(std::vector<Point2f>{s + Point2f(10, 10), s + Point2f(150, 10),
+                                          s + Point2f(150, 150), s + Point2f(10, 150)});
+        c.addPolygon(std::vector<Point2f>{s + Point2f(50, 40), s + Point2f(110, 40),
+                                          s + Point2f(110, 110), s + Point2f(50, 110)});
+        c.orient();
+        return c;
+    }
+};
+
+double worstError(const Multicage& tracked, const Multicage& start, int t, Point2f centre) {
+    double worst = 0;
+    const std::vector<Point2f> a = tracked.vertices(), b = start.vertices();
+    for (int k = 0; k < start.vertexCount(); ++k)  // (the frame's corners, last, stay)
+        worst = std::max(worst, double(norm(a[k] - Crossing::truth(b[k], t, centre))));
+    return worst;
+}
+
+}  // namespace
+
+TEST(CageTracker, FollowsASubjectCrossingAStillSceneWithinAPixel) {
+    const Crossing clip;
+    const Multicage start = clip.cage();
+    CageTracker tracker(start, clip.frame(0));
+    for (int t = 1; t <= 12; ++t) {
+        const TrackReport r = tracker.track(clip.frame(t));
+        ASSERT_EQ(r.state, TRACK_OK) << "frame " << t << ": " << r.why;
+        EXPECT_TRUE(tracker.multicage().validate());
+        EXPECT_LT(worstError(tracker.multicage(), start, t, clip.centre()), 1.0) << "frame " << t;
+    }
+    // It moved: 12 frames of 9 px right and 4 down, with a turn of 18 degrees.
+    EXPECT_GT(norm(tracker.multicage().vertices()[0] - start.vertices()[0]), 100.0);
+}
+
+TEST(CageTracker, StandsStillWhereNothingMoves) {
+    const Crossing clip;
+    const Mat still = clip.frame(0);
+    CageTracker tracker(clip.cage(), still);
+    for (int t = 0; t < 5; ++t) ASSERT_EQ(tracker.track(still).state, TRACK_OK);
+    const std::vector<Point2f> a = tracker.multicage().vertices(), b = clip.cage().vertices();
+    for (size_t k = 0; k < a.size(); ++k) EXPECT_LT(norm(a[k] - b[k]), 0.05) << "vertex " << k;
+}
+
+TEST(CageTracker, ACutIsReportedAndNothingMoves) {
+    const Crossing clip;
+    CageTracker tracker(clip.cage(), clip.frame(0));
+    Mat other = multicage_testing::readSample("building.jpg");
+    resize(other, other, clip.background.size());
+    const TrackReport r = tracker.track(other);
+    EXPECT_EQ(r.state, TRACK_CUT) << r.histogramCorrelation;
+    EXPECT_NE(r.why.find("a cut"), std::string::npos) << r.why;
+    const std::vector<Point2f> a = tracker.multicage().vertices(), b = clip.cage().vertices();
+    for (size_t k = 0; k < a.size(); ++k) EXPECT_EQ(a[k], b[k]);
+    // After the cut, reset() starts from a cage on the new frame.
+    tracker.reset(clip.cage(), other);
+    EXPECT_EQ(tracker.track(other).state, TRACK_OK);
+}
+
+TEST(CageTracker, APolygonOverPlainGroundIsLostNotGuessed) {
+    // A grey frame with a textured square that jumps away: the outline's points find nothing
+    // that agrees, and the tracker says so instead of moving the cage.
+    Mat a(480, 640, CV_8UC3, Scalar(128, 128, 128)), b = a.clone();
+    Mat texture(120, 120, CV_8UC3);
+    theRNG().state = 7;
+    randu(texture, 0, 256);
+    texture.copyTo(a(Rect(100, 100, 120, 120)));
+    texture.copyTo(b(Rect(400, 300, 120, 120)));
+    Multicage cage(a.size());
+    cage.addPolygon(std::vector<Point2f>{{110, 110}, {210, 110}, {210, 210}, {110, 210}});
+    cage.orient();
+    CageTracker tracker(cage, a);
+    const TrackReport r = tracker.track(b);
+    EXPECT_EQ(r.state, TRACK_LOST) << r.why;
+    EXPECT_EQ(r.lost, std::vector<int>{0});
+    EXPECT_EQ(tracker.multicage().vertices(), cage.vertices());
+}
+
+TEST(CageTracker, BadFramesAreRefused) {
+    const Crossing clip;
+    EXPECT_THROW(CageTracker(clip.cage(), Mat()), cv::Exception);
+    EXPECT_THROW(CageTracker(clip.cage(), Mat(480, 640, CV_32FC3, Scalar::all(0))), cv::Exception);
+    Multicage crossing(clip.background.size());
+    crossing.addPolygon(std::vector<Point2f>{{10, 10}, {100, 100}, {100, 10}, {10, 100}});
+    EXPECT_THROW(CageTracker(crossing, clip.frame(0)), cv::Exception);
+    CageTracker tracker(clip.cage(), clip.frame(0));
+    EXPECT_THROW(tracker.track(Mat()), cv::Exception);
+    EXPECT_THROW(tracker.track(Mat(100, 100, CV_8UC3, Scalar::all(0))), cv::Exception);
+    Mat grey;
+    cvtColor(clip.frame(1), grey, COLOR_BGR2GRAY);
+    EXPECT_THROW(tracker.track(grey), cv::Exception);
+}
