@@ -115,6 +115,7 @@ void defineAugment(py::module_& m);      // augment_py.cpp: random_pose(), valid
 void defineGpu(py::module_& m);          // gpu_py.cpp: gpu_available(), auto_backend()
 void defineImageIo(py::module_& m);      // imageio_py.cpp: imread()
 void defineResize(py::module_& m);       // resize_py.cpp: resize_pose(), content_aware_resize()
+void defineTrack(py::module_& m);        // track_py.cpp: CageTracker
 
 }  // namespace multicage_py
 
