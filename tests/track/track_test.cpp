@@ -143,3 +143,56 @@ TEST(CageTracker, BadFramesAreRefused) {
     cvtColor(clip.frame(1), grey, COLOR_BGR2GRAY);
     EXPECT_THROW(tracker.track(grey), cv::Exception);
 }
+
+TEST(CageTracker, AnInnerPolygonWhoseContentChangesMovesWithItsParent) {
+    // The face's square gets new noise on every frame (an eye that blinks, a mouth that talks):
+    // its own points agree on nothing, so it follows the outline, and nothing is lost.
+    const Crossing clip;
+    const Multicage start = clip.cage();
+    auto frame = [&](int t) {
+        Mat f = clip.frame(t);
+        std::vector<Point2f> face;
+        transform(start.polygon(1), face, Crossing::motion(t, clip.centre()));
+        Mat noise(f.size(), CV_8UC3), mask = Mat::zeros(f.size(), CV_8U);
+        theRNG().state = 100 + t;
+        randu(noise, 0, 256);
+        std::vector<std::vector<Point>> shape(1);
+        for (const Point2f& p : face) shape[0].emplace_back(cvRound(p.x), cvRound(p.y));
+        fillPoly(mask, shape, Scalar(255));
+        noise.copyTo(f, mask);
+        return f;
+    };
+    CageTracker tracker(start, frame(0));
+    for (int t = 1; t <= 6; ++t) {
+        const TrackReport r = tracker.track(frame(t));
+        ASSERT_EQ(r.state, TRACK_OK) << "frame " << t << ": " << r.why;
+        EXPECT_LT(worstError(tracker.multicage(), start, t, clip.centre()), 1.0) << "frame " << t;
+    }
+}
+
+TEST(CageTracker, AnOutlineAlongTheFrameStaysOnIt) {
+    // A subject the left border cuts, moving further left: the outline's left vertices stay on
+    // the frame (x = 0) and the rest follow the subject.
+    Mat scene = multicage_testing::readSample("fruits.jpg");
+    resize(scene, scene, Size(640, 480));
+    auto frame = [&](int t) {
+        Mat f;
+        const Mat m = (Mat_<double>(2, 3) << 1, 0, -4.0 * t, 0, 1, 0);
+        warpAffine(scene, f, m, scene.size(), INTER_LINEAR, BORDER_REFLECT);
+        return f;
+    };
+    Multicage cage(scene.size());
+    cage.addPolygon(std::vector<Point2f>{{0, 100}, {300, 100}, {300, 380}, {0, 380}});
+    cage.orient();
+    CageTracker tracker(cage, frame(0));
+    for (int t = 1; t <= 5; ++t) {
+        const TrackReport r = tracker.track(frame(t));
+        ASSERT_EQ(r.state, TRACK_OK) << "frame " << t << ": " << r.why;
+        for (const Point2f& v : tracker.multicage().polygon(0)) {
+            const Point2f rest = v.x < 1 ? Point2f(0, v.y) : v + Point2f(4.f * t, 0);
+            bool matched = false;
+            for (const Point2f& w : cage.polygon(0)) matched |= norm(rest - w) < 0.5;
+            EXPECT_TRUE(matched) << "frame " << t << ": vertex " << v;
+        }
+    }
+}

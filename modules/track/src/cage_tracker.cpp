@@ -120,16 +120,18 @@ Mat leastSquaresSimilarity(const std::vector<Point2f>& from, const std::vector<P
     return m;
 }
 
-// The similarity most of a polygon's followed points agree on, and the part that agrees;
-// empty when too few do.
-Mat agreedMotion(const std::vector<Point2f>& from, const std::vector<Point2f>& to,
+// The similarity most of a polygon's followed points agree on, and the part of the `sought`
+// points (all those of the key frame, followed or not) that agrees; empty when too few do.
+// (Counting the points the flow lost too: a region whose content changed, or was covered, keeps
+// few, and those few may agree on anything.)
+Mat agreedMotion(const std::vector<Point2f>& from, const std::vector<Point2f>& to, size_t sought,
                  const TrackParams& p, double& agreement) {
     agreement = 0;
     if (int(from.size()) < p.minPoints) return Mat();
     std::vector<uchar> agree;
     const Mat m = estimateAffinePartial2D(from, to, agree, RANSAC, p.agreementPx, 2000, 0.995);
     const int agreeing = countNonZero(agree);
-    agreement = double(agreeing) / double(from.size());
+    agreement = double(agreeing) / double(std::max(sought, from.size()));
     if (m.empty() || agreeing < p.minPoints || agreement < p.minAgreement) return Mat();
     return leastSquaresSimilarity(from, to, agree);
 }
@@ -198,7 +200,9 @@ struct CageTracker::Impl {
     // Polygon i's motion from the key frame to grey; empty when lost. An inner polygon whose
     // points its parent's motion (`parentMotion`, empty for an outline) carries as well as
     // minAgreement asks moves with its parent: the parent's many points fix a turn or a
-    // scale better than a small region's few, and a rigid subject stays rigid.
+    // scale better than a small region's few, and a rigid subject stays rigid. One whose own
+    // points agree on nothing (an eye that blinks, a face that talks) moves with its parent too:
+    // only an outline is lost.
     Mat follow(int i, const Mat& grey, const Mat& parentMotion, double& agreement) const {
         const std::vector<Point2f>& key = keyPoints[i];
         if (key.empty()) return parentMotion.empty() ? Mat() : parentMotion;
@@ -212,7 +216,8 @@ struct CageTracker::Impl {
             agreement = agreementWith(parentMotion, from, to, params.agreementPx);
             if (agreement >= params.minAgreement) return parentMotion;
         }
-        return agreedMotion(from, to, params, agreement);
+        const Mat own = agreedMotion(from, to, key.size(), params, agreement);
+        return own.empty() && !parentMotion.empty() ? parentMotion : own;
     }
 };
 
@@ -263,6 +268,10 @@ TrackReport CageTracker::track(InputArray frame) {
         }
         std::vector<Point2f> vertices;
         transform(s.keyCage.polygon(i), vertices, motion[i]);
+        // An outline along the frame (a subject the frame cuts) stays on it, within the frame.
+        for (Point2f& v : vertices)
+            v = Point2f(std::min(std::max(v.x, 0.f), float(grey.cols - 1)),
+                        std::min(std::max(v.y, 0.f), float(grey.rows - 1)));
         next.setPolygon(i, vertices);
         rekey = rekey || farFromKey(motion[i]) || agreement < kRekeyAgreement;
     }

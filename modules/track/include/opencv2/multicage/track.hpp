@@ -17,8 +17,9 @@ struct CV_EXPORTS TrackParams {
     /** Corners sought in each polygon's own region (inside it, outside its inner polygons) on
     the frame tracked from; where too few are found, a grid of the region fills in. */
     int pointsPerPolygon = 80;
-    /** A polygon whose motion fewer points agree on than this part of those followed, or fewer
-    than minPoints, is lost. */
+    /** A polygon whose motion fewer points agree on than this part of those sought on the key
+    frame (followed or not), or fewer than minPoints, is lost (an inner polygon then moves with
+    its parent). */
     double minAgreement = 0.5;
     /** The fewest points that must agree on a polygon's motion. */
     int minPoints = 8;
