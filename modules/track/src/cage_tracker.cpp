@@ -1,7 +1,9 @@
 // CageTracker: each polygon of a multicage follows what it encloses, from frame to frame.
 #include <algorithm>
+#include <numeric>
 #include <opencv2/calib3d.hpp>
 #include <opencv2/imgproc.hpp>
+#include <opencv2/multicage/internal/geometry.hpp>
 #include <opencv2/multicage/track.hpp>
 #include <opencv2/video/tracking.hpp>
 
@@ -29,20 +31,18 @@ Mat greyOf(InputArray frameIn) {
     return grey;
 }
 
-// The polygon's own region: inside it and outside the polygons nested in it.
-Mat ownRegion(const Multicage& cage, int i, Size size) {
+// Polygon i's own region: inside it and outside its children (parent: geometry::parents).
+Mat ownRegion(const std::vector<geometry::Polygon>& polygons, const std::vector<int>& parent, int i,
+              Size size) {
     Mat mask = Mat::zeros(size, CV_8U);
     std::vector<std::vector<Point>> shape(1);
     auto fill = [&](int k, uchar value) {
-        const std::vector<Point2f> p = cage.polygon(k);
-        shape[0].assign(p.begin(), p.end());
+        shape[0].assign(polygons[k].begin(), polygons[k].end());
         fillPoly(mask, shape, Scalar(value), LINE_8);
     };
     fill(i, 255);
-    const std::vector<Point2f> outer = cage.polygon(i);
-    for (int k = 0; k < cage.polygonCount(); ++k)
-        if (cage.depth(k) > cage.depth(i) && pointPolygonTest(outer, cage.polygon(k)[0], false) > 0)
-            fill(k, 0);
+    for (size_t k = 0; k < polygons.size(); ++k)
+        if (parent[k] == i) fill(int(k), 0);
     return mask;
 }
 
@@ -136,15 +136,6 @@ Mat agreedMotion(const std::vector<Point2f>& from, const std::vector<Point2f>& t
     return leastSquaresSimilarity(from, to, agree);
 }
 
-// The polygon that holds polygon i directly (one level up), or -1 for an outline.
-int parentOf(const Multicage& cage, int i) {
-    for (int k = 0; k < cage.polygonCount(); ++k)
-        if (cage.depth(k) == cage.depth(i) - 1 &&
-            pointPolygonTest(cage.polygon(k), cage.polygon(i)[0], false) > 0)
-            return k;
-    return -1;
-}
-
 // The part of the points that motion m carries to within tolerance of where they went.
 double agreementWith(const Mat& m, const std::vector<Point2f>& from, const std::vector<Point2f>& to,
                      double tolerance) {
@@ -184,17 +175,21 @@ struct CageTracker::Impl {
 
     void setKey(const Multicage& c, const Mat& grey) {
         keyCage = c, cage = c, keyGrey = grey, lastGrey = grey;
-        keyPoints.assign(c.polygonCount(), {});
-        motion.assign(c.polygonCount(), identityMotion());
-        parent.assign(c.polygonCount(), -1);
-        outermostFirst.resize(c.polygonCount());
-        for (int i = 0; i < c.polygonCount(); ++i)
-            parent[i] = parentOf(c, i), outermostFirst[i] = i;
+        const int P = c.polygonCount();
+        std::vector<geometry::Polygon> polygons;
+        for (int i = 0; i < P; ++i) polygons.push_back(c.polygon(i));
+        // The nesting once (Multicage::depth() tests every polygon against every other per call).
+        const std::vector<int> depth = geometry::depths(polygons);
+        parent = geometry::parents(polygons, depth);
+        outermostFirst.resize(P);
+        std::iota(outermostFirst.begin(), outermostFirst.end(), 0);
         std::stable_sort(outermostFirst.begin(), outermostFirst.end(),
-                         [&](int a, int b) { return c.depth(a) < c.depth(b); });
-        for (int i = 0; i < c.polygonCount(); ++i)
-            keyPoints[i] =
-                pointsToFollow(grey, ownRegion(c, i, grey.size()), c.depth(i) == 1, params);
+                         [&](int a, int b) { return depth[a] < depth[b]; });
+        motion.assign(P, identityMotion());
+        keyPoints.assign(P, {});
+        for (int i = 0; i < P; ++i)
+            keyPoints[i] = pointsToFollow(grey, ownRegion(polygons, parent, i, grey.size()),
+                                          parent[i] < 0, params);
     }
 
     // Polygon i's motion from the key frame to grey; empty when lost. An inner polygon whose
