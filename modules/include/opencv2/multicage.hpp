@@ -56,6 +56,10 @@ what it encloses: move the outer one and the inner region stays nearly rigid.
     @defgroup multicage_track Tracking a multicage through a clip
     CageTracker: each polygon follows what it encloses from frame to frame, and a cut or a lost
     polygon is reported so that the caller proposes again (modules/track).
+
+    @defgroup multicage_reframe Reframing clips
+    VideoReframer: a clip to another aspect ratio, each frame's tracked multicage resized, with
+    windows and poses smoothed over time so that subjects glide (modules/reframe).
 @}
 */
 
@@ -65,7 +69,8 @@ what it encloses: move the outer one and the inner region stays nearly rigid.
 
 /** @namespace cv::multicage
 @brief Multicage image deformation: the multicage, cage coordinates, packing, the GPU and CPU
-Deformers, proposal, animation, augmentation, content-aware resizing and tracking.
+Deformers, proposal, animation, augmentation, content-aware resizing, tracking and reframing
+clips.
 */
 
 #include <opencv2/multicage/animate.hpp>
@@ -77,6 +82,7 @@ Deformers, proposal, animation, augmentation, content-aware resizing and trackin
 #include <opencv2/multicage/multicage.hpp>
 #include <opencv2/multicage/packing.hpp>
 #include <opencv2/multicage/propose.hpp>
+#include <opencv2/multicage/reframe.hpp>
 #include <opencv2/multicage/resize.hpp>
 #include <opencv2/multicage/track.hpp>
 

@@ -32,8 +32,17 @@ void contentAwareResize(InputArray image, Size newSize, OutputArray dst, const M
     deform.coordinates = params.coordinates;
     deform.gridStep = params.gridStep;
     deform.backend = params.backend;
-    Ptr<Deformer> deformer = Deformer::create(image, rest, deform);
-    deformer->deform(resizePose(rest, deformer->binding(), newSize, params), dst);
+    // Past params.maxWarp the output shows a window of the image: bind the crop covering it.
+    const Rect crop = windowCrop(reframeWindow(rest, newSize, params), image.size());
+    if (crop.size() == image.size()) {
+        Ptr<Deformer> deformer = Deformer::create(image, rest, deform);
+        deformer->deform(resizePose(rest, deformer->binding(), newSize, params), dst);
+        return;
+    }
+    const Multicage cropped = cropMulticage(rest, crop);
+    Ptr<Deformer> deformer = Deformer::create(image.getMat()(crop), cropped, deform);
+    const std::vector<Point2f> pose = resizePose(cropped, deformer->binding(), newSize, params);
+    deformer->deform(pose, dst);
 }
 
 }  // namespace multicage

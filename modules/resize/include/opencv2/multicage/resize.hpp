@@ -39,6 +39,11 @@ struct CV_EXPORTS ResizeParams {
     /** The largest factor a side may grow by (the target's side <= maxScale x the image's):
     an output 8x wider holds 64x the pixels, and the maps 8 bytes per output pixel. */
     double maxScale = 8.0;
+    /** The largest aspect change the warp takes alone (the ratio of the frame's two scales):
+    beyond it the output shows a window of the image, chosen by reframeWindow(), and the warp
+    takes the rest. 1.5 lets 4:3 become 16:9 by the warp alone; 16:9 to 9:16 (3.2) crops. A
+    value below 1 never crops. */
+    double maxWarp = 1.5;
 };
 
 /** @brief The pose that resizes an image bound to `cage` into an image of newSize
@@ -127,6 +132,51 @@ side >= 1, >= 1/64 and <= maxScale x the image's.
 */
 CV_EXPORTS void checkResizeSize(Size imageSize, Size newSize, double maxScale = 8.0);
 
+/** @brief The part of an image bound to `cage` that an output of newSize shows (crop and warp,
+docs/resize).
+When the frame's scales sx = W'/W and sy = H'/H differ by at most params.maxWarp, the whole
+image. Otherwise the side with the larger scale is kept whole and the other is cut to a window:
+  - the window holds every outline that the plain crop (the target's aspect at the full other
+    side) could hold, and of a wider outline the polygons it protects (faces, features) that the
+    plain crop could hold; a polygon wider than the plain crop is cut, as a crop would cut it, and
+    keeps its size (shrinking it would stretch what is around it);
+  - with 4% of the plain crop to spare on each side; never narrower than the plain crop, nor
+    wider than the image (subjects far apart widen it past maxWarp);
+  - centred on what it holds, moved inside the image; with nothing held, centred on the
+    outlines, or on the image.
+The warp then takes the window's aspect to the target's: where the window is a plain crop it is a
+uniform scale, where it holds subjects far apart the background between them absorbs the rest.
+@param cage a multicage (its image size is the image's; polygons need not be oriented).
+@param newSize the target size, not empty.
+@param params maxWarp is read.
+@return the window in pixel edges (pixel (i, j) covers [i, i+1) x [j, j+1), the whole image is
+(0, 0, W, H)); fractional where a caller smooths it over time.
+*/
+CV_EXPORTS Rect2d reframeWindow(const Multicage& cage, Size newSize,
+                                const ResizeParams& params = ResizeParams());
+/** @brief The whole pixels that cover window (reframeWindow()), inside an image of imageSize. */
+CV_EXPORTS Rect windowCrop(const Rect2d& window, Size imageSize);
+/** @brief The multicage on a crop of its image: each polygon that lies inside crop (half a pixel
+within it), moved to the crop's pixels; a polygon the crop cuts is dropped, so what it held
+becomes an outline of its own. Oriented, with the cage's coordinate type.
+@param cage the multicage.
+@param crop the crop, not empty.
+@param[out] kept if given, the indices in cage of the polygons kept, in order.
+@return a multicage of crop.size(), valid when cage is. */
+CV_EXPORTS Multicage cropMulticage(const Multicage& cage, const Rect& crop,
+                                   std::vector<int>* kept = nullptr);
+/** @brief Moves the polygons of a pose of the crop (resizePose() of cropMulticage() to newSize)
+to where showing window, which the crop covers, puts them; the frame corners stay on newSize's
+frame. For a window smoothed over time: its subjects follow it to a fraction of a pixel, while
+the frame shows whole pixels of the image, the background between taking up the difference
+(under a pixel). The result may cross or fold where the crop's pose is tight: check it.
+@param cropPose the pose on the crop, frame corners last.
+@param newSize the output size.
+@param crop windowCrop() of window.
+@param window the window.
+@return the pose, as many points as cropPose. */
+CV_EXPORTS std::vector<Point2f> windowPose(const std::vector<Point2f>& cropPose, Size newSize,
+                                           const Rect& crop, const Rect2d& window);
 //! @} multicage_resize
 
 }  // namespace multicage

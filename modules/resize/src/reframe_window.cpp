@@ -1,0 +1,126 @@
+// Crop and warp (docs/resize/README.md): the window of the image an output shows when the aspect
+// change is more than a warp should take, and the multicage and pose on that window.
+#include <algorithm>
+#include <cmath>
+#include <opencv2/multicage/internal/geometry.hpp>
+#include <opencv2/multicage/resize.hpp>
+
+namespace cv {
+namespace multicage {
+
+namespace {
+
+// Extents of what must stay whole along one axis (x, or y for a wider target).
+struct Keep {
+    double lo = HUGE_VAL, hi = -HUGE_VAL;
+    void add(double a, double b) { lo = std::min(lo, a), hi = std::max(hi, b); }
+    bool empty() const { return lo > hi; }
+};
+
+std::pair<double, double> extent(const std::vector<Point2f>& polygon, bool alongX) {
+    double lo = HUGE_VAL, hi = -HUGE_VAL;
+    for (const Point2f& p : polygon) {
+        const double v = alongX ? p.x : p.y;
+        lo = std::min(lo, v), hi = std::max(hi, v);
+    }
+    return {lo, hi};
+}
+
+}  // namespace
+
+Rect2d reframeWindow(const Multicage& cage, Size newSize, const ResizeParams& params) {
+    const Size image = cage.imageSize();
+    CV_Assert(!image.empty() && !newSize.empty());
+    const Rect2d whole(0, 0, image.width, image.height);
+    const double sx = double(newSize.width) / image.width,
+                 sy = double(newSize.height) / image.height;
+    if (!(params.maxWarp >= 1) || std::max(sx, sy) <= params.maxWarp * std::min(sx, sy))
+        return whole;
+    // The axis that is cut: x for a narrower target (the height is all kept), y for a wider one.
+    const bool alongX = sx < sy;
+    const double length = alongX ? image.width : image.height;
+    // A plain crop's window: the target's aspect at the full other side.
+    const double crop = alongX ? image.height * double(newSize.width) / newSize.height
+                               : image.width * double(newSize.height) / newSize.width;
+    std::vector<geometry::Polygon> polygons(size_t(cage.polygonCount()));
+    for (int i = 0; i < cage.polygonCount(); ++i) polygons[size_t(i)] = cage.polygon(i);
+    const std::vector<int> depth = geometry::depths(polygons);
+    const std::vector<int> parent = geometry::parents(polygons, depth);
+    // What the window keeps whole: each outline the plain crop could hold; of a wider one, the
+    // polygons it protects (faces, features) that the plain crop could hold. A polygon wider
+    // than that could only be kept by shrinking it and stretching what is around it, so the
+    // window cuts it, as a plain crop would, and shows it at its size.
+    Keep keep, outlines;
+    for (size_t i = 0; i < polygons.size(); ++i) {
+        const auto [lo, hi] = extent(polygons[i], alongX);
+        if (depth[i] == 1) outlines.add(lo, hi);
+        if (hi - lo > crop) continue;
+        if (depth[i] == 1) {
+            keep.add(lo, hi);
+        } else if (depth[i] == 2) {
+            const auto [plo, phi] = extent(polygons[size_t(parent[i])], alongX);
+            if (phi - plo > crop) keep.add(lo, hi);
+        }
+    }
+    // A margin of 4% of the plain crop on each side of what is kept, so nothing kept touches the
+    // window's side; never narrower than the plain crop (what is kept then centred in it), nor
+    // wider than the image. Subjects far apart widen it past maxWarp: the warp brings them in.
+    const double pad = 0.04 * crop;
+    double width = crop, centre = length / 2;
+    if (!keep.empty()) {
+        width = std::clamp(keep.hi - keep.lo + 2 * pad, crop, length);
+        centre = (keep.lo + keep.hi) / 2;
+    } else if (!outlines.empty()) {
+        centre = (outlines.lo + outlines.hi) / 2;
+    }
+    const double lo = std::clamp(centre - width / 2, 0.0, length - width);
+    return alongX ? Rect2d(lo, 0, width, image.height) : Rect2d(0, lo, image.width, width);
+}
+
+Rect windowCrop(const Rect2d& window, Size image) {
+    const Rect crop(
+        Point(int(std::floor(window.x + 1e-6)), int(std::floor(window.y + 1e-6))),
+        Point(int(std::ceil(window.br().x - 1e-6)), int(std::ceil(window.br().y - 1e-6))));
+    return crop & Rect(Point(), image);
+}
+
+Multicage cropMulticage(const Multicage& cage, const Rect& crop, std::vector<int>* kept) {
+    CV_Assert(!crop.empty());
+    if (kept) kept->clear();
+    Multicage out(crop.size());
+    out.setCoordinates(cage.coordinates());
+    // A polygon is kept when it lies inside the crop with half a pixel to spare (the frame runs
+    // along the pixels' outer edges); dropping an outline leaves what it held as outlines.
+    const Rect2d inside(crop.x, crop.y, crop.width - 1.0, crop.height - 1.0);
+    for (int i = 0; i < cage.polygonCount(); ++i) {
+        std::vector<Point2f> p = cage.polygon(i);
+        const bool in = std::all_of(p.begin(), p.end(), [&](const Point2f& v) {
+            return v.x >= inside.x && v.y >= inside.y && v.x <= inside.br().x &&
+                   v.y <= inside.br().y;
+        });
+        if (!in) continue;
+        if (kept) kept->push_back(i);
+        for (Point2f& v : p) v -= Point2f(float(crop.x), float(crop.y));
+        out.addPolygon(p);
+    }
+    out.orient();
+    return out;
+}
+
+std::vector<Point2f> windowPose(const std::vector<Point2f>& cropPose, Size newSize,
+                                const Rect& crop, const Rect2d& window) {
+    CV_Assert(!crop.empty() && window.width > 0 && window.height > 0 && cropPose.size() >= 4);
+    // Back to the crop's pixels by the crop's own scaling, then onto newSize by the window's.
+    const double kx = double(crop.width) / newSize.width, ky = double(crop.height) / newSize.height;
+    const double wx = newSize.width / window.width, wy = newSize.height / window.height;
+    std::vector<Point2f> pose = cropPose;
+    for (size_t i = 0; i + 4 < cropPose.size(); ++i) {
+        const double x = (cropPose[i].x + 0.5) * kx + crop.x - window.x,
+                     y = (cropPose[i].y + 0.5) * ky + crop.y - window.y;
+        pose[i] = Point2f(float(x * wx - 0.5), float(y * wy - 0.5));
+    }
+    return pose;
+}
+
+}  // namespace multicage
+}  // namespace cv
