@@ -140,18 +140,55 @@ void probeAutoBackend(int backend) {
 }
 
 namespace {
-std::atomic<bool> interrupted{false};
+std::atomic<bool> sigintSeen{false};
 extern "C" void onInterrupt(int) {
-    interrupted = true;
+    sigintSeen = true;
 }
 }  // namespace
+
+InterruptGuard::InterruptGuard() {
+    sigintSeen = false;
+    previous_ = std::signal(SIGINT, onInterrupt);
+}
+
+InterruptGuard::~InterruptGuard() {
+    std::signal(SIGINT, previous_ == SIG_ERR ? SIG_DFL : previous_);
+}
+
+bool InterruptGuard::interrupted() {
+    return sigintSeen;
+}
+
+FrameProgress::FrameProgress(const std::string& command, bool quiet)
+    : command_(command), quiet_(quiet), tty_(::isatty(STDERR_FILENO) != 0) {}
+
+void FrameProgress::operator()(int done, int total) {
+    if (quiet_) return;
+    const bool last = total > 0 && done >= total;
+    if (tty_) {
+        const double s = msSince(start_) / 1000, fps = s > 0 ? done / s : 0.0;
+        if (total > 0) {
+            const int width = 30, filled = width * std::min(done, total) / total;
+            const double left = fps > 0 ? (total - done) / fps : 0.0;
+            std::fprintf(stderr, "\r[%s%s] %3d%% %d/%d frames, %.1f fps, %d:%02d left ",
+                         std::string(filled, '#').c_str(), std::string(width - filled, '.').c_str(),
+                         100 * done / total, done, total, fps, int(left) / 60, int(left) % 60);
+        } else {
+            std::fprintf(stderr, "\r%d frames, %.1f fps ", done, fps);
+        }
+        if (last) std::fputc('\n', stderr);
+    } else if (last) {
+        std::fprintf(stderr, "multicage %s: 100%% (%d/%d frames)\n", command_.c_str(), done, total);
+    }
+    std::fflush(stderr);
+}
 
 BindProgressLine::BindProgressLine(const std::string& command, bool quiet)
     : command_(command),
       quiet_(quiet),
       tty_(::isatty(STDERR_FILENO) != 0),
       start_(std::chrono::steady_clock::now()) {
-    interrupted = false;
+    sigintSeen = false;
     previous_ = std::signal(SIGINT, onInterrupt);
 }
 
@@ -166,7 +203,7 @@ BindProgressLine::~BindProgressLine() {
 
 cv::multicage::BindProgress BindProgressLine::callback() {
     return [this](double fraction) {
-        if (interrupted) return false;
+        if (sigintSeen) return false;
         if (quiet_ || msSince(start_) < 1000) return true;  // quick bindings stay silent
         const int percent = static_cast<int>(100 * fraction);
         if (tty_) {

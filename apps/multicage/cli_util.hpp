@@ -91,6 +91,32 @@ class BindProgressLine {
     void (*previous_)(int) = nullptr;
 };
 
+/** While it lives, Ctrl-C sets a flag instead of ending the process: a long loop asks
+interrupted() and stops cleanly, and what it was writing is never put in place. */
+class InterruptGuard {
+  public:
+    InterruptGuard();
+    ~InterruptGuard();
+    static bool interrupted();
+
+  private:
+    void (*previous_)(int) = nullptr;
+};
+
+/** A bar for work counted in frames: redrawn in place on a terminal with the rate and the time
+left; elsewhere (logs, CI) one line at the end, "multicage CMD: 100% (N/N frames)". */
+class FrameProgress {
+  public:
+    FrameProgress(const std::string& command, bool quiet);
+    /** done of total frames (total <= 0: not known); the last call has done == total. */
+    void operator()(int done, int total);
+
+  private:
+    std::string command_;
+    bool quiet_, tty_;
+    std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
+};
+
 /** Deformer::create(image, cage, params) with a BindProgressLine for `command`: a progress line
 on stderr while a long binding runs, and a cancelled one as that one-line Failure. */
 cv::Ptr<cv::multicage::Deformer> createWithProgress(const std::string& command, bool quiet,

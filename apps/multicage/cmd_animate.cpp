@@ -17,32 +17,6 @@ struct AnimateOptions {
     DeformOptions deform;
 };
 
-// A bar redrawn in place on a terminal; elsewhere (logs, CI) one line at the end.
-class Progress {
-  public:
-    explicit Progress(bool quiet) : quiet_(quiet), tty_(::isatty(STDERR_FILENO) != 0) {}
-    void operator()(int done, int total) {
-        if (quiet_) return;
-        const int percent = 100 * done / total;
-        if (tty_) {
-            const int width = 30, filled = width * done / total;
-            const double s =
-                std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
-            std::fprintf(stderr, "\r[%s%s] %3d%% %d/%d frames, %.1f fps ",
-                         std::string(filled, '#').c_str(), std::string(width - filled, '.').c_str(),
-                         percent, done, total, s > 0 ? done / s : 0.0);
-            if (done == total) std::fputc('\n', stderr);
-        } else if (done == total) {
-            std::fprintf(stderr, "multicage animate: %d%% (%d/%d frames)\n", percent, done, total);
-        }
-        std::fflush(stderr);
-    }
-
-  private:
-    bool quiet_, tty_;
-    std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
-};
-
 void runAnimate(const AnimateOptions& o) {
     using namespace cv::multicage;
     checkAnimationOutput(o.output);  // before any work: a typo costs nothing
@@ -63,7 +37,7 @@ void runAnimate(const AnimateOptions& o) {
     DeformParams deformation = deformParams(o.deform, "animate", image.size(), cage, &stepChange);
     probeAutoBackend(deformation.backend);  // once, and not counted as bind time
 
-    Progress progress(o.quiet);
+    FrameProgress progress("animate", o.quiet);
     AnimationStats s;
     {
         BindProgressLine bindProgress("animate", o.quiet);

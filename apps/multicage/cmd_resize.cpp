@@ -6,6 +6,8 @@
 #include <regex>
 
 #include "cli_util.hpp"
+#include "clip_io.hpp"
+#include "resize_clip.hpp"
 
 namespace multicage_cli {
 
@@ -19,6 +21,8 @@ struct ResizeCommandOptions {
     SegmenterOptions segmenter;  // the proposal's subject cue (no --cage)
     bool quiet = false, noProtect = false;
     double maxScale = cv::multicage::ResizeParams().maxScale;
+    double maxWarp = cv::multicage::ResizeParams().maxWarp;
+    int smoothing = cv::multicage::ReframeParams().smoothing;
 };
 
 // "WxH" (also "W*H", "WXH"), each a positive whole number.
@@ -97,32 +101,79 @@ cv::Mat overlayPicture(const cv::Mat& image, const cv::multicage::Multicage& cag
     return sheet;
 }
 
-void runResize(const ResizeCommandOptions& o) {
-    using namespace cv::multicage;
-    const auto t0 = std::chrono::steady_clock::now();
-    const cv::Mat image = readImage(o.image);
-    ResizeParams rp;
+// checkResizeSize() as a command-line error naming --size and --max-scale.
+void checkTargetSize(cv::Size image, cv::Size size, double maxScale) {
+    try {
+        cv::multicage::checkResizeSize(image, size, maxScale);
+    } catch (const cv::Exception& e) {
+        const std::string library = "ResizeParams::maxScale sets the limit", reason = reasonOf(e);
+        const size_t at = reason.find(library);
+        throw UsageError("--size: " + (at == std::string::npos
+                                           ? reason
+                                           : reason.substr(0, at) + "--max-scale raises it" +
+                                                 reason.substr(at + library.size())));
+    }
+}
+
+// The options the photo and the clip share: what the proposal protects, its subject cue, the
+// limits of the size and of the warp.
+cv::multicage::ResizeParams resizeParams(const ResizeCommandOptions& o) {
+    cv::multicage::ResizeParams rp;
     if (!o.protect.empty()) {
-        rp.protect = parseProtectDetector(o.protect);
+        rp.protect = cv::multicage::parseProtectDetector(o.protect);
         if (rp.protect < 0)
             throw Failure("--protect: '" + o.protect + "' is not saliency, faces or all");
     }
     applySegmenterOptions(o.segmenter, &rp.segmenter, &rp.segmenterModel);
     rp.maxScale = o.maxScale;
+    rp.maxWarp = o.maxWarp;
+    return rp;
+}
+
+// A clip: one size, a video out, the grid step 2 unless typed (a binding per frame).
+void runResizeClip(const ResizeCommandOptions& o) {
+    using namespace cv::multicage;
+    if (!isVideoPath(o.output))
+        throw UsageError(
+            "-o: a clip is written as a video (.mp4, .m4v, .mov, .mkv, .avi or "
+            ".webm), not '" +
+            o.output + "'");
+    if (!o.overlay.empty()) throw UsageError("--overlay: for photos only");
+    if (o.noProtect) throw UsageError("--no-protect: for photos only");
+    if (o.sizes.size() > 1) throw UsageError("--size: a clip is resized to one size");
+    ClipResizeJob job;
+    job.input = o.image, job.output = o.output, job.cage = o.cage, job.quiet = o.quiet;
+    job.params.resize = resizeParams(o);
+    job.params.smoothing = o.smoothing;
+    job.params.resize.backend = backendArg(o.deform.backend);
+    job.params.resize.coordinates =
+        o.deform.coords.empty() ? ResizeParams().coordinates : coordinatesArg(o.deform.coords);
+    if (o.deform.gridStepOption && o.deform.gridStepOption->count() > 0)
+        job.params.resize.gridStep = o.deform.gridStep;
+    probeAutoBackend(job.params.resize.backend);
+    job.targetSize = [&o](cv::Size frame) {
+        cv::Size size = targetSizes(o, frame).front();
+        // Video codecs store colour at half resolution: --aspect picks an even width.
+        if (!o.aspect.empty()) size.width = std::max(2, 2 * cvRound(size.width / 2.0));
+        checkTargetSize(frame, size, o.maxScale);
+        return size;
+    };
+    resizeClip(job);
+}
+
+void runResize(const ResizeCommandOptions& o) {
+    using namespace cv::multicage;
+    if (isVideoPath(o.image)) return runResizeClip(o);
+    if (isVideoPath(o.output))
+        throw UsageError("-o: '" + o.output + "' is a video; " + o.image +
+                         " is a photo: write an image (.png, .jpg, ...)");
+    const auto t0 = std::chrono::steady_clock::now();
+    const cv::Mat image = readImage(o.image);
+    ResizeParams rp = resizeParams(o);
     // Every size and output checked before any work: a bad one writes nothing.
     const std::vector<cv::Size> sizes = targetSizes(o, image.size());
     for (const cv::Size& s : sizes) {
-        try {
-            checkResizeSize(image.size(), s, rp.maxScale);
-        } catch (const cv::Exception& e) {
-            const std::string library = "ResizeParams::maxScale sets the limit",
-                              reason = reasonOf(e);
-            const size_t at = reason.find(library);
-            throw UsageError("--size: " + (at == std::string::npos
-                                               ? reason
-                                               : reason.substr(0, at) + "--max-scale raises it" +
-                                                     reason.substr(at + library.size())));
-        }
+        checkTargetSize(image.size(), s, rp.maxScale);
         checkImageOutput(outputFor(o.output, s, sizes.size() > 1));
     }
     if (!o.overlay.empty()) checkImageOutput(o.overlay);
@@ -142,9 +193,16 @@ void runResize(const ResizeCommandOptions& o) {
     DeformParams params = deformParams(o.deform, "resize", image.size(), cage, &stepChange);
     rp.gridStep = params.gridStep;
     probeAutoBackend(params.backend);
+    // Past --max-warp a size shows a window of the photo (reframeWindow): its crop is bound on
+    // its own; the whole photo is bound once for the sizes that show it all.
+    std::vector<cv::Rect> crops;
+    for (const cv::Size& s : sizes)
+        crops.push_back(windowCrop(reframeWindow(cage, s, rp), image.size()));
+    const cv::Rect whole(cv::Point(), image.size());
+    const bool anyWhole = std::count(crops.begin(), crops.end(), whole) > 0;
     const auto tb = std::chrono::steady_clock::now();
-    const cv::Ptr<Deformer> deformer = createWithProgress("resize", o.quiet, image, cage, params);
-    const Binding& binding = deformer->binding();
+    const cv::Ptr<Deformer> deformer =
+        anyWhole ? createWithProgress("resize", o.quiet, image, cage, params) : nullptr;
     const double bindMs = msSince(tb);
     if (!o.quiet)
         std::cout << "multicage resize: " << o.image << " " << image.cols << "x" << image.rows
@@ -154,21 +212,36 @@ void runResize(const ResizeCommandOptions& o) {
                           : o.cage)
                   << ": " << plural(cage.polygonCount(), "polygon") << ", "
                   << plural(cage.vertexCount(), "vertex", "vertices") << "; "
-                  << coordinateTypeDescription(binding.coordinates) << " coordinates, grid step "
-                  << binding.gridStep << (stepChange.empty() ? "" : " (" + stepChange + ")")
-                  << ", bind " << cvRound(bindMs) << " ms" << std::endl;
+                  << coordinateTypeDescription(params.coordinates == COORDINATES_FROM_CAGE
+                                                   ? cage.coordinates()
+                                                   : params.coordinates)
+                  << " coordinates, grid step " << params.gridStep
+                  << (stepChange.empty() ? "" : " (" + stepChange + ")")
+                  << (anyWhole ? ", bind " + std::to_string(cvRound(bindMs)) + " ms" : "")
+                  << std::endl;
     for (size_t k = 0; k < sizes.size(); ++k) {
         const auto ts = std::chrono::steady_clock::now();
-        const std::vector<cv::Point2f> pose = resizePose(cage, binding, sizes[k], rp);
+        cv::Ptr<Deformer> d = deformer;
+        Multicage rest = cage;
+        std::string window;
+        if (crops[k] != whole) {
+            rest = cropMulticage(cage, crops[k]);
+            d = createWithProgress("resize", o.quiet, image(crops[k]), rest, params);
+            window = cv::format("a %dx%d window at (%d, %d), bind %d ms, ", crops[k].width,
+                                crops[k].height, crops[k].x, crops[k].y, cvRound(msSince(ts)));
+        }
+        const auto tp = std::chrono::steady_clock::now();
+        const std::vector<cv::Point2f> pose = resizePose(rest, d->binding(), sizes[k], rp);
         cv::Mat out;
-        deformer->deform(pose, out);
-        const double ms = msSince(ts);
+        d->deform(pose, out);
+        const double ms = msSince(tp);
         const std::string path = outputFor(o.output, sizes[k], sizes.size() > 1);
         writeImage("resize", path, out);
         if (k == 0 && !o.overlay.empty())
-            writeImage("resize", o.overlay, overlayPicture(image, cage, out, pose));
-        std::cout << "wrote " << path << " (" << out.cols << "x" << out.rows << ", pose and deform "
-                  << cvRound(ms) << " ms, " << backendName(deformer->backend()) << ")" << std::endl;
+            writeImage("resize", o.overlay, overlayPicture(image(crops[k]), rest, out, pose));
+        std::cout << "wrote " << path << " (" << out.cols << "x" << out.rows << ", " << window
+                  << "pose and deform " << cvRound(ms) << " ms, " << backendName(d->backend())
+                  << ")" << std::endl;
     }
     if (!o.overlay.empty())
         std::cout << "wrote " << o.overlay << " (the cage at rest and resized)" << std::endl;
@@ -188,25 +261,30 @@ void addResizeCommand(CLI::App& app) {
     CLI::App* cmd = app.add_subcommand(
         "resize",
         std::string() +
-            "Resize IMAGE to another size or aspect ratio keeping faces and subjects in shape "
-            "(content-aware resizing).\n"
+            "Resize IMAGE (a photo or a clip) to another size or aspect ratio keeping faces and "
+            "subjects in shape (content-aware resizing).\n"
             "The image is bound once to a multicage (proposed: an outline around each subject, "
-            "inner "
-            "polygons around faces and features; or --cage), then each size is one pose: the frame "
-            "goes "
-            "to the new frame, each subject and what it holds moves by a similarity (it keeps its "
-            "size "
-            "in "
-            "pixels where the new frame allows), and the background absorbs the aspect change. "
-            "Several "
-            "--size bind once and write OUT_WxH.ext each.\n" +
+            "inner polygons around faces and features; or --cage), then each size is one pose: "
+            "the frame goes to the new frame, each subject and what it holds moves by a "
+            "similarity (it keeps its size in pixels where the new frame allows), and the "
+            "background absorbs the aspect change. Several --size bind once and write "
+            "OUT_WxH.ext each.\n"
+            "Past --max-warp (16:9 to 9:16, say) the output shows a window of the image that "
+            "keeps every subject it can, as a crop would, and the warp takes the rest: subjects "
+            "far apart are brought together, a face wider than the window is cut, not squeezed.\n"
+            "A clip (.mp4, .m4v, .mov, .mkv, .avi, .webm) is reframed frame by frame: the "
+            "multicage follows its subjects (proposed again at cuts), windows and poses are "
+            "averaged over --smoothing frames each side, and the frame rate and audio are "
+            "carried over; Ctrl-C or an error leaves no output.\n" +
             subjectCueHelp() + "\n" +
             "Examples:\n"
             "  multicage resize photo.jpg -o wide.png --aspect 16:9\n"
             "  multicage resize photo.jpg -o out.png --size 1536x768 --size 717x768 --overlay "
-            "cage.png");
-    cmd->add_option("IMAGE", o->image, "Input image")->required();
-    cmd->add_option("-o,--output", o->output, "Output image (with several sizes: OUT_WxH.ext each)")
+            "cage.png\n"
+            "  multicage resize clip.mp4 -o vertical.mp4 --aspect 9:16");
+    cmd->add_option("IMAGE", o->image, "Input image or clip")->required();
+    cmd->add_option("-o,--output", o->output,
+                    "Output image (with several sizes: OUT_WxH.ext each), or clip")
         ->required();
     cmd->add_option("--size", o->sizes, "Target size WxH; repeat for several sizes (one binding)");
     cmd->add_option("--width", o->width, "Target width (the height stays, unless --height)")
@@ -230,6 +308,16 @@ void addResizeCommand(CLI::App& app) {
                     "Largest factor a side may grow by (a guard against a typo's huge output)")
         ->capture_default_str()
         ->check(CLI::Range(1.0, 1000.0));
+    cmd->add_option("--max-warp", o->maxWarp,
+                    "Largest aspect change the warp takes alone; past it the output shows a "
+                    "window of the image that keeps every subject it can (0: never crop)")
+        ->capture_default_str()
+        ->check(CLI::Range(0.0, 1000.0));
+    cmd->add_option("--smoothing", o->smoothing,
+                    "Clips: frames on each side that windows and poses are averaged over (the "
+                    "output runs twice as many behind; 0: none)")
+        ->capture_default_str()
+        ->check(wholeNumber(0, 100));
     addSegmenterOptions(cmd, o->segmenter);
     addDeformOptions(cmd, o->deform, cv::multicage::ResizeParams().coordinates);
     cmd->add_flag("-q,--quiet", o->quiet, "Print only the files written");
