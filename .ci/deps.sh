@@ -14,7 +14,7 @@ $SUDO apt-get install -y -qq --no-install-recommends \
     libopencv-dev libopencv-contrib-dev opencv-data \
     libglm-dev libepoxy-dev libegl-dev libgl-dev libopengl-dev libegl-mesa0 libgl1-mesa-dri \
     libeigen3-dev libcli11-dev libssl-dev libyaml-cpp-dev \
-    libgif-dev \
+    libgif-dev libavformat-dev libavcodec-dev libavutil-dev libswresample-dev ffmpeg \
     libgtest-dev libgmock-dev libbenchmark-dev clang-format-14 \
     doxygen \
     python3-dev pybind11-dev python3-numpy python3-opencv python3-pytest python3-yaml \

@@ -3,6 +3,8 @@
 #include <iostream>
 
 #include "cli_util.hpp"
+#include "clip_io.hpp"
+#include "deform_clip.hpp"
 
 namespace multicage_cli {
 
@@ -15,6 +17,15 @@ struct DeformCommandOptions {
 
 void runDeform(const DeformCommandOptions& o) {
     using namespace cv::multicage;
+    if (isVideoPath(o.image)) {
+        if (!isVideoPath(o.output))
+            throw UsageError(
+                "-o: a clip is written as a video (.mp4, .m4v, .mov, .mkv, .avi or "
+                ".webm), not '" +
+                o.output + "'");
+        ClipDeformJob job{o.image, o.cage, o.output, o.pose, o.deform, o.quiet, o.allowInvalid};
+        return deformClip(job);
+    }
     const auto t0 = std::chrono::steady_clock::now();
     checkImageOutput(o.output);
     const cv::Mat image = readImage(o.image);
@@ -83,11 +94,17 @@ void addDeformCommand(CLI::App& app) {
         "     - [ 100, 80, 300, 80, 300, 240, 100, 240 ]\n"
         "  poses:\n"
         "     - { name: stretch, time: 1.0, vertices: [ 90, 70, 330, 75, 310, 250, 100, 240 ] }\n"
-        "Example: multicage deform photo.jpg cage.yml -o out.png --pose stretch --grid-step 2");
-    cmd->add_option("image", o->image, "Input image (8/16-bit or float, 1, 3 or 4 channels)")
+        "A clip (.mp4, .m4v, .mov, .mkv, .avi, .webm) with a cage drawn on its first frame: "
+        "the cage follows its subjects and the pose moves, turns and scales with each polygon; "
+        "the frame rate and audio are carried over (grid step 2 unless given).\n"
+        "Examples:\n"
+        "  multicage deform photo.jpg cage.yml -o out.png --pose stretch --grid-step 2\n"
+        "  multicage deform clip.mp4 cage.yml -o edited.mp4 --pose stretch");
+    cmd->add_option("image", o->image,
+                    "Input image (8/16-bit or float, 1, 3 or 4 channels), or clip")
         ->required();
     cmd->add_option("cage", o->cage, "Cage file (.yml, .yaml or .json)")->required();
-    cmd->add_option("-o,--output", o->output, "Output image; written only when complete")
+    cmd->add_option("-o,--output", o->output, "Output image or clip; written only when complete")
         ->required();
     cmd->add_option("--pose", o->pose, "Pose name in the cage file (default: the first pose)");
     addDeformOptions(cmd, o->deform);

@@ -154,7 +154,8 @@ void runResizeClip(const ResizeCommandOptions& o) {
     job.targetSize = [&o](cv::Size frame) {
         cv::Size size = targetSizes(o, frame).front();
         // Video codecs store colour at half resolution: --aspect picks an even width.
-        if (!o.aspect.empty()) size.width = std::max(2, 2 * cvRound(size.width / 2.0));
+        if (!o.aspect.empty())
+            size.width = std::max(2, 2 * cvRound(parseAspect(o.aspect) * frame.height / 2));
         checkTargetSize(frame, size, o.maxScale);
         return size;
     };

@@ -31,6 +31,10 @@ called as albumentations transforms are: warp(image=, mask=, masks=, keypoints=,
 returns the same keys moved by one deformation, seeded per sample and replayable;
 TorchMulticageWarp is the same inside a torchvision Compose on CHW tensors.
 
+VideoReframer(size) reframes a clip to another size or aspect ratio frame by frame, its
+subjects tracked and kept in shape: push(frame), pop(), finish(), or reframe(frames) as a
+generator of output frames (numpy frames from cv2.VideoCapture or any reader).
+
 imread(path) reads an image as the CLI does: a truncated JPEG or PNG, an empty file or one
 that is not an image raises multicage.Error naming the file (cv2.imread decodes a cut file
 with a warning, or returns None).
@@ -103,6 +107,24 @@ def _wrap_module():
 
 _wrap_module()
 
+
+def _reframe(self, frames):
+    """Reframes a whole clip: pushes each frame of the iterable `frames` (numpy arrays, as
+    cv2.VideoCapture.read or PyAV give them) and yields each output image as soon as it is
+    ready; at the end of the iterable calls finish() and yields the rest. Every frame pushed
+    comes out, in order. For the other fields of each output frame, push() and pop()."""
+    for frame in frames:
+        self.push(frame)
+        while (out := self.pop()) is not None:
+            yield out["image"]
+    self.finish()
+    while (out := self.pop()) is not None:
+        yield out["image"]
+
+
+_reframe.__name__, _reframe.__qualname__ = "reframe", "VideoReframer.reframe"
+_multicage.VideoReframer.reframe = _reframe
+
 from ._multicage import (
     CONDITIONING_WARNING,
     MAX_MAP_STEP,
@@ -116,10 +138,12 @@ from ._multicage import (
     Multicage,
     Pose,
     ProposeMethod,
+    VideoReframer,
     __version__,
     auto_backend,
     bind,
     content_aware_resize,
+    crop_multicage,
     deform_image,
     gpu_available,
     imread,
@@ -129,6 +153,7 @@ from ._multicage import (
     propose_segmentation,
     protect_features,
     random_pose,
+    reframe_window,
     resize_pose,
     segmenter_model_file,
     subject_map,
@@ -149,9 +174,11 @@ __all__ = [
     "Multicage",
     "Pose",
     "ProposeMethod",
+    "VideoReframer",
     "auto_backend",
     "bind",
     "content_aware_resize",
+    "crop_multicage",
     "deform_image",
     "gpu_available",
     "imread",
@@ -161,6 +188,7 @@ __all__ = [
     "propose_segmentation",
     "protect_features",
     "random_pose",
+    "reframe_window",
     "resize_pose",
     "segmenter_model_file",
     "subject_map",

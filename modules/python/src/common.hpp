@@ -64,6 +64,18 @@ std::string segmenterModelArg(const py::handle& obj);
 /** Throws a ValueError for a model path given with segmenter='classic' (it would not run). */
 void checkSegmenterPair(int segmenter, const std::string& model);
 
+/** One keyword of ResizeParams into p (resize_py.cpp): coordinates, grid_step, backend, protect,
+margin, segmenter, segmenter_model, max_scale, max_warp; None leaves the default. False for
+another keyword. content_aware_resize, resize_pose and VideoReframer share it, so the names and
+their values are the same everywhere. */
+bool resizeParam(cv::multicage::ResizeParams& p, const std::string& key, const py::handle& v);
+extern const char* const kResizeKeywords;  // the names resizeParam takes, for messages
+/** One keyword of TrackParams into p (track_py.cpp): points_per_polygon, min_agreement,
+min_points, agreement_px, max_round_trip_px, min_histogram_correlation. False for another
+keyword. CageTracker and VideoReframer share it. */
+bool trackParam(cv::multicage::TrackParams& p, const std::string& key, const py::handle& v);
+extern const char* const kTrackKeywords;  // the names trackParam takes, for messages
+
 /** DeformParams from the Python keywords. coordinates None follows the multicage's own
 choice (the cage file's `coordinates:`), as `multicage deform` does without --coords. */
 cv::multicage::DeformParams deformParams(const py::object& coordinates, const py::object& gridStep,
@@ -116,6 +128,7 @@ void defineGpu(py::module_& m);          // gpu_py.cpp: gpu_available(), auto_ba
 void defineImageIo(py::module_& m);      // imageio_py.cpp: imread()
 void defineResize(py::module_& m);       // resize_py.cpp: resize_pose(), content_aware_resize()
 void defineTrack(py::module_& m);        // track_py.cpp: CageTracker
+void defineReframe(py::module_& m);      // reframe_py.cpp: VideoReframer, reframe_window()
 
 }  // namespace multicage_py
 

@@ -4,9 +4,8 @@
 // while the library binds, deforms, proposes or computes coordinates.
 //
 // One file per part of the module (multicage_py.cpp, binding_py.cpp, deformer_py.cpp,
-// propose_py.cpp, gpu_py.cpp, imageio_py.cpp, resize_py.cpp, track_py.cpp), each with its define
-// function; common.hpp holds what
-// they share.
+// propose_py.cpp, gpu_py.cpp, imageio_py.cpp, resize_py.cpp, track_py.cpp, reframe_py.cpp), each
+// with its define function; common.hpp holds what they share.
 #include "common.hpp"
 
 namespace multicage_py {
@@ -87,4 +86,5 @@ PYBIND11_MODULE(_multicage, m) {
     defineImageIo(m);
     defineResize(m);
     defineTrack(m);
+    defineReframe(m);
 }

@@ -1,50 +1,67 @@
 // resize_pose() and content_aware_resize(): content-aware resizing (resize.hpp).
+#include <algorithm>
+#include <iterator>
 #include <opencv2/multicage/resize.hpp>
 
 #include "common.hpp"
 
 namespace multicage_py {
-namespace {
 
 using namespace cv::multicage;
 
+const char* const kResizeKeywords =
+    "coordinates, grid_step, backend, protect, margin, segmenter, segmenter_model, max_scale, "
+    "max_warp";
+
+bool resizeParam(ResizeParams& p, const std::string& key, const py::handle& v) {
+    static const char* const keys[] = {"coordinates",     "grid_step", "backend",
+                                       "protect",         "margin",    "segmenter",
+                                       "segmenter_model", "max_scale", "max_warp"};
+    if (std::find(std::begin(keys), std::end(keys), key) == std::end(keys)) return false;
+    if (v.is_none()) return true;  // the default
+    if (key == "coordinates") {
+        p.coordinates = parseCoordinates(v);
+    } else if (key == "grid_step") {
+        p.gridStep = intArg(v, key);
+        if (p.gridStep < 1)
+            throw py::value_error("grid_step: must be >= 1, got " + std::to_string(p.gridStep));
+    } else if (key == "backend") {
+        p.backend = parseBackend(v);
+    } else if (key == "margin") {
+        p.margin = static_cast<float>(numberArg(v, key));
+    } else if (key == "max_scale") {
+        p.maxScale = numberArg(v, key);
+    } else if (key == "max_warp") {
+        p.maxWarp = numberArg(v, key);
+    } else if (key == "segmenter") {
+        p.segmenter = segmenterArg(v);
+    } else if (key == "segmenter_model") {
+        p.segmenterModel = segmenterModelArg(v);
+    } else if (py::isinstance<py::str>(v)) {  // protect
+        const std::string name = v.cast<std::string>();
+        p.protect = parseProtectDetector(name);
+        if (p.protect < 0)
+            throw py::value_error("protect: '" + name + "' is not saliency, faces or all");
+    } else {
+        throw py::type_error("protect: expected 'saliency', 'faces' or 'all', got " +
+                             shortValue(v));
+    }
+    return true;
+}
+
+namespace {
+
 /** ResizeParams from keyword arguments: coordinates, grid_step, backend, protect (a detector
-name, or False for the outline only), margin, segmenter, segmenter_model, max_scale. */
+name), margin, segmenter, segmenter_model, max_scale, max_warp. */
 ResizeParams resizeParams(const py::kwargs& kwargs) {
     ResizeParams p;
     for (const auto& item : kwargs) {
         const std::string key = item.first.cast<std::string>();
         const py::handle v = item.second;
         if (v.is_none()) continue;
-        if (key == "coordinates")
-            p.coordinates = parseCoordinates(v);
-        else if (key == "grid_step")
-            p.gridStep = intArg(v, key);
-        else if (key == "backend")
-            p.backend = parseBackend(v);
-        else if (key == "margin")
-            p.margin = static_cast<float>(numberArg(v, key));
-        else if (key == "max_scale")
-            p.maxScale = numberArg(v, key);
-        else if (key == "segmenter")
-            p.segmenter = segmenterArg(v);
-        else if (key == "segmenter_model")
-            p.segmenterModel = segmenterModelArg(v);
-        else if (key == "protect") {
-            if (py::isinstance<py::str>(v)) {
-                const std::string name = v.cast<std::string>();
-                p.protect = parseProtectDetector(name);
-                if (p.protect < 0)
-                    throw py::value_error("protect: '" + name + "' is not saliency, faces or all");
-            } else {
-                throw py::type_error("protect: expected 'saliency', 'faces' or 'all', got " +
-                                     shortValue(v));
-            }
-        } else {
-            throw py::type_error("content_aware_resize: unexpected keyword '" + key +
-                                 "' (coordinates, grid_step, backend, protect, margin, segmenter, "
-                                 "segmenter_model, max_scale)");
-        }
+        if (!resizeParam(p, key, v))
+            throw py::type_error("content_aware_resize: unexpected keyword '" + key + "' (" +
+                                 kResizeKeywords + ")");
     }
     checkSegmenterPair(p.segmenter, p.segmenterModel);
     return p;
@@ -112,8 +129,9 @@ Keywords: coordinates, grid_step, max_scale (8: the largest growth of a side).)d
 cage: a Multicage (scaled to the image when drawn on another size), or None for the default
 proposal (propose_multicage with protection). Keywords: coordinates, grid_step, backend,
 protect ('saliency', 'faces', 'all'), margin, segmenter ('auto', 'model', 'classic') and
-segmenter_model (as propose_multicage's), max_scale. Returns an h x w array of the
-image's dtype and channels.)doc");
+segmenter_model (as propose_multicage's), max_scale, max_warp (1.5: the largest aspect change
+the warp takes alone; past it the output shows a window of the image, reframe_window()).
+Returns an h x w array of the image's dtype and channels.)doc");
 }
 
 }  // namespace multicage_py

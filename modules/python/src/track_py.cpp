@@ -4,32 +4,41 @@
 #include "common.hpp"
 
 namespace multicage_py {
-namespace {
 
 using namespace cv::multicage;
+
+const char* const kTrackKeywords =
+    "points_per_polygon, min_agreement, min_points, agreement_px, max_round_trip_px, "
+    "min_histogram_correlation";
+
+bool trackParam(TrackParams& p, const std::string& key, const py::handle& v) {
+    if (key == "points_per_polygon")
+        p.pointsPerPolygon = intArg(v, key);
+    else if (key == "min_agreement")
+        p.minAgreement = numberArg(v, key);
+    else if (key == "min_points")
+        p.minPoints = intArg(v, key);
+    else if (key == "agreement_px")
+        p.agreementPx = numberArg(v, key);
+    else if (key == "max_round_trip_px")
+        p.maxRoundTripPx = numberArg(v, key);
+    else if (key == "min_histogram_correlation")
+        p.minHistogramCorrelation = numberArg(v, key);
+    else
+        return false;
+    return true;
+}
+
+namespace {
 
 /** TrackParams from keyword arguments named as its fields, in snake case. */
 TrackParams trackParams(const py::kwargs& kwargs) {
     TrackParams p;
     for (const auto& item : kwargs) {
         const std::string key = item.first.cast<std::string>();
-        const py::handle v = item.second;
-        if (key == "points_per_polygon")
-            p.pointsPerPolygon = intArg(v, key);
-        else if (key == "min_agreement")
-            p.minAgreement = numberArg(v, key);
-        else if (key == "min_points")
-            p.minPoints = intArg(v, key);
-        else if (key == "agreement_px")
-            p.agreementPx = numberArg(v, key);
-        else if (key == "max_round_trip_px")
-            p.maxRoundTripPx = numberArg(v, key);
-        else if (key == "min_histogram_correlation")
-            p.minHistogramCorrelation = numberArg(v, key);
-        else
-            throw py::type_error("CageTracker: unexpected keyword '" + key +
-                                 "' (points_per_polygon, min_agreement, min_points, "
-                                 "agreement_px, max_round_trip_px, min_histogram_correlation)");
+        if (!trackParam(p, key, item.second))
+            throw py::type_error("CageTracker: unexpected keyword '" + key + "' (" +
+                                 kTrackKeywords + ")");
     }
     return p;
 }

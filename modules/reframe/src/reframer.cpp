@@ -98,13 +98,26 @@ struct VideoReframer::Impl {
 
     int radius() const { return std::max(0, params.smoothing); }
 
+    // How far the average around entry k reaches: up to radius() frames, as far on both sides
+    // as the frames `alike` it go (entries are consecutive), so that a subject moving steadily
+    // is averaged to where it is, at the ends of a clip, shot or multicage too.
+    template <typename Alike>
+    int reach(size_t k, Alike alike) const {
+        int r = 0;
+        while (r < radius() && k >= size_t(r + 1) && k + r + 1 < entries.size() &&
+               alike(entries[k - r - 1]) && alike(entries[k + r + 1]))
+            ++r;
+        return r;
+    }
+
     // The window of entry k: its raw window averaged over the frames of its shot nearby.
     void place(size_t k) {
         Entry& e = entries[k];
+        const int r = reach(k, [&](const Entry& o) { return o.shot == e.shot; });
         double sum = 0, x = 0, y = 0, w = 0, h = 0;
         for (const Entry& o : entries) {
             const int d = o.index - e.index;
-            if (o.shot != e.shot || std::abs(d) > radius()) continue;
+            if (std::abs(d) > r) continue;
             const double g = weight(d, radius());
             sum += g, x += g * o.rawWindow.x, y += g * o.rawWindow.y;
             w += g * o.rawWindow.width, h += g * o.rawWindow.height;
@@ -143,9 +156,10 @@ struct VideoReframer::Impl {
         const size_t corners = out.pose.size() - 4;
         std::vector<Point2d> sum(corners);
         double total = 0;
+        const int r = reach(k, [&](const Entry& o) { return o.posed && o.key == e.key; });
         for (const Entry& o : entries) {
             const int d = o.index - e.index;
-            if (!o.posed || o.key != e.key || std::abs(d) > radius()) continue;
+            if (std::abs(d) > r) continue;
             const double g = weight(d, radius());
             total += g;
             for (size_t v = 0; v < corners; ++v) sum[v] += g * Point2d(o.rawPose[v]);

@@ -89,14 +89,16 @@ Multicage cropMulticage(const Multicage& cage, const Rect& crop, std::vector<int
     if (kept) kept->clear();
     Multicage out(crop.size());
     out.setCoordinates(cage.coordinates());
-    // A polygon is kept when it lies inside the crop with half a pixel to spare (the frame runs
-    // along the pixels' outer edges); dropping an outline leaves what it held as outlines.
-    const Rect2d inside(crop.x, crop.y, crop.width - 1.0, crop.height - 1.0);
+    // A polygon is kept when it lies strictly inside the crop's frame (half a pixel outside its
+    // outer pixel centres), as validate() wants of any multicage: on the whole image, all are.
+    constexpr float eps = 1e-3f;
+    const float left = crop.x - 0.5f + eps, top = crop.y - 0.5f + eps,
+                right = crop.x + crop.width - 0.5f - eps,
+                bottom = crop.y + crop.height - 0.5f - eps;
     for (int i = 0; i < cage.polygonCount(); ++i) {
         std::vector<Point2f> p = cage.polygon(i);
         const bool in = std::all_of(p.begin(), p.end(), [&](const Point2f& v) {
-            return v.x >= inside.x && v.y >= inside.y && v.x <= inside.br().x &&
-                   v.y <= inside.br().y;
+            return v.x >= left && v.y >= top && v.x <= right && v.y <= bottom;
         });
         if (!in) continue;
         if (kept) kept->push_back(i);

@@ -230,7 +230,7 @@ void CageTracker::reset(const Multicage& cage, InputArray frame) {
     const Mat grey = greyOf(frame);
     const Multicage fitted = cage.imageSize() == grey.size() ? cage : cage.scaled(grey.size());
     std::string why;
-    if (!fitted.validate(&why))
+    if (!fitted.validateGeometry(&why))
         CV_Error(Error::StsBadArg, "CageTracker: invalid multicage: " + why);
     impl_->setKey(fitted, grey);
     impl_->type = frame.type();
@@ -275,7 +275,7 @@ TrackReport CageTracker::track(InputArray frame) {
         report.why = format("polygon %d: too few points agree on its motion", report.lost[0]);
         return report;
     }
-    if (!next.validate(&report.why)) {
+    if (!next.validateGeometry(&report.why)) {
         report.state = TRACK_LOST;
         report.why = "the moved multicage is invalid: " + report.why;
         return report;

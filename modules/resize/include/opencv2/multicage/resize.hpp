@@ -156,8 +156,9 @@ CV_EXPORTS Rect2d reframeWindow(const Multicage& cage, Size newSize,
                                 const ResizeParams& params = ResizeParams());
 /** @brief The whole pixels that cover window (reframeWindow()), inside an image of imageSize. */
 CV_EXPORTS Rect windowCrop(const Rect2d& window, Size imageSize);
-/** @brief The multicage on a crop of its image: each polygon that lies inside crop (half a pixel
-within it), moved to the crop's pixels; a polygon the crop cuts is dropped, so what it held
+/** @brief The multicage on a crop of its image: each polygon that lies inside the crop's frame
+(its pixels' outer edges; on the whole image, every polygon of a valid multicage), moved to the
+crop's pixels; a polygon the crop cuts is dropped, so what it held
 becomes an outline of its own. Oriented, with the cage's coordinate type.
 @param cage the multicage.
 @param crop the crop, not empty.

@@ -105,6 +105,18 @@ class CV_EXPORTS CageTracker {
     Ptr<Impl> impl_;
 };
 
+/** @brief A pose drawn on one frame, carried to where the multicage lies on another: each
+polygon's posed vertices move by the similarity that takes the polygon from `from` to `to` (the
+least-squares fit of its vertices, exact for CageTracker's motions), so an edit moves, turns and
+scales with its subject. Frame corners, when given, stay.
+@param from the multicage on the frame the pose was drawn on.
+@param pose a pose of from: vertexCount() points, or +4 with the frame corners.
+@param to the same multicage on another frame (CageTracker::multicage()): the same polygons and
+vertex counts (else cv::Exception, StsBadArg).
+@return the pose of to, as many points as pose. */
+CV_EXPORTS std::vector<Point2f> carryPose(const Multicage& from, InputArray pose,
+                                          const Multicage& to);
+
 //! @}
 
 }  // namespace multicage

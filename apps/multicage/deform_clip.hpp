@@ -1,0 +1,28 @@
+// multicage deform IN.mp4 CAGE.yml --pose NAME -o OUT.mp4: an edit drawn on a clip's first frame
+// carried through the clip with its subjects.
+#ifndef MULTICAGE_DEFORM_CLIP_HPP
+#define MULTICAGE_DEFORM_CLIP_HPP
+
+#include <string>
+
+#include "cli_util.hpp"
+
+namespace multicage_cli {
+
+/** What `multicage deform` asks of a clip. */
+struct ClipDeformJob {
+    std::string input, cage, output;
+    std::string pose;  // "": the first pose
+    DeformOptions deform;
+    bool quiet = false, allowInvalid = false;
+};
+
+/** Tracks the cage (which lies on the first frame) through job.input and deforms each frame to
+the pose carried with its polygons (cv::multicage::carryPose). A frame where the carried pose
+crosses is left as it is (a note says how many), unless allowInvalid. Ctrl-C or an error leaves no
+output file. */
+void deformClip(const ClipDeformJob& job);
+
+}  // namespace multicage_cli
+
+#endif
