@@ -84,7 +84,7 @@ void resizeClip(const ClipResizeJob& job) {
     if (!note.empty()) std::cerr << "multicage resize: note: " << note << std::endl;
     if (!job.quiet) {
         std::cout << "multicage resize: " << job.input << " " << info.size.width << "x"
-                  << info.size.height << " at " << cv::format("%.3g", info.fps) << " fps -> "
+                  << info.size.height << " at " << cv::format("%.4g", info.fps) << " fps -> "
                   << size.width << "x" << size.height << ": " << proposalLine(s) << "; "
                   << cv::format("%.1f", written / std::max(1e-9, seconds)) << " frames/s"
                   << std::endl;

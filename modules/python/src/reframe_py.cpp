@@ -106,7 +106,7 @@ windows and poses are averaged over nearby frames so that subjects glide instead
 params: smoothing (6 frames each side; 0: none, no lag), retry_empty_every (30 frames), the
 keywords of content_aware_resize (coordinates, grid_step (2 here), backend, protect, margin,
 segmenter, segmenter_model, max_scale, max_warp) and those of CageTracker (points_per_polygon,
-min_agreement, min_points, agreement_px, max_round_trip_px, min_histogram_correlation).
+min_agreement, min_points, agreement_px, max_round_trip_px, min_histogram_correlation, working_size).
 stats: what was done so far and where the time went (docs/video/README.md).
 )doc")
         .def(py::init(

@@ -165,16 +165,28 @@ bool farFromKey(const Mat& m) {
 // The key frame the polygons are measured from, and where they moved since.
 struct CageTracker::Impl {
     TrackParams params;
-    Multicage cage;     // on the last frame
-    Multicage keyCage;  // on the key frame
+    Multicage cage;     // on the last frame, in the frames' pixels (what multicage() gives)
+    Multicage keyCage;  // on the key frame, at the working size (as everything below)
+    Size frameSize, workingSize;
     Mat keyGrey, lastGrey;
     int type = -1;
     std::vector<std::vector<Point2f>> keyPoints;  // per polygon, on the key frame
     std::vector<Mat> motion;                      // per polygon: key frame -> last frame
     std::vector<int> parent, outermostFirst;      // the nesting, and the polygons by depth
 
+    // The frame in grey at the working size: flow windows and tolerances are in its pixels.
+    Mat working(InputArray frame) const {
+        Mat grey = greyOf(frame);
+        if (grey.size() != frameSize || frame.type() != type)
+            CV_Error(Error::StsBadArg,
+                     "CageTracker: the frame's size or type differs from the first");
+        if (workingSize != frameSize) resize(grey, grey, workingSize, 0, 0, INTER_AREA);
+        return grey;
+    }
+
     void setKey(const Multicage& c, const Mat& grey) {
-        keyCage = c, cage = c, keyGrey = grey, lastGrey = grey;
+        keyCage = c, keyGrey = grey, lastGrey = grey;
+        cage = c.imageSize() == frameSize ? c : c.scaled(frameSize);
         const int P = c.polygonCount();
         std::vector<geometry::Polygon> polygons;
         for (int i = 0; i < P; ++i) polygons.push_back(c.polygon(i));
@@ -227,20 +239,25 @@ const Multicage& CageTracker::multicage() const {
 }
 
 void CageTracker::reset(const Multicage& cage, InputArray frame) {
-    const Mat grey = greyOf(frame);
-    const Multicage fitted = cage.imageSize() == grey.size() ? cage : cage.scaled(grey.size());
+    Impl& s = *impl_;
+    s.frameSize = greyOf(frame).size();
+    const Multicage fitted = cage.imageSize() == s.frameSize ? cage : cage.scaled(s.frameSize);
     std::string why;
     if (!fitted.validateGeometry(&why))
         CV_Error(Error::StsBadArg, "CageTracker: invalid multicage: " + why);
-    impl_->setKey(fitted, grey);
-    impl_->type = frame.type();
+    const int side = std::max(s.frameSize.width, s.frameSize.height);
+    const double f = s.params.workingSize > 0 && side > s.params.workingSize
+                         ? double(s.params.workingSize) / side
+                         : 1.0;
+    s.workingSize = Size(std::max(1, cvRound(s.frameSize.width * f)),
+                         std::max(1, cvRound(s.frameSize.height * f)));
+    s.type = frame.type();
+    s.setKey(f < 1 ? fitted.scaled(s.workingSize) : fitted, s.working(frame));
 }
 
 TrackReport CageTracker::track(InputArray frame) {
     Impl& s = *impl_;
-    const Mat grey = greyOf(frame);
-    if (grey.size() != s.lastGrey.size() || frame.type() != s.type)
-        CV_Error(Error::StsBadArg, "CageTracker: the frame's size or type differs from the first");
+    const Mat grey = s.working(frame);
     TrackReport report;
     report.histogramCorrelation = histogramCorrelation(s.lastGrey, grey);
     s.lastGrey = grey;
@@ -282,8 +299,10 @@ TrackReport CageTracker::track(InputArray frame) {
     }
     report.why.clear();
     s.motion = motion;
-    s.cage = next;
-    if (rekey) s.setKey(next, grey);
+    if (rekey)
+        s.setKey(next, grey);
+    else
+        s.cage = s.workingSize == s.frameSize ? next : next.scaled(s.frameSize);
     return report;
 }
 

@@ -29,6 +29,10 @@ struct CV_EXPORTS TrackParams {
     double maxRoundTripPx = 1.0;
     /** Correlation of the two frames' grey-level histograms below which the frame is a cut. */
     double minHistogramCorrelation = 0.5;
+    /** Frames whose longer side is above this many pixels are tracked on a copy scaled down to
+    it (0: always the frames themselves): the flow's window and the pixel tolerances above then
+    mean the same on a 1080p clip as on a small one, and the flow costs the same. */
+    int workingSize = 640;
 };
 
 /** @brief What CageTracker::track found. */
