@@ -197,8 +197,7 @@ void runResize(const ResizeCommandOptions& o) {
     // Past --max-warp a size shows a window of the photo (reframeWindow): its crop is bound on
     // its own; the whole photo is bound once for the sizes that show it all.
     std::vector<cv::Rect> crops;
-    for (const cv::Size& s : sizes)
-        crops.push_back(windowCrop(reframeWindow(cage, s, rp), image.size()));
+    for (const cv::Size& s : sizes) crops.push_back(reframeCrop(cage, s, rp));
     const cv::Rect whole(cv::Point(), image.size());
     const bool anyWhole = std::count(crops.begin(), crops.end(), whole) > 0;
     const auto tb = std::chrono::steady_clock::now();

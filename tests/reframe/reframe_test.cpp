@@ -382,8 +382,10 @@ void expectFacesKept(const Mat& image, const Multicage& rest, Size newSize, bool
                  std::to_string(newSize.height));
     ResizeParams params;
     params.gridStep = 2;
+    // A photo is cropped to the window rounded to whole pixels (reframeCrop).
     const Rect2d window = reframeWindow(rest, newSize, params);
-    const Rect crop = windowCrop(window, image.size());
+    const Rect crop = reframeCrop(rest, newSize, params);
+    EXPECT_LE(std::abs(crop.x - window.x) + std::abs(crop.width - window.width), 1.0);
     if (whole) {
         EXPECT_EQ(window, Rect2d(0, 0, image.cols, image.rows));
         EXPECT_EQ(crop, Rect(0, 0, image.cols, image.rows));
@@ -563,11 +565,11 @@ TEST(ReframeWindow, OutlinesFarApartWidenItWithinTheImage) {
     EXPECT_TRUE(holds(w, right));
     EXPECT_GT(w.width, kPlainCrop);
     EXPECT_LE(w.width, 640.0);
-    EXPECT_NEAR(w.width, 490 + 2 * 0.04 * kPlainCrop, 1e-6);
+    // 6% of the window to spare on each side (more than 4% of the plain crop here).
+    EXPECT_NEAR(w.width, 490 / 0.88, 1e-6);
     EXPECT_NEAR(w.x + w.width / 2, 295.0, 1e-6);
-    // The warp brings them in: both on the output, what they protect (a face each) moved by a
-    // similarity. (The outlines themselves are blended towards the frame's scaling where a
-    // similarity would fold the mesh, as resizePose() documents: printed, not asserted.)
+    // The warp brings them in: both on the output, the outlines and what they protect (a face
+    // each) moved by similarities: the margin leaves the resize pose room to keep them whole.
     const std::vector<Point2f> leftFace = box(58, 110, 82, 140),
                                rightFace = box(508, 130, 532, 160);
     const Multicage withFaces = cageOf(kImage, {left, right, leftFace, rightFace});
@@ -586,10 +588,8 @@ TEST(ReframeWindow, OutlinesFarApartWidenItWithinTheImage) {
         const double residual = maxSimilarityResidual(cropped.polygon(i), posed),
                      aspect = aspectOf(posed) / aspectOf(cropped.polygon(i));
         EXPECT_TRUE(holds(output, posed)) << "polygon " << i;
-        if (cropped.depth(i) >= 2) {
-            EXPECT_LE(residual, 1.0) << "face " << i;
-            EXPECT_NEAR(aspect, 1.0, 0.05) << "face " << i;
-        }
+        EXPECT_LE(residual, 1.0) << "polygon " << i;
+        EXPECT_NEAR(aspect, 1.0, 0.05) << "polygon " << i;
         std::cout << "[ far apart ] window " << w << ", polygon " << i << " (depth "
                   << cropped.depth(i) << "): similarity residual " << residual << " px, aspect x "
                   << aspect << std::endl;

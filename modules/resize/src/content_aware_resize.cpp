@@ -32,8 +32,8 @@ void contentAwareResize(InputArray image, Size newSize, OutputArray dst, const M
     deform.coordinates = params.coordinates;
     deform.gridStep = params.gridStep;
     deform.backend = params.backend;
-    // Past params.maxWarp the output shows a window of the image: bind the crop covering it.
-    const Rect crop = windowCrop(reframeWindow(rest, newSize, params), image.size());
+    // Past params.maxWarp the output shows a window of the image: bind its crop alone.
+    const Rect crop = reframeCrop(rest, newSize, params);
     if (crop.size() == image.size()) {
         Ptr<Deformer> deformer = Deformer::create(image, rest, deform);
         deformer->deform(resizePose(rest, deformer->binding(), newSize, params), dst);

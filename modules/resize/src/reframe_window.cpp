@@ -62,13 +62,15 @@ Rect2d reframeWindow(const Multicage& cage, Size newSize, const ResizeParams& pa
             if (phi - plo > crop) keep.add(lo, hi);
         }
     }
-    // A margin of 4% of the plain crop on each side of what is kept, so nothing kept touches the
-    // window's side; never narrower than the plain crop (what is kept then centred in it), nor
-    // wider than the image. Subjects far apart widen it past maxWarp: the warp brings them in.
-    const double pad = 0.04 * crop;
+    // A margin on each side of what is kept, so nothing kept touches the window's side: 4% of
+    // the plain crop, and 6% of the window where subjects far apart widen it past the crop (the
+    // warp squeezes the window into the output, and the resize pose leaves an outline at least 4%
+    // of the output to the frame, so a thinner margin would squeeze the outline itself). Never
+    // narrower than the plain crop (what is kept then centred in it), nor wider than the image.
     double width = crop, centre = length / 2;
     if (!keep.empty()) {
-        width = std::clamp(keep.hi - keep.lo + 2 * pad, crop, length);
+        const double span = keep.hi - keep.lo;
+        width = std::clamp(std::max(span + 0.08 * crop, span / 0.88), crop, length);
         centre = (keep.lo + keep.hi) / 2;
     } else if (!outlines.empty()) {
         centre = (outlines.lo + outlines.hi) / 2;
@@ -82,6 +84,12 @@ Rect windowCrop(const Rect2d& window, Size image) {
         Point(int(std::floor(window.x + 1e-6)), int(std::floor(window.y + 1e-6))),
         Point(int(std::ceil(window.br().x - 1e-6)), int(std::ceil(window.br().y - 1e-6))));
     return crop & Rect(Point(), image);
+}
+
+Rect reframeCrop(const Multicage& cage, Size newSize, const ResizeParams& params) {
+    const Rect2d w = reframeWindow(cage, newSize, params);
+    return windowCrop(Rect2d(cvRound(w.x), cvRound(w.y), cvRound(w.width), cvRound(w.height)),
+                      cage.imageSize());
 }
 
 Multicage cropMulticage(const Multicage& cage, const Rect& crop, std::vector<int>* kept) {

@@ -140,8 +140,9 @@ image. Otherwise the side with the larger scale is kept whole and the other is c
     side) could hold, and of a wider outline the polygons it protects (faces, features) that the
     plain crop could hold; a polygon wider than the plain crop is cut, as a crop would cut it, and
     keeps its size (shrinking it would stretch what is around it);
-  - with 4% of the plain crop to spare on each side; never narrower than the plain crop, nor
-    wider than the image (subjects far apart widen it past maxWarp);
+  - with 4% of the plain crop to spare on each side (6% of the window where subjects far apart
+    widen it past the plain crop); never narrower than the plain crop, nor wider than the
+    image;
   - centred on what it holds, moved inside the image; with nothing held, centred on the
     outlines, or on the image.
 The warp then takes the window's aspect to the target's: where the window is a plain crop it is a
@@ -156,6 +157,15 @@ CV_EXPORTS Rect2d reframeWindow(const Multicage& cage, Size newSize,
                                 const ResizeParams& params = ResizeParams());
 /** @brief The whole pixels that cover window (reframeWindow()), inside an image of imageSize. */
 CV_EXPORTS Rect windowCrop(const Rect2d& window, Size imageSize);
+/** @brief A photo's window: reframeWindow() rounded to whole pixels, so that the crop is resized
+to newSize exactly (the whole image where the warp alone takes the change). contentAwareResize()
+and `multicage resize` use it.
+@param cage as reframeWindow().
+@param newSize as reframeWindow().
+@param params as reframeWindow().
+@return the crop, inside the image. */
+CV_EXPORTS Rect reframeCrop(const Multicage& cage, Size newSize,
+                            const ResizeParams& params = ResizeParams());
 /** @brief The multicage on a crop of its image: each polygon that lies inside the crop's frame
 (its pixels' outer edges; on the whole image, every polygon of a valid multicage), moved to the
 crop's pixels; a polygon the crop cuts is dropped, so what it held
