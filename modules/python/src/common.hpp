@@ -71,8 +71,8 @@ their values are the same everywhere. */
 bool resizeParam(cv::multicage::ResizeParams& p, const std::string& key, const py::handle& v);
 extern const char* const kResizeKeywords;  // the names resizeParam takes, for messages
 /** One keyword of TrackParams into p (track_py.cpp): points_per_polygon, min_agreement,
-min_points, agreement_px, max_round_trip_px, min_histogram_correlation, working_size. False for
-another keyword. CageTracker and VideoReframer share it. */
+min_points, agreement_px, max_round_trip_px, min_histogram_correlation, max_thumbnail_difference,
+working_size. False for another keyword. CageTracker and VideoReframer share it. */
 bool trackParam(cv::multicage::TrackParams& p, const std::string& key, const py::handle& v);
 extern const char* const kTrackKeywords;  // the names trackParam takes, for messages
 

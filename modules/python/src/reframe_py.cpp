@@ -71,6 +71,7 @@ py::dict frameDict(const ReframedFrame& f) {
     d["window"] = py::make_tuple(f.window.x, f.window.y, f.window.width, f.window.height);
     d["crop"] = py::make_tuple(f.crop.x, f.crop.y, f.crop.width, f.crop.height);
     d["cage"] = f.cage;
+    d["tracked"] = f.tracked;
     d["pose"] = arrayFromPoints(f.pose);
     d["smoothed"] = f.smoothed;
     return d;
@@ -95,8 +96,9 @@ next frame (uint8, HxW, HxWx3 or HxWx4; every frame of the first's shape); pop()
 next output frame as a dict, or None when none is ready: image (h x w, the frames' channels),
 index (the input frame's, 0 first), shot (a cut starts the next), window (x, y, w, h: the part
 of the input frame shown, smoothed over time), crop (x, y, w, h: the whole pixels bound),
-cage (the multicage on the crop, at rest), pose (its vertices on the output, frame corners
-last, float32) and smoothed (False where the frame's own pose was used). Frames come out lag
+cage (the multicage on the crop, at rest), tracked (the one on the whole frame), pose (cage's
+vertices on the output, frame corners last, float32) and smoothed (False where the frame's own
+pose was used). Frames come out lag
 frames after they go in; finish() marks the end of the clip and lets the last ones out.
 reframe(frames) does all of it as a generator of output images.
 
@@ -106,7 +108,8 @@ windows and poses are averaged over nearby frames so that subjects glide instead
 params: smoothing (6 frames each side; 0: none, no lag), retry_empty_every (30 frames), the
 keywords of content_aware_resize (coordinates, grid_step (2 here), backend, protect, margin,
 segmenter, segmenter_model, max_scale, max_warp) and those of CageTracker (points_per_polygon,
-min_agreement, min_points, agreement_px, max_round_trip_px, min_histogram_correlation, working_size).
+min_agreement, min_points, agreement_px, max_round_trip_px, min_histogram_correlation,
+max_thumbnail_difference, working_size).
 stats: what was done so far and where the time went (docs/video/README.md).
 )doc")
         .def(py::init(

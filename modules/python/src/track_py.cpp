@@ -9,7 +9,7 @@ using namespace cv::multicage;
 
 const char* const kTrackKeywords =
     "points_per_polygon, min_agreement, min_points, agreement_px, max_round_trip_px, "
-    "min_histogram_correlation, working_size";
+    "min_histogram_correlation, max_thumbnail_difference, working_size";
 
 bool trackParam(TrackParams& p, const std::string& key, const py::handle& v) {
     if (key == "points_per_polygon")
@@ -24,6 +24,8 @@ bool trackParam(TrackParams& p, const std::string& key, const py::handle& v) {
         p.maxRoundTripPx = numberArg(v, key);
     else if (key == "min_histogram_correlation")
         p.minHistogramCorrelation = numberArg(v, key);
+    else if (key == "max_thumbnail_difference")
+        p.maxThumbnailDifference = numberArg(v, key);
     else if (key == "working_size")
         p.workingSize = intArg(v, key);
     else
@@ -57,10 +59,11 @@ A multicage that follows its subject from frame to frame of a clip (C++ CageTrac
 
 CageTracker(cage, frame, **params): cage lies on frame (uint8, HxW, HxWx3 or HxWx4).
 track(frame) moves each polygon with what it encloses and returns a dict: state ('ok',
-'cut' or 'lost'), lost (polygon indices), histogram_correlation and why. Unless the state is
-'ok' nothing moved: propose again and call reset(cage, frame). multicage is the cage on the
-last frame. params: points_per_polygon, min_agreement, min_points, agreement_px,
-max_round_trip_px, min_histogram_correlation, working_size (docs/video/README.md).
+'cut' or 'lost'), lost (polygon indices), histogram_correlation, thumbnail_difference and why.
+Unless the state is 'ok' nothing moved: propose again and call reset(cage, frame). multicage is
+the cage on the last frame. params: points_per_polygon, min_agreement, min_points,
+agreement_px, max_round_trip_px, min_histogram_correlation, max_thumbnail_difference,
+working_size (docs/video/README.md).
 )doc")
         .def(py::init([](const Multicage& cage, const py::handle& frame, const py::kwargs& kwargs) {
                  py::object keep;
@@ -84,6 +87,7 @@ max_round_trip_px, min_histogram_correlation, working_size (docs/video/README.md
                 d["state"] = stateName(r.state);
                 d["lost"] = r.lost;
                 d["histogram_correlation"] = r.histogramCorrelation;
+                d["thumbnail_difference"] = r.thumbnailDifference;
                 d["why"] = r.why;
                 return d;
             },

@@ -61,15 +61,18 @@ struct VideoReframer::Impl {
     Multicage propose(const Mat& frame, const std::string& why) {
         const auto t0 = std::chrono::steady_clock::now();
         Multicage cage(frame.size());
+        bool constant = false;
         try {
             cage = resizeCage(frame, params.resize);
         } catch (const Exception& e) {
-            // A frame with nothing to segment (a black frame of a fade) has no subject: it
-            // scales plainly, and the next cut or retryEmptyEvery proposes again.
+            // A frame with nothing to segment (a black frame of a fade) has no subject: it is
+            // cropped plainly, and the next frame is tried (that test is quick).
             if (e.code != Error::StsBadArg) throw;
+            constant = true;
         }
         stats.proposeMs += msSince(t0);
-        ++stats.proposals, ++generation, sinceProposal = 0;
+        ++stats.proposals, ++generation;
+        sinceProposal = constant ? std::max(0, params.retryEmptyEvery - 1) : 0;
         stats.lastWhy = why;
         return cage;
     }
@@ -171,7 +174,7 @@ struct VideoReframer::Impl {
         e.deformer->deform(out.pose, out.image);
         stats.deformMs += msSince(t0);
         out.index = e.index, out.shot = e.shot, out.window = e.window, out.crop = e.crop;
-        out.cage = e.cropped;
+        out.cage = e.cropped, out.tracked = e.cage;
         ready.push_back(std::move(out));
         ++stats.framesOut, ++nextOut;
         e.frame.release(), e.deformer.release();

@@ -79,6 +79,16 @@ double histogramCorrelation(const Mat& a, const Mat& b) {
     return compareHist(ha, hb, HISTCMP_CORREL);
 }
 
+// The mean absolute grey difference of the frames' 16 x 12 thumbnails: where the picture's
+// layout changes at once. Shots of one palette (a dialogue's two faces) correlate in their
+// histograms, not in their layouts.
+double thumbnailDifference(const Mat& a, const Mat& b) {
+    Mat ta, tb;
+    resize(a, ta, Size(16, 12), 0, 0, INTER_AREA);
+    resize(b, tb, Size(16, 12), 0, 0, INTER_AREA);
+    return norm(ta, tb, NORM_L1) / double(ta.total());
+}
+
 // The points' flow from `from` to `to`, each starting at its guess, kept where the flow back
 // returns within maxRoundTrip.
 void followPoints(const Mat& from, const Mat& to, const std::vector<Point2f>& points,
@@ -260,11 +270,18 @@ TrackReport CageTracker::track(InputArray frame) {
     const Mat grey = s.working(frame);
     TrackReport report;
     report.histogramCorrelation = histogramCorrelation(s.lastGrey, grey);
+    report.thumbnailDifference = thumbnailDifference(s.lastGrey, grey);
     s.lastGrey = grey;
     if (report.histogramCorrelation < s.params.minHistogramCorrelation) {
         report.state = TRACK_CUT;
         report.why = format("a cut: the grey-level histograms correlate %.2f (below %.2f)",
                             report.histogramCorrelation, s.params.minHistogramCorrelation);
+        return report;
+    }
+    if (report.thumbnailDifference > s.params.maxThumbnailDifference) {
+        report.state = TRACK_CUT;
+        report.why = format("a cut: the frames' thumbnails differ by %.1f grey levels (above %.1f)",
+                            report.thumbnailDifference, s.params.maxThumbnailDifference);
         return report;
     }
     Multicage next = s.keyCage;

@@ -35,7 +35,8 @@ struct CV_EXPORTS ReframeParams {
     smoothing, no lag. */
     int smoothing = 6;
     /** With no polygon on the frames (nothing proposed), a proposal is tried again after this
-    many frames (and at every cut): a subject that walks in is picked up. */
+    many frames (and at every cut): a subject that walks in is picked up. After a frame with
+    nothing to segment (a black frame), the next frame is tried. */
     int retryEmptyEvery = 30;
 };
 
@@ -47,8 +48,9 @@ struct CV_EXPORTS ReframedFrame {
     /** The window of the input frame it shows (reframeWindow(), smoothed over time), and the
     whole pixels covering it (windowCrop()). */
     Rect2d window;
-    Rect crop;       //!< windowCrop() of window: the part of the input frame that was bound
-    Multicage cage;  //!< the tracked multicage on the crop (cropMulticage()), at rest
+    Rect crop;          //!< windowCrop() of window: the part of the input frame that was bound
+    Multicage cage;     //!< the tracked multicage on the crop (cropMulticage()), at rest
+    Multicage tracked;  //!< the tracked multicage on the whole input frame
     /** The pose the crop was deformed to (smoothed over time), frame corners last: cage's
     vertices onto the output frame. */
     std::vector<Point2f> pose;

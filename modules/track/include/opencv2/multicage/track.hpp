@@ -29,6 +29,10 @@ struct CV_EXPORTS TrackParams {
     double maxRoundTripPx = 1.0;
     /** Correlation of the two frames' grey-level histograms below which the frame is a cut. */
     double minHistogramCorrelation = 0.5;
+    /** Mean absolute grey difference of the two frames' 16 x 12 thumbnails above which the frame
+    is a cut: the layout changed at once (on Megamind.avi, cuts between two faces in one palette
+    measure 38-40 grey levels, the frames between them at most 3). */
+    double maxThumbnailDifference = 20.0;
     /** Frames whose longer side is above this many pixels are tracked on a copy scaled down to
     it (0: always the frames themselves): the flow's window and the pixel tolerances above then
     mean the same on a 1080p clip as on a small one, and the flow costs the same. */
@@ -50,6 +54,8 @@ struct CV_EXPORTS TrackReport {
     std::vector<int> lost;
     /** Correlation of the grey-level histograms of the frame and the one before (1: alike). */
     double histogramCorrelation = 1.0;
+    /** Mean absolute grey difference of the two frames' 16 x 12 thumbnails (0: alike). */
+    double thumbnailDifference = 0.0;
     /** Why the state is not TRACK_OK, in words; empty when it is. */
     std::string why;
 };
