@@ -817,3 +817,28 @@ TEST(VideoReframer, TheFirstFrameKeepsThePolygonsTheNextOnesKeep) {
                   << " (frame 1); frames 0 and 1 " << db << " dB apart" << std::endl;
     }
 }
+
+// Item 8: a subject that walks out of the frame. The outline is held on the frame's side while
+// the tracker can follow it, then lost and proposed again: every frame still comes out, every
+// multicage it shows is valid, and what stays protected is still moved by a similarity.
+TEST(VideoReframer, ASubjectLeavingTheFrameIsLetGo) {
+    const Crossing clip;
+    const int frames = 60;  // the subject's centre runs to x = 444, its ellipse out past 420
+    std::vector<Mat> video;
+    for (int t = 0; t < frames; ++t) video.push_back(clip.frame(t));
+    const Size newSize(122, 216);
+    const Reframed r = reframeClip(video, newSize, clip.cage());
+    expectWholeClip(r, frames, newSize, CV_8UC3);
+    EXPECT_GE(r.stats.proposals + r.stats.lost, 1) << "the subject left without notice";
+    for (const ReframedFrame& f : r.frames) {
+        std::string why;
+        EXPECT_TRUE(f.cage.validateGeometry(&why)) << "frame " << f.index << ": " << why;
+        EXPECT_TRUE(f.tracked.validateGeometry(&why)) << "frame " << f.index << ": " << why;
+        for (int i : innerPolygons(f.cage))
+            EXPECT_LE(maxSimilarityResidual(f.cage.polygon(i), posedPolygon(f.cage, f.pose, i)),
+                      1.0)
+                << "frame " << f.index << ", polygon " << i;
+    }
+    std::cout << "[ leaving ] proposals " << r.stats.proposals << ", lost " << r.stats.lost
+              << ", last frame's polygons " << r.frames.back().tracked.polygonCount() << std::endl;
+}

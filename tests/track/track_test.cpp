@@ -110,6 +110,25 @@ TEST(CageTracker, ACutIsReportedAndNothingMoves) {
     EXPECT_EQ(tracker.track(other).state, TRACK_OK);
 }
 
+TEST(CageTracker, ACutBetweenShotsOfOnePaletteIsSeenByItsLayout) {
+    // The frame turned upside down: the same grey levels (histograms correlate 1), another
+    // picture (a dialogue's two faces in one light), as at Megamind.avi's cuts.
+    const Crossing clip;
+    CageTracker tracker(clip.cage(), clip.frame(0));
+    Mat other;
+    flip(clip.frame(0), other, 0);
+    const TrackReport r = tracker.track(other);
+    EXPECT_GT(r.histogramCorrelation, 0.99);
+    EXPECT_EQ(r.state, TRACK_CUT) << r.thumbnailDifference;
+    EXPECT_GT(r.thumbnailDifference, TrackParams().maxThumbnailDifference);
+    EXPECT_NE(r.why.find("thumbnails"), std::string::npos) << r.why;
+    // A subject moving within one shot stays far under the threshold.
+    tracker.reset(clip.cage(), clip.frame(0));
+    const TrackReport moved = tracker.track(clip.frame(3));
+    EXPECT_EQ(moved.state, TRACK_OK) << moved.why;
+    EXPECT_LT(moved.thumbnailDifference, TrackParams().maxThumbnailDifference / 2);
+}
+
 TEST(CageTracker, APolygonOverPlainGroundIsLostNotGuessed) {
     // A grey frame with a textured square that jumps away: the outline's points find nothing
     // that agrees, and the tracker says so instead of moving the cage.
