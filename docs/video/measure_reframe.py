@@ -14,9 +14,9 @@ and what came out:
              the change of window x per frame x (output width / window width), px/frame; on
              (c) and (d), whose true motion is known, how far each tracked polygon's centre
              strays from it within a stretch (px)
-  IoU        every EVERY-th frame, the tracked outlines (depth 1, on the input) filled, against a
-             proposal made afresh on that input frame (propose_multicage, defaults), filled; and
-             the same within the crop (the crop drops the polygons it cuts)
+  IoU        every EVERY-th frame, the tracked outlines (depth 1, of the multicage on the whole
+             input frame) filled, against a proposal made afresh on that input frame
+             (propose_multicage, defaults), filled
   speed      stats per input frame (ms) and frames per second of the push/pop loop alone
 
 Clips: (a) vtest.avi, (b) Megamind.avi (Debian's opencv-doc: apt-get download opencv-doc and
@@ -183,7 +183,6 @@ class Measure:
         self.bg_acc = []
         self.worst_bg = (0.0, -1)
         self.ious, self.iou_worst, self.iou_skipped = [], (1.0, -1), 0
-        self.ious_crop = []
 
     def _close_stretch(self):
         for pin, pout, idx in self.tracks.values():
@@ -269,8 +268,8 @@ class Measure:
                                "%.3f" % worst_here, int(out["smoothed"]), "%.2f" % d])
 
     def add_iou(self, out, frame_in):
-        cx, cy = out["crop"][:2]
-        tracked = outline_mask(out["cage"], frame_in.shape, (cx, cy))
+        # The tracked multicage on the whole frame (the crop drops the polygons it cuts).
+        tracked = outline_mask(out["tracked"], frame_in.shape, (0, 0))
         try:
             fresh = outline_mask(mc.propose_multicage(frame_in), frame_in.shape)
         except mc.Error:
@@ -279,12 +278,6 @@ class Measure:
         if union == 0:
             self.iou_skipped += 1
             return
-        # the same within the crop: the crop drops the polygons it cuts (crop_multicage)
-        x, y, w, h = out["crop"]
-        inside = np.zeros_like(tracked)
-        inside[y:y + h, x:x + w] = True
-        u = np.count_nonzero((tracked | fresh) & inside)
-        self.ious_crop.append(np.count_nonzero(tracked & fresh & inside) / u if u else 1.0)
         iou = np.count_nonzero(tracked & fresh) / union
         self.ious.append(iou)
         if iou < self.iou_worst[0] or self.iou_worst[1] < 0:
@@ -493,9 +486,6 @@ def main():
          lambda m, s, size, n, t: "%s (%s, %d) %d" % (fmt(float(np.median(m.ious))),
                                                       fmt(m.iou_worst[0]), m.iou_worst[1],
                                                       len(m.ious)) if m.ious else "-"),
-        ("4 IoU within the crop, median (min)",
-         lambda m, s, size, n, t: "%s (%s)" % (fmt(float(np.median(m.ious_crop))),
-                                               fmt(min(m.ious_crop))) if m.ious_crop else "-"),
         ("4 proposals / cuts / lost / unsmoothed",
          lambda m, s, size, n, t: "%d / %d / %d / %d" % (s["proposals"], s["cuts"], s["lost"],
                                                          s["unsmoothed"])),
