@@ -59,13 +59,18 @@ struct CV_EXPORTS ReframedFrame {
 
 /** @brief What a VideoReframer did so far, and where its time went (milliseconds, summed). */
 struct CV_EXPORTS ReframeStats {
-    int framesIn = 0, framesOut = 0;
-    int proposals = 0;   //!< multicages proposed (the first frame, cuts, lost subjects)
-    int cuts = 0;        //!< cuts found (CageTracker's TRACK_CUT)
-    int lost = 0;        //!< frames where a subject was lost (TRACK_LOST)
-    int unsmoothed = 0;  //!< frames whose averaged pose was invalid or folded (own pose used)
-    double proposeMs = 0, trackMs = 0, bindMs = 0, poseMs = 0, deformMs = 0;
-    std::string lastWhy;  //!< why the last proposal was made, in words
+    int framesIn = 0;      //!< frames pushed
+    int framesOut = 0;     //!< frames ready or popped
+    int proposals = 0;     //!< multicages proposed (the first frame, cuts, lost subjects)
+    int cuts = 0;          //!< cuts found (CageTracker's TRACK_CUT)
+    int lost = 0;          //!< frames where a subject was lost (TRACK_LOST)
+    int unsmoothed = 0;    //!< frames whose averaged pose was invalid or folded (own pose used)
+    double proposeMs = 0;  //!< proposing multicages (resizeCage())
+    double trackMs = 0;    //!< CageTracker::track()
+    double bindMs = 0;     //!< binding each frame's crop (Deformer::create())
+    double poseMs = 0;     //!< resizePose() and windowPose()
+    double deformMs = 0;   //!< Deformer::deform()
+    std::string lastWhy;   //!< why the last proposal was made, in words
 };
 
 /** @brief Reframes a clip to another size or aspect ratio, frame by frame: the tracked
@@ -109,11 +114,14 @@ class CV_EXPORTS VideoReframer {
     bool pop(ReframedFrame& out);
     /** @brief Marks the end of the clip: every frame pushed becomes ready to pop(). */
     void finish();
-    /** @brief How many frames the output runs behind the input (2 x ReframeParams::smoothing). */
+    /** @brief How many frames the output runs behind the input.
+    @return 2 x ReframeParams::smoothing. */
     int lag() const;
-    /** @brief The output size. */
+    /** @brief The output size.
+    @return the size given to the constructor. */
     Size size() const;
-    /** @brief What was done so far, and where the time went. */
+    /** @brief What was done so far, and where the time went.
+    @return the counts and times, summed since the first frame. */
     const ReframeStats& stats() const;
 
     struct Impl;  //!< the frames in flight (reframer.cpp)

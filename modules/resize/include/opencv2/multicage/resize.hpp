@@ -155,7 +155,10 @@ uniform scale, where it holds subjects far apart the background between them abs
 */
 CV_EXPORTS Rect2d reframeWindow(const Multicage& cage, Size newSize,
                                 const ResizeParams& params = ResizeParams());
-/** @brief The whole pixels that cover window (reframeWindow()), inside an image of imageSize. */
+/** @brief The whole pixels that cover window (reframeWindow()), inside an image of imageSize.
+@param window a window in pixel edges, as reframeWindow() gives it.
+@param imageSize the image's size.
+@return the smallest rectangle of whole pixels holding window, clipped to the image. */
 CV_EXPORTS Rect windowCrop(const Rect2d& window, Size imageSize);
 /** @brief A photo's window: reframeWindow() rounded to whole pixels, so that the crop is resized
 to newSize exactly (the whole image where the warp alone takes the change). contentAwareResize()
