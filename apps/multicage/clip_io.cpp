@@ -1,3 +1,5 @@
+// ClipReader and ClipWriter: frames through OpenCV's videoio, outputs put in place only when
+// complete; the audio side is clip_remux.cpp.
 #include "clip_io.hpp"
 
 #include <fcntl.h>

@@ -28,8 +28,8 @@ void deformClip(const ClipDeformJob& job) {
     if (!(job.deform.gridStepOption && job.deform.gridStepOption->count() > 0))
         params.gridStep = std::max(params.gridStep, 2);
     probeAutoBackend(params.backend);
+    const InterruptGuard guard;  // before the writer makes its temporary files
     ClipWriter writer(job.output, info.fps, info.size, job.input);
-    const InterruptGuard guard;
     FrameProgress progress("deform", job.quiet);
     cv::Ptr<CageTracker> tracker;
     int written = 0, lost = 0, unposed = 0;

@@ -40,9 +40,9 @@ void resizeClip(const ClipResizeJob& job) {
     const ClipInfo& info = reader.info();
     const cv::Size size = job.targetSize(info.size);
     const Multicage cage = job.cage.empty() ? Multicage() : loadCage(job.cage, info.size);
+    const InterruptGuard guard;  // before the writer makes its temporary files
     // The writer checks the output before any work, and puts it in place only at the end.
     ClipWriter writer(job.output, info.fps, size, job.input);
-    const InterruptGuard guard;
     VideoReframer reframer(size, job.params, cage);
     FrameProgress progress("resize", job.quiet);
     double decodeMs = 0, encodeMs = 0;
