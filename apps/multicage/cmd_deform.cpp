@@ -1,5 +1,6 @@
 // multicage deform IMAGE CAGE.yml -o OUT.png: apply a saved pose to an image.
 #include <chrono>
+#include <climits>
 #include <iostream>
 
 #include "cli_util.hpp"
@@ -11,6 +12,7 @@ namespace multicage_cli {
 namespace {
 struct DeformCommandOptions {
     std::string image, cage, output, pose;
+    int frame = -1;  // clips: -1, the cage file's clip_frame
     DeformOptions deform;
     bool quiet = false, allowInvalid = false;
 };
@@ -23,9 +25,12 @@ void runDeform(const DeformCommandOptions& o) {
                 "-o: a clip is written as a video (.mp4, .m4v, .mov, .mkv, .avi or "
                 ".webm), not '" +
                 o.output + "'");
-        ClipDeformJob job{o.image, o.cage, o.output, o.pose, o.deform, o.quiet, o.allowInvalid};
+        ClipDeformJob job{o.image, o.cage,   o.output, o.pose,
+                          o.frame, o.deform, o.quiet,  o.allowInvalid};
         return deformClip(job);
     }
+    if (o.frame >= 0)
+        throw UsageError("--frame: names a frame of a clip; " + o.image + " is an image");
     const auto t0 = std::chrono::steady_clock::now();
     checkImageOutput(o.output);
     const cv::Mat image = readImage(o.image);
@@ -94,12 +99,14 @@ void addDeformCommand(CLI::App& app) {
         "     - [ 100, 80, 300, 80, 300, 240, 100, 240 ]\n"
         "  poses:\n"
         "     - { name: stretch, time: 1.0, vertices: [ 90, 70, 330, 75, 310, 250, 100, 240 ] }\n"
-        "A clip (.mp4, .m4v, .mov, .mkv, .avi, .webm) with a cage drawn on its first frame: "
-        "the cage follows its subjects and the pose moves, turns and scales with each polygon; "
+        "A clip (.mp4, .m4v, .mov, .mkv, .avi, .webm) with a cage drawn on its first frame (or "
+        "on frame N: --frame N, or `clip_frame: N` in the cage file): the cage follows its "
+        "subjects and the pose moves, turns and scales with each polygon; "
         "the frame rate and audio are carried over (grid step 2 unless given).\n"
         "Examples:\n"
         "  multicage deform photo.jpg cage.yml -o out.png --pose stretch --grid-step 2\n"
-        "  multicage deform clip.mp4 cage.yml -o edited.mp4 --pose stretch");
+        "  multicage deform clip.mp4 cage.yml -o edited.mp4 --pose stretch\n"
+        "  multicage deform clip.mp4 cage.yml -o edited.mp4 --frame 120  # drawn on frame 120");
     cmd->add_option("image", o->image,
                     "Input image (8/16-bit or float, 1, 3 or 4 channels), or clip")
         ->required();
@@ -107,6 +114,10 @@ void addDeformCommand(CLI::App& app) {
     cmd->add_option("-o,--output", o->output, "Output image or clip; written only when complete")
         ->required();
     cmd->add_option("--pose", o->pose, "Pose name in the cage file (default: the first pose)");
+    cmd->add_option("--frame", o->frame,
+                    "Clips: the frame the cage was drawn on, 0 the first (default: the cage "
+                    "file's clip_frame, else 0); the cage is followed backward and forward from it")
+        ->check(wholeNumber(0, INT_MAX));
     addDeformOptions(cmd, o->deform);
     addAllowInvalidFlag(cmd, o->allowInvalid);
     cmd->add_flag("-q,--quiet", o->quiet, "No progress line while binding");

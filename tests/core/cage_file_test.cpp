@@ -56,6 +56,28 @@ TEST(CageFile, RoundTripIsExactInYamlAndJson) {
     EXPECT_EQ(files, 3);
 }
 
+TEST(CageFile, TheClipFrameIsKeptAndLeftOutWhenZero) {
+    const std::string dir = multicage_testing::tempDir("clipframe");
+    Multicage cage = sampleCage();
+    EXPECT_EQ(cage.clipFrame(), 0);
+    EXPECT_THROW(cage.setClipFrame(-1), cv::Exception);
+    for (const char* name : {"/first.yml", "/first.json"}) {
+        cage.save(dir + name);
+        std::ifstream in(dir + name);
+        const std::string text((std::istreambuf_iterator<char>(in)), {});
+        EXPECT_EQ(text.find("clip_frame"), std::string::npos) << name << ": " << text;
+    }
+    cage.setClipFrame(120);
+    for (const char* name : {"/later.yml", "/later.json"}) {
+        cage.save(dir + name);
+        const Multicage back = Multicage::load(dir + name);
+        EXPECT_EQ(back.clipFrame(), 120) << name;
+        EXPECT_EQ(back.scaled(Size(100, 80)).clipFrame(), 120) << name;
+        EXPECT_EQ(back.posed(back.vertices()).clipFrame(), 120) << name;
+        EXPECT_EQ(back.polygon(0), cage.polygon(0)) << name;
+    }
+}
+
 TEST(CageFile, AppliedToAnotherSizeIsScaled) {
     const Multicage cage = sampleCage();
     const Multicage big = cage.scaled(Size(986, 712));
@@ -95,6 +117,8 @@ TEST(CageFile, MalformedFilesNameTheField) {
         {"image_size: [ 10, 10 ]\npolygons:\n  - [ 1, 1, 5, 1, 5, 5 ]\n  - [ 1, 1, 5, 1, 5, 5 ]\n",
          "polygon 1 crosses polygon 0"},
         {"image_size: [ 10, 10 ]\npolygons: [ [ 1, 1, 5, 1, 5, 5 ]\n", "not valid YAML/JSON"},
+        {"image_size: [ 10, 10 ]\nclip_frame: -3\npolygons: []\n", "clip_frame: must be a whole"},
+        {"image_size: [ 10, 10 ]\nclip_frame: 2.5\npolygons: []\n", "clip_frame: must be a whole"},
     };
     int i = 0;
     for (const Case& c : cases) {

@@ -18,8 +18,8 @@ PROTOCOLS = sorted({2, pickle.DEFAULT_PROTOCOL, pickle.HIGHEST_PROTOCOL})
 
 
 def assert_same_multicage(a, b):
-    assert (a.image_size, a.polygon_count, a.pose_count, a.coordinates) == \
-           (b.image_size, b.polygon_count, b.pose_count, b.coordinates)
+    assert (a.image_size, a.polygon_count, a.pose_count, a.coordinates, a.clip_frame) == \
+           (b.image_size, b.polygon_count, b.pose_count, b.coordinates, b.clip_frame)
     for i in range(a.polygon_count):
         assert np.array_equal(a.polygon(i), b.polygon(i))
     for pa, pb in zip(a.poses, b.poses):
@@ -37,6 +37,7 @@ def assert_same_binding(a, b):
 @pytest.mark.parametrize("protocol", PROTOCOLS)
 def test_multicage_and_pose_round_trip(butterfly_cage, protocol):
     butterfly_cage.coordinates = "harmonic"
+    butterfly_cage.clip_frame = 7
     butterfly_cage.add_pose("later", butterfly_cage.rest_pose() + np.float32(0.25), time=1.5)
     back = pickle.loads(pickle.dumps(butterfly_cage, protocol))
     assert isinstance(back, mc.Multicage)
@@ -50,6 +51,14 @@ def test_multicage_and_pose_round_trip(butterfly_cage, protocol):
     # A copy is independent of the original.
     back.remove_polygon(0)
     assert butterfly_cage.polygon_count == 2
+
+
+def test_a_multicage_pickled_before_clip_frame_loads_on_the_first_frame(butterfly_cage):
+    state = butterfly_cage.__getstate__()
+    assert len(state) == 6 and state[5] == 0
+    old = mc.Multicage.__new__(mc.Multicage)
+    old.__setstate__(state[:5])  # the five fields a pickle of an earlier version holds
+    assert old.clip_frame == 0 and old.polygon_count == butterfly_cage.polygon_count
 
 
 def test_an_invalid_multicage_pickles_as_it_is():

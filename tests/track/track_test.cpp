@@ -215,3 +215,52 @@ TEST(CageTracker, AnOutlineAlongTheFrameStaysOnIt) {
         }
     }
 }
+
+TEST(CarryPose, AnEditMovesWithEachPolygonsSimilarityAndTheRestPoseLandsExactly) {
+    // Polygon 0 turns 30 degrees, scales 1.2 and shifts; polygon 1 (inside it) moves with it;
+    // polygon 2, on the frame, only shifts, with one vertex held on the frame (as the tracker
+    // keeps it). The edit (polygon 0's first vertex pulled out, polygon 2 squeezed) must come out
+    // as the same similarity of the edit, and the rest pose onto `to` itself.
+    Multicage from(Size(640, 480));
+    from.addPolygon(std::vector<Point2f>{{200, 150}, {360, 150}, {360, 330}, {200, 330}});
+    from.addPolygon(std::vector<Point2f>{{250, 200}, {300, 200}, {300, 260}, {250, 260}});
+    from.addPolygon(std::vector<Point2f>{{0, 20}, {120, 20}, {120, 100}, {0, 100}});
+    from.orient();
+    const Mat m = getRotationMatrix2D(Point2f(280, 240), 30, 1.2);
+    Mat move = m.clone();
+    move.at<double>(0, 2) += 15, move.at<double>(1, 2) -= 10;
+    Multicage to = from;
+    for (int i = 0; i < 2; ++i) {
+        std::vector<Point2f> v;
+        transform(from.polygon(i), v, move);
+        to.setPolygon(i, v);
+    }
+    std::vector<Point2f> shifted = from.polygon(2);
+    for (Point2f& v : shifted) v.x = v.x < 1 ? 0.f : v.x + 20.f;  // the frame holds x = 0
+    to.setPolygon(2, shifted);
+
+    std::vector<Point2f> edit = from.vertices();
+    edit[0] += Point2f(-12, -8);
+    for (int k = from.polygonOffset(2); k < from.polygonOffset(3); ++k) edit[size_t(k)].y += 5;
+    const std::vector<Point2f> carried = carryPose(from, edit, to);
+    ASSERT_EQ(carried.size(), edit.size());
+    std::vector<Point2f> expected(edit.begin(), edit.begin() + from.polygonOffset(2));
+    transform(expected, expected, move);
+    for (size_t k = 0; k < expected.size(); ++k)
+        EXPECT_LT(norm(carried[k] - expected[k]), 1e-3) << "vertex " << k;
+    // Polygon 2's vertices land where it went, each with the edit's 5 px (scaled by the fit's
+    // 1.12: the stretched rectangle is fitted by a similarity).
+    for (int k = from.polygonOffset(2); k < from.polygonOffset(3); ++k)
+        EXPECT_LT(norm(carried[size_t(k)] - (to.vertices()[size_t(k)] + Point2f(0, 5))), 1.0)
+            << "vertex " << k;
+    const std::vector<Point2f> rest = carryPose(from, from.vertices(), to), want = to.vertices();
+    for (size_t k = 0; k < size_t(from.vertexCount()); ++k)
+        EXPECT_LT(norm(rest[k] - want[k]), 1e-3) << "rest vertex " << k;
+    for (size_t k = size_t(from.vertexCount()); k < want.size(); ++k)
+        EXPECT_EQ(rest[k], want[k]) << "frame corner " << k;  // the frame's corners stay
+
+    Multicage fewer = from;
+    fewer.removePolygon(2);
+    EXPECT_THROW(carryPose(from, edit, fewer), cv::Exception);
+    EXPECT_THROW(carryPose(from, std::vector<Point2f>(3), to), cv::Exception);
+}

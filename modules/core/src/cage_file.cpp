@@ -103,6 +103,7 @@ void Multicage::write(FileStorage& fs) const {
     fs << "image_size"
        << "[:" << imageSize_.width << imageSize_.height << "]";
     fs << "coordinates" << coordinatesKeyword(coordinates_);
+    if (clipFrame_ > 0) fs << "clip_frame" << clipFrame_;
     fs << "polygons"
        << "[";
     for (const auto& polygon : polygons_) writeCoordinates(fs, polygon);
@@ -137,6 +138,14 @@ void Multicage::read(const FileNode& root) {
             coordinates.isString() ? static_cast<std::string>(coordinates) : "";
         if (!parseCoordinateType(name, cage.coordinates_))
             malformed("coordinates", "must be mean_value, harmonic or local_mean_value");
+    }
+
+    const FileNode clipFrame = root["clip_frame"];  // optional, the first frame by default
+    if (!clipFrame.empty()) {
+        if (!clipFrame.isInt() || static_cast<int>(clipFrame) < 0)
+            malformed("clip_frame",
+                      "must be a whole number >= 0 (a frame of the clip, 0: the first)");
+        cage.clipFrame_ = static_cast<int>(clipFrame);
     }
 
     const FileNode polygons = root["polygons"];
@@ -245,8 +254,8 @@ Multicage Multicage::load(const String& path) {
 
 void Multicage::save(const String& path) const {
     const bool json = checkedFormat(path) == ".json";
-    writeFileAtomic(
-        path, cageText(imageSize_, coordinatesKeyword(coordinates_), polygons_, poses_, json));
+    writeFileAtomic(path, cageText(imageSize_, coordinatesKeyword(coordinates_), clipFrame_,
+                                   polygons_, poses_, json));
 }
 
 }  // namespace multicage

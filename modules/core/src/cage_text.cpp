@@ -143,8 +143,9 @@ void appendAsJson(std::string& out, const YAML::Node& node, size_t limit,
 
 }  // namespace
 
-// The cage file's text: image_size, coordinates, polygons and poses, one polygon or pose a line.
-std::string cageText(const Size& imageSize, const char* coordinates,
+// The cage file's text: image_size, coordinates, clip_frame, polygons and poses, one polygon or
+// pose a line.
+std::string cageText(const Size& imageSize, const char* coordinates, int clipFrame,
                      const std::vector<std::vector<Point2f>>& polygons,
                      const std::vector<Pose>& poses, bool json) {
     // "%YAML 1.2" rather than FileStorage's "%YAML:1.0": standard, and FileStorage reads both.
@@ -152,6 +153,8 @@ std::string cageText(const Size& imageSize, const char* coordinates,
     out += std::to_string(imageSize.width) + ", " + std::to_string(imageSize.height) + "]";
     out += json ? ",\n  \"coordinates\": \"" + std::string(coordinates) + "\""
                 : "\ncoordinates: " + std::string(coordinates);
+    if (clipFrame > 0)  // written only where it says something: most cages are for one image
+        out += (json ? ",\n  \"clip_frame\": " : "\nclip_frame: ") + std::to_string(clipFrame);
     out += json ? ",\n  \"polygons\": [" : "\npolygons:";
     if (!json && polygons.empty()) out += " []";
     for (size_t i = 0; i < polygons.size(); ++i) {

@@ -9,10 +9,10 @@
 namespace cv {
 namespace multicage {
 
-/** A cage file's text, YAML or JSON: image_size, coordinates, then one line per polygon and per
-pose; every number as short as it can be and still read back bit for bit. Throws for a number
-JSON cannot hold (NaN, infinity). */
-std::string cageText(const Size& imageSize, const char* coordinates,
+/** A cage file's text, YAML or JSON: image_size, coordinates, clip_frame (when not 0), then one
+line per polygon and per pose; every number as short as it can be and still read back bit for bit.
+Throws for a number JSON cannot hold (NaN, infinity). */
+std::string cageText(const Size& imageSize, const char* coordinates, int clipFrame,
                      const std::vector<std::vector<Point2f>>& polygons,
                      const std::vector<Pose>& poses, bool json);
 

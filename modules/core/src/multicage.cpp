@@ -330,6 +330,15 @@ void Multicage::setCoordinates(int coordinates) {
     coordinates_ = coordinates;
 }
 
+int Multicage::clipFrame() const {
+    return clipFrame_;
+}
+
+void Multicage::setClipFrame(int frame) {
+    if (frame < 0) CV_Error_(Error::StsOutOfRange, ("multicage: clip frame %d is negative", frame));
+    clipFrame_ = frame;
+}
+
 Multicage Multicage::posed(InputArray poseIn) const {
     std::vector<Point2f> pose = toPoints(poseIn, "pose");
     const int n = vertexCount();
@@ -338,6 +347,7 @@ Multicage Multicage::posed(InputArray poseIn) const {
                                       static_cast<int>(pose.size()), n));
     Multicage out(imageSize_);
     out.coordinates_ = coordinates_;
+    out.clipFrame_ = clipFrame_;
     for (int p = 0, offset = 0; p < polygonCount();
          offset += static_cast<int>(polygons_[p].size()), ++p)
         out.polygons_.emplace_back(pose.begin() + offset,

@@ -34,11 +34,12 @@ py::tuple multicageState(const Multicage& c) {
     for (int i = 0; i < c.polygonCount(); ++i) polygons.append(arrayFromPoints(c.polygon(i)));
     for (int i = 0; i < c.poseCount(); ++i) poses.append(poseState(c.pose(i)));
     return py::make_tuple(kPickleVersion, py::make_tuple(c.imageSize().width, c.imageSize().height),
-                          polygons, poses, c.coordinates());
+                          polygons, poses, c.coordinates(), c.clipFrame());
 }
 
 Multicage multicageFromState(const py::tuple& state) {
-    checkState(state, 5, "Multicage");
+    // Six fields; five before clip_frame was kept (a pickle of then loads with frame 0).
+    checkState(state, state.size() == 5 ? 5 : 6, "Multicage");
     const auto size = state[1].cast<std::pair<int, int>>();
     Multicage c(cv::Size(size.first, size.second));
     for (const py::handle polygon : state[2])
@@ -49,6 +50,7 @@ Multicage multicageFromState(const py::tuple& state) {
         c.addPose(p.name, p.vertices, p.time);
     }
     c.setCoordinates(state[4].cast<int>());
+    if (state.size() == 6) c.setClipFrame(state[5].cast<int>());
     return c;
 }
 
@@ -240,6 +242,9 @@ void defineMulticageUses(MulticageClass& cls) {
             "'mvc' or 'harmonic': the coordinates this multicage is meant to be bound with (a cage "
             "file's "
             "`coordinates:`). Deformer, deform_image and bind follow it unless given coordinates=.")
+        .def_property("clip_frame", &Multicage::clipFrame, &Multicage::setClipFrame,
+                      "The frame of a clip the polygons and poses were drawn on (0: the first; a "
+                      "cage file's `clip_frame:`).")
         .def(py::pickle([](const Multicage& c) { return multicageState(c); },
                         [](const py::tuple& state) { return multicageFromState(state); }))
         .def("__copy__", [](const Multicage& c) { return Multicage(c); })

@@ -47,9 +47,13 @@ std::vector<Point2f> carryPose(const Multicage& from, InputArray poseIn, const M
                         "vertices (+4 frame corners)",
                         int(pose.size()), n));
     for (int i = 0; i < from.polygonCount(); ++i) {
-        const Similarity s = fit(from.polygon(i), to.polygon(i));
-        const int offset = from.polygonOffset(i), count = int(from.polygon(i).size());
-        for (int k = offset; k < offset + count; ++k) pose[size_t(k)] = s(pose[size_t(k)]);
+        const std::vector<Point2f> a = from.polygon(i), b = to.polygon(i);
+        const Similarity s = fit(a, b);
+        // Plus what the similarity leaves of each vertex's own move (a vertex the tracker kept
+        // within the frame), so the rest pose is carried onto `to` exactly.
+        const size_t offset = size_t(from.polygonOffset(i));
+        for (size_t k = 0; k < a.size(); ++k)
+            pose[offset + k] = s(pose[offset + k]) + (b[k] - s(a[k]));
     }
     return pose;
 }

@@ -242,6 +242,16 @@ class CV_EXPORTS_W Multicage {
     cv::Exception (StsOutOfRange). */
     void setCoordinates(int coordinates);
 
+    /** @brief The frame of a clip the polygons and poses were drawn on (0: the first).
+
+    Saved in the cage file as `clip_frame: N` (left out when 0). `multicage deform CLIP` tracks
+    the cage forward and backward from that frame and carries the pose with it.
+    @return the frame's index, >= 0. */
+    int clipFrame() const;
+    /** @brief Sets the frame of a clip the polygons and poses were drawn on.
+    @param frame the frame's index, >= 0 (a negative one throws a cv::Exception, StsOutOfRange). */
+    void setClipFrame(int frame);
+
     /** @brief The multicage with its polygons moved to a pose, for drawing a pose; poses are
     not copied.
     @param pose vertexCount() points, or +4 with the frame corners, which are ignored; another
@@ -257,9 +267,9 @@ class CV_EXPORTS_W Multicage {
     @return the scaled copy. */
     Multicage scaled(Size newSize) const;
 
-    /** @brief Writes image_size, coordinates, polygons and poses (the cage file schema,
-    docs/cli.md) into a cv::FileStorage; save() writes the same fields as standard YAML 1.2 or
-    JSON.
+    /** @brief Writes image_size, coordinates, clip_frame (when not 0), polygons and poses (the
+    cage file schema, docs/cli.md) into a cv::FileStorage; save() writes the same fields as
+    standard YAML 1.2 or JSON.
     @param fs a FileStorage open for writing. */
     void write(FileStorage& fs) const;
     /** @brief Reads what write() writes, replacing this multicage.
@@ -293,6 +303,7 @@ class CV_EXPORTS_W Multicage {
     std::vector<std::vector<Point2f>> polygons_;
     std::vector<Pose> poses_;
     int coordinates_ = MEAN_VALUE;
+    int clipFrame_ = 0;
 };
 
 /** @brief Writes an image through a temporary file in the same folder and a rename, so that

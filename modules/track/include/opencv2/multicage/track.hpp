@@ -117,8 +117,10 @@ class CV_EXPORTS CageTracker {
 
 /** @brief A pose drawn on one frame, carried to where the multicage lies on another: each
 polygon's posed vertices move by the similarity that takes the polygon from `from` to `to` (the
-least-squares fit of its vertices, exact for CageTracker's motions), so an edit moves, turns and
-scales with its subject. Frame corners, when given, stay.
+least-squares fit of its vertices: CageTracker moves a polygon by a similarity), plus what that
+similarity leaves of the vertex's own move (where the tracker kept a vertex within the frame), so
+an edit moves, turns and scales with its subject and the rest pose lands on `to` exactly. Frame
+corners, when given, stay.
 @param from the multicage on the frame the pose was drawn on.
 @param pose a pose of from: vertexCount() points, or +4 with the frame corners.
 @param to the same multicage on another frame (CageTracker::multicage()): the same polygons and
