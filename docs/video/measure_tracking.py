@@ -2,7 +2,8 @@
 calls a cut, and the tracked outline's IoU with a fresh proposal every EVERY frames.
 
 Usage, from the repository root after building:
-    /usr/bin/python3 docs/video/measure_tracking.py CLIP FRAMES EVERY
+    /usr/bin/python3 docs/video/measure_tracking.py CLIP FRAMES EVERY [KEY=VALUE ...]
+KEY=VALUE are CageTracker's options (vertex_correction=0 tracks outlines by similarities alone).
 The clips are Debian's opencv-doc (apt-get install opencv-doc, or apt-get download opencv-doc
 and dpkg -x it): /usr/share/doc/opencv-doc/examples/data/Megamind.avi and vtest.avi.
 """
@@ -15,6 +16,7 @@ sys.path.insert(0, "build/python")  # run from the repository root
 import multicage as mc
 
 path, count, every = sys.argv[1], int(sys.argv[2]), int(sys.argv[3])
+options = {k: float(v) if "." in v else int(v) for k, v in (a.split("=") for a in sys.argv[4:])}
 
 def outline_mask(cage, shape):
     m = np.zeros(shape[:2], np.uint8)
@@ -43,14 +45,14 @@ for t in range(1, count):
     if not ok: break
     if tracker is None:
         cage = propose(frame)
-        if cage is not None: tracker = mc.CageTracker(cage, frame)
+        if cage is not None: tracker = mc.CageTracker(cage, frame, **options)
         continue
     t0 = time.perf_counter(); r = tracker.track(frame); t_track += time.perf_counter() - t0
     states[r["state"]] += 1
     if r["state"] != "ok":
         resets.append((t, r["state"], r["why"][:70]))
         cage = propose(frame)
-        tracker = mc.CageTracker(cage, frame) if cage is not None else None
+        tracker = mc.CageTracker(cage, frame, **options) if cage is not None else None
     elif t % every == 0:
         fresh = propose(frame)
         if fresh is not None: ious.append(iou(outline_mask(tracker.multicage, frame.shape), outline_mask(fresh, frame.shape)))
