@@ -4,6 +4,7 @@
 
 #include <CLI/CLI.hpp>
 #include <chrono>
+#include <filesystem>
 #include <opencv2/multicage.hpp>
 #include <string>
 #include <vector>
@@ -187,6 +188,8 @@ std::string subjectCueNote(const cv::multicage::ProposeParams& params);
 
 /** "1 polygon", "3 polygons" (many: the plural when it is not singular + "s"). */
 std::string plural(long long n, const std::string& one, const std::string& many = "");
+/** The path's extension in lower case, with its dot (".mp4"), or "" for none. */
+std::string lowerExtension(const std::filesystem::path& path);
 /** Milliseconds since `start` (std::chrono::steady_clock). */
 double msSince(std::chrono::steady_clock::time_point start);
 using multicage_apps::median;  // stats.hpp

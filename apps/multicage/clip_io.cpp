@@ -20,12 +20,6 @@ namespace fs = std::filesystem;
 namespace multicage_cli {
 namespace {
 
-std::string lowerExtension(const fs::path& p) {
-    std::string e = p.extension().string();
-    for (char& c : e) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-    return e;
-}
-
 std::string sizeText(cv::Size s) {
     return std::to_string(s.width) + "x" + std::to_string(s.height);
 }

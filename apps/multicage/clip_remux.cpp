@@ -24,12 +24,6 @@ namespace fs = std::filesystem;
 namespace multicage_cli {
 namespace {
 
-std::string lowerExtension(const fs::path& p) {
-    std::string e = p.extension().string();
-    for (char& c : e) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-    return e;
-}
-
 // ---- libav plumbing -----------------------------------------------------------------------
 
 std::string avError(int code) {

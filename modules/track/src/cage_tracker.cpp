@@ -7,6 +7,8 @@
 #include <opencv2/multicage/track.hpp>
 #include <opencv2/video/tracking.hpp>
 
+#include "similarity.hpp"
+
 namespace cv {
 namespace multicage {
 
@@ -107,29 +109,6 @@ void followPoints(const Mat& from, const Mat& to, const std::vector<Point2f>& po
         kept[k] = status[k] && statusBack[k] && norm(back[k] - points[k]) <= maxRoundTrip;
 }
 
-// The similarity that carries the points `from` (those of `use`) closest to `to` in the least
-// squares (Umeyama 1991, without reflection): RANSAC's own fit stops at its sample's consensus,
-// and its random sample shows as jitter from frame to frame.
-Mat leastSquaresSimilarity(const std::vector<Point2f>& from, const std::vector<Point2f>& to,
-                           const std::vector<uchar>& use) {
-    Point2d mf(0, 0), mt(0, 0);
-    int n = 0;
-    for (size_t k = 0; k < from.size(); ++k)
-        if (use[k]) mf += Point2d(from[k]), mt += Point2d(to[k]), ++n;
-    mf /= n, mt /= n;
-    double sxx = 0, sxy = 0, var = 0;  // sum of (f . t) and (f x t) over centred points
-    for (size_t k = 0; k < from.size(); ++k) {
-        if (!use[k]) continue;
-        const Point2d f = Point2d(from[k]) - mf, t = Point2d(to[k]) - mt;
-        sxx += f.x * t.x + f.y * t.y, sxy += f.x * t.y - f.y * t.x, var += f.dot(f);
-    }
-    const double a = sxx / var, b = sxy / var;  // scale cos, scale sin
-    Mat m = (Mat_<double>(2, 3) << a, -b, 0, b, a, 0);
-    m.at<double>(0, 2) = mt.x - (a * mf.x - b * mf.y);
-    m.at<double>(1, 2) = mt.y - (b * mf.x + a * mf.y);
-    return m;
-}
-
 // The similarity most of a polygon's followed points agree on, and the part of the `sought`
 // points (all those of the key frame, followed or not) that agrees; empty when too few do.
 // (Counting the points the flow lost too: a region whose content changed, or was covered, keeps
@@ -143,6 +122,8 @@ Mat agreedMotion(const std::vector<Point2f>& from, const std::vector<Point2f>& t
     const int agreeing = countNonZero(agree);
     agreement = double(agreeing) / double(std::max(sought, from.size()));
     if (m.empty() || agreeing < p.minPoints || agreement < p.minAgreement) return Mat();
+    // Refitted on the agreeing points: RANSAC's own fit stops at its sample's consensus, and its
+    // random sample shows as jitter from frame to frame.
     return leastSquaresSimilarity(from, to, agree);
 }
 
