@@ -35,6 +35,12 @@ def test_a_subject_crossing_a_still_scene_is_followed(clip):
         assert report["state"] == "ok", report["why"]
         moved = tracker.multicage.vertices()[: cage.vertex_count]
         assert np.abs(moved - (start + [7 * t, 3 * t])).max() < 0.5, t
+    # An edit drawn on the first frame (the square pulled wider) moves with it.
+    edit = start + np.float32([[-10, 0], [10, 0], [10, 0], [-10, 0]])
+    carried = mc.carry_pose(cage, edit, tracker.multicage)
+    assert carried.shape == (4, 2) and np.abs(carried - (edit + [56, 24])).max() < 0.5
+    with pytest.raises(mc.Error):
+        mc.carry_pose(cage, edit[:3], tracker.multicage)
 
 
 def test_a_cut_is_reported_and_nothing_moves(clip):

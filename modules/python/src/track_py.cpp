@@ -103,6 +103,15 @@ working_size (docs/video/README.md).
             py::arg("cage"), py::arg("frame"))
         .def_property_readonly("multicage",
                                [](const CageTracker& self) { return self.multicage(); });
+    m.def(
+        "carry_pose",
+        [](const Multicage& from, const py::handle& pose, const Multicage& to) {
+            return arrayFromPoints(carryPose(from, pointsFromArray(pose, "pose"), to));
+        },
+        py::arg("from_cage"), py::arg("pose"), py::arg("to_cage"),
+        "A pose drawn on from_cage's frame, carried to where the same multicage lies on another "
+        "frame (to_cage, e.g. CageTracker.multicage): each polygon's posed vertices move by its "
+        "similarity (C++ carryPose). Nx2 float32, as many points as pose.");
 }
 
 }  // namespace multicage_py
