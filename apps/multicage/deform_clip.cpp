@@ -89,6 +89,7 @@ void deformClip(const ClipDeformJob& job) {
         params.gridStep = std::max(params.gridStep, 2);
     probeAutoBackend(params.backend);
     const InterruptGuard guard;  // before the writer makes its temporary files
+    ClipWriter writer(job.output, info.fps, info.size, job.input);  // refused before any work
     FrameProgress progress("deform", job.quiet);
     // Frames before the one the cage lies on come first in the bar (tracked back, then deformed).
     const int total = info.frameCount < 0 ? -1 : info.frameCount + first;
@@ -98,7 +99,6 @@ void deformClip(const ClipDeformJob& job) {
         first > 0 ? cagesBefore(job, cage, first, guard, progress, total, lost)
                   : std::vector<Multicage>();
     double trackMs = msSince(tb), bindMs = 0, deformMs = 0;
-    ClipWriter writer(job.output, info.fps, info.size, job.input);
     cv::Ptr<CageTracker> tracker;
     cv::Mat frame, out;
     while (reader.read(frame)) {
