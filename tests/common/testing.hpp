@@ -18,6 +18,21 @@ inline std::string animationExtension() {
     return kHaveGif ? ".gif" : ".avi";
 }
 
+/** Whether this build runs under AddressSanitizer (MULTICAGE_SANITIZE): the few tests that
+repeat one path hundreds of times run fewer rounds there, where each is 5-20 times slower and a
+memory error shows on the first. */
+#if defined(__SANITIZE_ADDRESS__)
+constexpr bool kSanitized = true;
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+constexpr bool kSanitized = true;
+#else
+constexpr bool kSanitized = false;
+#endif
+#else
+constexpr bool kSanitized = false;
+#endif
+
 /** Path of a file in samples/data. */
 std::string samplePath(const std::string& name);
 /** Reads samples/data/NAME, failing the test if it cannot. */
