@@ -189,6 +189,22 @@ TEST(CageTracker, AnInnerPolygonWhoseContentChangesMovesWithItsParent) {
     }
 }
 
+// A proposal puts the vertices of an outline the frame cuts at -0.3 and W-0.7 (inside the frame
+// as validate() has it): on a still clip they stay there. They were moved to 0 and W-1, so the
+// second frame of a still clip came out different from the first.
+TEST(CageTracker, VerticesOnTheFrameStayPutWhereNothingMoves) {
+    Mat still = multicage_testing::readSample("fruits.jpg");
+    resize(still, still, Size(320, 240));
+    Multicage cage(still.size());
+    cage.addPolygon(
+        std::vector<Point2f>{{-0.3f, 60}, {319.3f, 60}, {319.3f, 239.3f}, {-0.3f, 239.3f}});
+    cage.orient();
+    CageTracker tracker(cage, still);
+    for (int t = 0; t < 3; ++t) ASSERT_EQ(tracker.track(still).state, TRACK_OK);
+    const std::vector<Point2f> a = tracker.multicage().vertices(), b = cage.vertices();
+    for (size_t k = 0; k < a.size(); ++k) EXPECT_LT(norm(a[k] - b[k]), 1e-3) << "vertex " << k;
+}
+
 TEST(CageTracker, AnOutlineAlongTheFrameStaysOnIt) {
     // A subject the left border cuts, moving further left: the outline's left vertices stay on
     // the frame (x = 0) and the rest follow the subject.

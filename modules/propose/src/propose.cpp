@@ -5,7 +5,8 @@
 //   faces.cpp     face detection (Haar cascades) and the polygon hugging a face
 //   person.cpp    the person prior: where a face is, the head and the body below it
 //   segmenter.cpp the subject model (a salient-object network through OpenCV's dnn): found,
-//                 checked, read once per process, run on the working copy
+//                 checked, read once per process (at the input size onnx_input.cpp
+//                 declares), run on the working copy
 //   segment.cpp   image -> mask of objects (threshold, GrabCut seeded by the person prior or
 //                 from the frame inward, saliency; with a subject map, fuse.cpp)
 //   fuse.cpp      the subject model's map fused with the person prior and the frame-inward

@@ -23,7 +23,7 @@ saying how to get one. */
 SubjectModel modelToRun(const ProposeParams& params);
 
 /** The subject map of `img` (8-bit, 1 or 3 channels) by `model`: CV_32FC1 of the model's own
-size (320x320 for U^2-Net-P), 0..1. Reads the model on first use (see subjectMap in
+input size (256x256 for the pinned U^2-Net-P), 0..1. Reads the model on first use (see subjectMap in
 propose.hpp for the errors); runs of one model from several threads take turns. */
 Mat subjectMapOf(const Mat& img, const SubjectModel& model);
 

@@ -11,6 +11,8 @@ namespace multicage {
 
 namespace {
 
+constexpr double kCropSlack = 0.05;  // pixels a window may lie outside the crop kept for it
+
 double msSince(std::chrono::steady_clock::time_point t0) {
     return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 }
@@ -128,6 +130,18 @@ struct VideoReframer::Impl {
         e.window = Rect2d(x / sum, y / sum, w / sum, h / sum) &
                    Rect2d(0, 0, frameSize.width, frameSize.height);
         e.crop = windowCrop(e.window, frameSize);
+        // A window that stays on a pixel boundary (a still shot through a codec: 106.0, then
+        // 105.998) keeps the crop before it where that holds it within kCropSlack: a crop one
+        // pixel wider moves the whole picture.
+        if (k > 0 && entries[k - 1].shot == e.shot && !entries[k - 1].crop.empty()) {
+            const Rect& before = entries[k - 1].crop;
+            if (e.window.x >= before.x - kCropSlack && e.window.y >= before.y - kCropSlack &&
+                e.window.br().x <= before.br().x + kCropSlack &&
+                e.window.br().y <= before.br().y + kCropSlack &&
+                std::abs(e.window.width - before.width) < 1 &&
+                std::abs(e.window.height - before.height) < 1)
+                e.crop = before;
+        }
         std::vector<int> kept;
         e.cropped = cropMulticage(e.cage, e.crop, &kept);
         e.key = std::to_string(e.generation);

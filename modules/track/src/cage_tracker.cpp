@@ -278,10 +278,12 @@ TrackReport CageTracker::track(InputArray frame) {
         }
         std::vector<Point2f> vertices;
         transform(s.keyCage.polygon(i), vertices, motion[i]);
-        // An outline along the frame (a subject the frame cuts) stays on it, within the frame.
+        // An outline along the frame (a subject the frame cuts) stays on it, strictly inside
+        // the frame as validate() has it, (-0.5, -0.5)-(W-0.5, H-0.5): a vertex that did not
+        // move stays where it was (a proposal puts those on the frame at -0.3 and W-0.7).
+        const float lo = -0.49f, right = grey.cols - 0.51f, bottom = grey.rows - 0.51f;
         for (Point2f& v : vertices)
-            v = Point2f(std::min(std::max(v.x, 0.f), float(grey.cols - 1)),
-                        std::min(std::max(v.y, 0.f), float(grey.rows - 1)));
+            v = Point2f(std::min(std::max(v.x, lo), right), std::min(std::max(v.y, lo), bottom));
         next.setPolygon(i, vertices);
         rekey = rekey || farFromKey(motion[i]) || agreement < kRekeyAgreement;
     }

@@ -156,8 +156,9 @@ struct CV_EXPORTS ProposeParams {
     /** ProposeSegmenter: where the subject cue comes from (SEGMENTER_AUTO: the learned model
     when one is found, else the classic cues). */
     int segmenter = SEGMENTER_AUTO;
-    /** A subject model (ONNX) to use instead of the default: one RGB image in (1x3x320x320,
-    0-1, ImageNet mean and deviation), one subject map out (1x1x320x320, 0-1). Empty: the
+    /** A subject model (ONNX) to use instead of the default: one RGB image in (1x3xHxW, the
+    size its graph declares, 320x320 where it declares none; 0-1, ImageNet mean and deviation),
+    one subject map out (1x1xHxW, 0-1). The default runs at 256x256. Empty: the
     environment variable MULTICAGE_SEGMENTER_ENV, then the pinned model in the build tree,
     then in the install prefix (or in MULTICAGE_DATA_ENV's folder; segmenterModelFile()). */
     String segmenterModel;
