@@ -19,6 +19,8 @@
 //            inner 80%, the cage's coordinates: local mean value, grid step 1) when the outline
 //            around it is stretched 20% horizontally and every inner polygon stays at rest;
 //            --coordinates NAME binds with those instead (mvc: the paper's global sums)
+//   features reference features (badges, name tags, lettering) protected: an inner polygon
+//            holds >= 90% of the box and has at most 4x its area (in the totals only)
 //   stray    inner polygons that protect nothing of the reference: less than half of their
 //            area on a reference face, eye or feature box
 //   ms       median time of proposeProtectedMulticage() with the default ProposeParams on
@@ -135,7 +137,8 @@ cv::Rect inner80(const cv::Rect& f) {
 struct Score {
     double iou = 0, ceiling = 0, residual = 0, ms = 0, cpuMs = 0, modelMs = 0, harmonicResidual = 0,
            harmonicMs = 0;
-    int hugged = 0, faces = 0, eyesHugged = 0, eyes = 0, stray = 0, inner = 0;
+    int hugged = 0, faces = 0, eyesHugged = 0, eyes = 0, stray = 0, inner = 0, featuresHeld = 0,
+        features = 0;
 };
 
 // Outline IoU: the union of the outlines (depth-1 polygons) against the reference mask.
@@ -164,6 +167,19 @@ bool faceHugged(const Multicage& cage, const cv::Rect& face) {
     return holders == 1;
 }
 
+// A feature (a badge, a name tag, lettering) is protected when an inner polygon holds at least
+// 90% of its box and is at most 4 times the box's area (issue 39, item 4).
+bool featureHeld(const Multicage& cage, const cv::Rect& feature) {
+    const cv::Rect box = feature & cv::Rect(cv::Point(), cage.imageSize());
+    for (int p = 0; p < cage.polygonCount(); ++p) {
+        if (cage.depth(p) < 2 || box.empty()) continue;
+        const cv::Mat m = multicage_fixtures::polygonMask(cage.polygon(p), cage.imageSize());
+        if (cv::countNonZero(m(box)) >= 0.9 * box.area() && cv::countNonZero(m) <= 4.0 * box.area())
+            return true;
+    }
+    return false;
+}
+
 Score score(const Reference& r, const Multicage& cage, bool harmonic) {
     Score s;
     const cv::Size size = r.image.size();
@@ -185,6 +201,8 @@ Score score(const Reference& r, const Multicage& cage, bool harmonic) {
     }
     s.faces = static_cast<int>(r.faces.size());
     s.eyes = static_cast<int>(r.eyes.size());
+    s.features = static_cast<int>(r.features.size());
+    for (const cv::Rect& f : r.features) s.featuresHeld += featureHeld(cage, f);
     for (const cv::Rect& e : r.eyes)
         s.eyesHugged += multicage_fixtures::eyeHolders(cage, e).size() == 1;
     Binding binding;
@@ -265,19 +283,22 @@ bool metTarget(const Score& s) {
 
 // Sums over the photos of one set (the photos tuned on, or those added after).
 struct Totals {
-    int photos = 0, met = 0, hugged = 0, faces = 0, eyesHugged = 0, eyes = 0, stray = 0;
+    int photos = 0, met = 0, hugged = 0, faces = 0, eyesHugged = 0, eyes = 0, stray = 0,
+        featuresHeld = 0, features = 0;
     double iou = 0;
     void add(const Score& s) {
         ++photos, met += metTarget(s), iou += s.iou, hugged += s.hugged, faces += s.faces;
         eyesHugged += s.eyesHugged, eyes += s.eyes, stray += s.stray;
+        featuresHeld += s.featuresHeld, features += s.features;
     }
     void print(const char* what) const {
         if (photos == 0) return;
         std::printf(
             "%s: mean outline IoU %.3f; target met (>= 0.85, or within 0.03 of a ceiling under "
-            "0.88) on %d of %d; faces hugged %d of %d; eyes hugged %d of %d; inner polygons "
-            "protecting nothing %d\n",
-            what, iou / photos, met, photos, hugged, faces, eyesHugged, eyes, stray);
+            "0.88) on %d of %d; faces hugged %d of %d; eyes hugged %d of %d; features (badges, "
+            "name tags, lettering) protected %d of %d; inner polygons protecting nothing %d\n",
+            what, iou / photos, met, photos, hugged, faces, eyesHugged, eyes, featuresHeld,
+            features, stray);
     }
 };
 
