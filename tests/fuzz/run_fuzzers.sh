@@ -32,5 +32,8 @@ run fuzz_cage_file & a=$!
 run fuzz_validate & b=$!
 wait $a || status=1
 wait $b || status=1
-run fuzz_deform || status=1
+run fuzz_deform & a=$!
+run fuzz_onnx_input & b=$!
+wait $a || status=1
+wait $b || status=1
 exit $status
