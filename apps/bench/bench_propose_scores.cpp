@@ -171,8 +171,9 @@ bool faceHugged(const Multicage& cage, const cv::Rect& face) {
 // 90% of its box and is at most 4 times the box's area (issue 39, item 4).
 bool featureHeld(const Multicage& cage, const cv::Rect& feature) {
     const cv::Rect box = feature & cv::Rect(cv::Point(), cage.imageSize());
+    if (box.empty()) return false;
     for (int p = 0; p < cage.polygonCount(); ++p) {
-        if (cage.depth(p) < 2 || box.empty()) continue;
+        if (cage.depth(p) < 2) continue;
         const cv::Mat m = multicage_fixtures::polygonMask(cage.polygon(p), cage.imageSize());
         if (cv::countNonZero(m(box)) >= 0.9 * box.area() && cv::countNonZero(m) <= 4.0 * box.area())
             return true;

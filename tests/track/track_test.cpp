@@ -207,7 +207,8 @@ TEST(CageTracker, VerticesOnTheFrameStayPutWhereNothingMoves) {
 
 TEST(CageTracker, AnOutlineAlongTheFrameStaysOnIt) {
     // A subject the left border cuts, moving further left: the outline's left vertices stay on
-    // the frame (x = 0) and the rest follow the subject.
+    // the frame (x = 0, or just outside it, inside the frame validate() takes) and the rest
+    // follow the subject.
     Mat scene = multicage_testing::readSample("fruits.jpg");
     resize(scene, scene, Size(640, 480));
     auto frame = [&](int t) {

@@ -99,7 +99,7 @@ struct Model {
 };
 
 std::shared_ptr<Model> readModel(const String& file, bool pinned) {
-    const std::vector<uchar> bytes = readWhole(file);
+    std::vector<uchar> bytes = readWhole(file);
     const String sha = sha256Of(bytes);
     // The pinned model however it was found (a default copy, or the same file named).
     const bool isPinned = bytes.size() == static_cast<size_t>(MULTICAGE_SEGMENTER_SIZE) &&
@@ -114,11 +114,11 @@ std::shared_ptr<Model> readModel(const String& file, bool pinned) {
     auto model = std::make_shared<Model>();
     model->input = propose_detail::onnxInputSize(bytes);
     if (model->input.empty()) model->input = Size(kUndeclaredSide, kUndeclaredSide);
-    std::vector<uchar> graph = bytes;
-    if (isPinned && propose_detail::setOnnxInputSize(graph, Size(kPinnedSide, kPinnedSide)))
+    // Rewritten in the bytes read (checked above); the file stays as it is.
+    if (isPinned && propose_detail::setOnnxInputSize(bytes, Size(kPinnedSide, kPinnedSide)))
         model->input = Size(kPinnedSide, kPinnedSide);
     try {
-        model->net = dnn::readNetFromONNX(graph);
+        model->net = dnn::readNetFromONNX(bytes);
     } catch (const cv::Exception& e) {
         CV_Error_(Error::StsParseError,
                   ("multicage: the subject model %s is not an ONNX network OpenCV can read "
