@@ -14,12 +14,12 @@ using multicage_testing::sameBits;
 
 namespace {
 
-struct Maps {
+struct LatticeMaps {
     Mat x, y;
 };
 
-Maps mapsOf(Deformer& d, const std::vector<Point2f>& pose) {
-    Maps m;
+LatticeMaps mapsOf(Deformer& d, const std::vector<Point2f>& pose) {
+    LatticeMaps m;
     d.computeMaps(pose, m.x, m.y);
     return m;
 }
@@ -32,7 +32,7 @@ Ptr<Deformer> cpuDeformer(const Mat& image, const Binding& b, int mapStep) {
 }
 
 // Distances between two pairs of maps, pixel by pixel (both covered everywhere).
-Mat distances(const Maps& a, const Maps& b) {
+Mat distances(const LatticeMaps& a, const LatticeMaps& b) {
     Mat dx = a.x - b.x, dy = a.y - b.y, d;
     magnitude(dx, dy, d);
     return d;
@@ -72,9 +72,9 @@ TEST(MapLattice, AnAffinePoseIsInterpolatedExactly) {
             const Binding b = bind(cage, MEAN_VALUE, grid);
             const std::vector<Point2f> pose =
                 affinePose(cage, size, Matx22f(1.06f, 0.01f, -0.01f, 1.05f), Point2f(0.2f, -0.1f));
-            const Maps exact = mapsOf(*cpuDeformer(image, b, 1), pose);
+            const LatticeMaps exact = mapsOf(*cpuDeformer(image, b, 1), pose);
             for (int step : {2, 4, 7}) {
-                const Maps lattice = mapsOf(*cpuDeformer(image, b, step), pose);
+                const LatticeMaps lattice = mapsOf(*cpuDeformer(image, b, step), pose);
                 const std::string what =
                     format("%dx%d grid step %d map step %d", size.width, size.height, grid, step);
                 const auto ax = compareMaps(lattice.x, exact.x, kUncovered);
@@ -109,8 +109,8 @@ TEST(MapLattice, RandomPosesStayWithinTheGridStepsOwnError) {
         for (int k = 0; k < 6; ++k) {
             const std::vector<Point2f> pose = randomPose(cage, 6.0, rng);
             const std::string what = format("grid step %d pose %d", grid, k);
-            const Maps e = mapsOf(*exact, pose), l = mapsOf(*lattice, pose),
-                       f = mapsOf(*paper, pose);
+            const LatticeMaps e = mapsOf(*exact, pose), l = mapsOf(*lattice, pose),
+                              f = mapsOf(*paper, pose);
             ASSERT_EQ(exact->foldedTriangles(pose), 0) << what;
             ++compared;
             // At the lattice points: the pull's values, within a few float roundings of the
@@ -152,7 +152,7 @@ TEST(MapLattice, FoldsAndUncoveredPixelsAreDrawnAtEveryPixel) {
     for (int k = 0; k < 2; ++k) {
         const std::vector<Point2f>& pose = k == 0 ? folded : shrunk;
         const std::string what = k == 0 ? "folded" : "frame moved inwards";
-        const Maps e = mapsOf(*exact, pose), l = mapsOf(*lattice, pose);
+        const LatticeMaps e = mapsOf(*exact, pose), l = mapsOf(*lattice, pose);
         EXPECT_TRUE(sameBits(l.x, e.x)) << what;
         EXPECT_TRUE(sameBits(l.y, e.y)) << what;
     }
@@ -187,7 +187,7 @@ TEST(MapLattice, BatchesAndResizePosesUseTheLattice) {
     const Size wider(size.width * 5 / 4, size.height);
     std::vector<Point2f> stretched = b.completePose(poses[0]);
     for (Point2f& v : stretched) v.x = (v.x + 0.5f) * wider.width / size.width - 0.5f;
-    const Maps e = mapsOf(*exact, stretched), l = mapsOf(*lattice, stretched);
+    const LatticeMaps e = mapsOf(*exact, stretched), l = mapsOf(*lattice, stretched);
     ASSERT_EQ(l.x.size(), wider);
     EXPECT_EQ(compareMaps(l.x, e.x, kUncovered).coverage, 0);
     EXPECT_LT(mean(distances(l, e))[0], 0.01);

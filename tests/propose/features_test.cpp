@@ -13,13 +13,8 @@ namespace {
 using namespace cv::multicage;
 using propose_bench::benchPhoto;
 using propose_bench::haveCascades;
+using propose_bench::innerPolygons;
 using propose_bench::referenceBoxes;
-
-int innerPolygons(const Multicage& cage) {
-    int n = 0;
-    for (int p = 0; p < cage.polygonCount(); ++p) n += cage.depth(p) >= 2;
-    return n;
-}
 
 cv::Mat polygonMask(const Multicage& cage, int p) {
     return multicage_fixtures::polygonMask(cage.polygon(p), cage.imageSize());

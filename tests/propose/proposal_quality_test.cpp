@@ -16,14 +16,9 @@ using multicage_testing::readSample;
 using propose_bench::benchMask;
 using propose_bench::benchPhoto;
 using propose_bench::haveCascades;
+using propose_bench::innerPolygons;
 using propose_bench::outlineIoU;
 using propose_bench::outlinesMask;
-
-int innerPolygons(const Multicage& cage) {
-    int n = 0;
-    for (int p = 0; p < cage.polygonCount(); ++p) n += cage.depth(p) >= 2;
-    return n;
-}
 
 cv::Rect inner80(const cv::Rect& f) {
     return cv::Rect(f.x + f.width / 10, f.y + f.height / 10, f.width - 2 * (f.width / 10),

@@ -43,6 +43,13 @@ inline double outlineIoU(const std::string& name) {
                    benchMask(name));
 }
 
+/** How many inner polygons (depth 2 or more) a cage has. */
+inline int innerPolygons(const cv::multicage::Multicage& cage) {
+    int n = 0;
+    for (int p = 0; p < cage.polygonCount(); ++p) n += cage.depth(p) >= 2;
+    return n;
+}
+
 /** The boxes under `key` ("faces", "eyes", "features") of a benchmark reference. */
 inline std::vector<cv::Rect> referenceBoxes(const std::string& name, const char* key) {
     cv::FileStorage fs(multicage_testing::samplePath("propose_bench/" + name + ".ref.json"),

@@ -8,6 +8,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "propose_bench.hpp"
 #include "testing.hpp"
 
 using namespace cv::multicage;
@@ -459,9 +460,7 @@ cv::Mat readFacePhoto(const std::string& name) {
 }
 const char* const kFacePhotos[] = {"messi5.jpg", "astronaut.png", "camera.png"};
 
-bool haveCascades() {
-    return !faceCascadeFile().empty();
-}
+using propose_bench::haveCascades;
 
 ProposeParams facesParams(int detector = PROTECT_ALL) {
     ProposeParams p;
@@ -610,7 +609,7 @@ TEST(ProposeFaces, StretchingTheOutlineLeavesEachFaceASimilarity) {
 
 namespace {
 // The inner polygon around face f (the deepest one holding the whole box), or -1.
-int facePolygonOf(const Multicage& cage, const cv::Rect& f) {
+int deepestPolygonAround(const Multicage& cage, const cv::Rect& f) {
     int best = -1;
     for (int p = 0; p < cage.polygonCount(); ++p)
         if (cage.depth(p) >= 2 && rectInside(f, cage.polygon(p)) &&
@@ -650,7 +649,7 @@ TEST(ProposeFaces, FacePolygonHugsTheFaceHoldsOnlyItsEyesAndKeepsSalientPolygons
         ASSERT_TRUE(cage.validate());
         ASSERT_FALSE(faces.empty());
         for (const cv::Rect& f : faces) {
-            const int face = facePolygonOf(cage, f);
+            const int face = deepestPolygonAround(cage, f);
             ASSERT_GE(face, 0);
             EXPECT_EQ(cage.depth(face), 2) << "only the outline is around the face's polygon";
             const double area = std::abs(cv::contourArea(cage.polygon(face)));
