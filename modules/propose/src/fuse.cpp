@@ -4,9 +4,10 @@
 //
 //   faces found      the map is the start (as below), the face boxes sure subject, and the
 //                    person prior's head and body (person.hpp) probable subject where the map
-//                    sees something there (above kNear); the pieces holding neither a face nor
-//                    the map's sure subject are dropped (the candle beside the woman of the
-//                    dinner scene).
+//                    sees something there (above kNear); where GrabCut's subject and the map's
+//                    with the face boxes disagree (IoU under kAgrees), those are kept; the
+//                    pieces holding neither a face nor the map's sure subject are dropped (the
+//                    candle beside the woman of the dinner scene).
 //   no face          the map is the start: sure subject where it is above kSure, probable
 //                    subject above kSubject, probable background near it, sure background
 //                    elsewhere; where GrabCut's subject and the map's disagree (IoU under
@@ -61,6 +62,11 @@ Mat mapStart(const Mat& m) {
     return labels;
 }
 
+// Whether GrabCut's subject still agrees with the map's (IoU at least kAgrees).
+bool agrees(const Mat& grabCut, const Mat& map) {
+    return countNonZero(grabCut & map) >= kAgrees * countNonZero(grabCut | map);
+}
+
 // Share of a strip along the frame (3% of the longer side) that `mask` covers.
 double frameShare(const Mat& mask) {
     const int b = std::max(1, cvRound(0.03 * std::max(mask.cols, mask.rows)));
@@ -96,7 +102,12 @@ Mat fusedSubject(const Mat& img, const Mat& map, const Mat& person, const Propos
         const Mat face = prior == GC_FGD;
         labels.setTo(GC_FGD, face);
         seededGrabCut(small, labels, params.grabCutIterations);
-        mask = piecesHolding(subjectOf(labels), face | (m > kSure));
+        // As without a face: where GrabCut parted from the map (the dark background beside
+        // the dinner scene's dark hair), the map and the face boxes are kept.
+        mask = subjectOf(labels);
+        const Mat seen = subject | face;
+        if (!agrees(mask, seen)) mask = seen;
+        mask = piecesHolding(mask, face | (m > kSure));
     } else {
         Mat labels = mapStart(m), inward;
         bool reopened = false;
@@ -113,8 +124,7 @@ Mat fusedSubject(const Mat& img, const Mat& map, const Mat& person, const Propos
         // kangaroo's fur and the sunlit path): where it no longer agrees with the map, the map
         // is kept.
         mask = subjectOf(labels);
-        if (countNonZero(mask & subject) < kAgrees * countNonZero(mask | subject))
-            mask = subject.clone();
+        if (!agrees(mask, subject)) mask = subject.clone();
         // A subject that fills the frame, seen by the network as its middle only (a close-up of
         // a baboon's face and fur): the frame-inward subject, where it holds the map's.
         if (reopened) {
