@@ -176,8 +176,8 @@ TEST(ProposePerson, TheOutlineAroundAFaceLeavesItLittleRoomNeverTheFrame) {
             // Above the face, where there is only hair and background, the outline ends at most
             // the margin (1.2% of the image diagonal) plus 3% (simplification, the map's edge)
             // above where the reference's subject ends, and it never reaches the frame.
-            const cv::Rect column = cv::Rect(f.x, 0, f.width, f.y + f.height) &
-                                    cv::Rect(cv::Point(), image.size());
+            const cv::Rect column =
+                cv::Rect(f.x, 0, f.width, f.y + f.height) & cv::Rect(cv::Point(), image.size());
             const int outlineTop = cv::boundingRect(m(column)).y;
             const int top = cv::boundingRect(benchMask(name)(column)).y;
             const double slack = (0.012 + 0.03) * std::hypot(image.cols, image.rows);
