@@ -5,6 +5,7 @@
 // (samples/data/propose_bench) and on a drawn scene whose answer is known.
 #include <opencv2/imgproc.hpp>
 
+#include "faces.hpp"
 #include "propose_bench.hpp"
 #include "testing.hpp"
 
@@ -232,4 +233,46 @@ TEST(ProposeFeatures, OnlyStructureThatStandsOutOfItsSurroundingsGetsAPolygon) {
         EXPECT_LT(cv::countNonZero(m(s.patch)), 0.1 * s.patch.area()) << "polygon " << p;
     }
     EXPECT_EQ(aroundLabel, 1);
+}
+
+// A face's polygon where the outline runs close to one side of the face (a head as wide as its
+// face beside a dark background): that side gives up its margin, down to the polygon through
+// the box's corners, and the other sides keep theirs; where not even that fits, none.
+TEST(ProposeFaces, APolygonGivesUpItsMarginOnlyOnTheSideTheOutlineRunsClose) {
+    using cv::multicage::propose_detail::faceInOutline;
+    using cv::multicage::propose_detail::facePolygon;
+    const cv::Rect2d box(100, 100, 100, 120);
+    const double margin = 8, band = 5;
+    const std::vector<cv::Point2f> full = facePolygon(box, margin, 12),
+                                   corners = facePolygon(box, 0.0, 12);
+    cv::Rect2d fullBox = cv::boundingRect(full), cornerBox = cv::boundingRect(corners);
+    auto fitsIn = [band](const std::vector<cv::Point2f>& outline) {
+        return [&outline, band](const std::vector<cv::Point2f>& p) {
+            for (const cv::Point2f& v : p)
+                if (cv::pointPolygonTest(outline, v, true) < band) return false;
+            return true;
+        };
+    };
+    // Room everywhere: the polygon with its margin.
+    const std::vector<cv::Point2f> wide = {{0, 0}, {400, 0}, {400, 400}, {0, 400}};
+    EXPECT_EQ(faceInOutline(box, margin, 12, wide, band, fitsIn(wide)), full);
+    // The outline's right side 2 px past the corner polygon's band: only the right side moves.
+    const float right = static_cast<float>(cornerBox.br().x + band + 2);
+    const std::vector<cv::Point2f> close = {{0, 0}, {right, 0}, {right, 400}, {0, 400}};
+    const std::vector<cv::Point2f> p = faceInOutline(box, margin, 12, close, band, fitsIn(close));
+    ASSERT_FALSE(p.empty());
+    const cv::Rect2d placed = cv::boundingRect(p);
+    EXPECT_LE(placed.br().x, right - band);
+    EXPECT_GE(placed.br().x, cornerBox.br().x - 1);  // never inside the box's corners
+    EXPECT_NEAR(placed.x, fullBox.x, 1.0);           // the other sides keep their margin
+    EXPECT_NEAR(placed.y, fullBox.y, 1.0);
+    EXPECT_NEAR(placed.br().y, fullBox.br().y, 1.0);
+    for (int i = 0; i < 4; ++i)  // the box's corners stay inside
+        EXPECT_GT(cv::pointPolygonTest(p, cv::Point2f(i % 2 ? 199.f : 100.f, i / 2 ? 219.f : 100.f),
+                                       false),
+                  0);
+    // Closer than the corner polygon's band: no polygon.
+    const float tight = static_cast<float>(cornerBox.br().x + band - 2);
+    const std::vector<cv::Point2f> tooClose = {{0, 0}, {tight, 0}, {tight, 400}, {0, 400}};
+    EXPECT_TRUE(faceInOutline(box, margin, 12, tooClose, band, fitsIn(tooClose)).empty());
 }

@@ -107,15 +107,18 @@ TEST(ProposePerson, OutlineFollowsThePersonNotTheImageFrame) {
     }
 }
 
-// Item 2: the room around a face's polygon is 0.1 face sizes (propose.cpp: faceRoom). At 0.3
-// the outline drew a box above the head of the close-up and the camera man (outline IoU 0.587
-// and 0.593); following the head, 0.654 and 0.645.
-TEST(ProposePerson, TheOutlineFollowsTheHeadNotABoxAboveIt) {
+// Item 2: around a face the outline keeps only the room the face's polygon needs (propose.cpp,
+// kFaceCoreBand) and follows the head beyond it. A box 0.3 face sizes around the face put the
+// close-up's and the camera man's outlines at 0.587 and 0.593; 0.1 face sizes beyond the
+// polygon's margin ran through the background beside the close-up's head (0.741 and 0.743 with
+// the subject model); the band alone, 0.788 and 0.757 (0.715 and 0.665 with the classic cues).
+TEST(ProposePerson, TheOutlineFollowsTheHeadNotABoxAroundIt) {
     if (!haveCascades()) GTEST_SKIP() << "opencv-data is not installed";
+    const double least = cv::multicage::segmenterModelFile().empty() ? 0.64 : 0.75;
     for (const char* name : {"megamind_closeup", "camera"}) {
         const double iou = outlineIoU(name);
         std::cout << "[ head     ] " << name << " outline IoU " << iou << "\n";
-        EXPECT_GE(iou, 0.62) << name;
+        EXPECT_GE(iou, least) << name;
     }
 }
 

@@ -355,7 +355,43 @@ double faceMargin(const Rect& face) {
     return std::max(2.0, 0.02 * std::max(face.width, face.height));
 }
 
+namespace {
+
+// The superellipse |x|^8 + |y|^8 = 1 at `vertices` parameters t, one on each diagonal.
+std::vector<Point2d> unitFace(int vertices) {
+    const double phase = std::fmod(vertices / 8.0, 1.0);  // i + phase = n / 8 lands on 45 degrees
+    auto along = [](double cs) {
+        return std::copysign(std::pow(std::abs(cs), 2.0 / kFaceExponent), cs);
+    };
+    std::vector<Point2d> u;
+    for (int i = 0; i < vertices; ++i) {
+        const double t = 2 * CV_PI * (i + phase) / vertices;
+        u.emplace_back(along(std::cos(t)), along(std::sin(t)));
+    }
+    return u;
+}
+
+// The point of the boundary of `polygon` nearest to `v`.
+Point2d nearestOnBoundary(const std::vector<Point2f>& polygon, Point2d v) {
+    Point2d best = polygon[0];
+    double least = HUGE_VAL;
+    for (size_t i = 0; i < polygon.size(); ++i) {
+        const Point2d a = polygon[i], b = polygon[(i + 1) % polygon.size()], e = b - a;
+        const double len2 = e.dot(e);
+        const double t = len2 > 0 ? std::min(1.0, std::max(0.0, (v - a).dot(e) / len2)) : 0.0;
+        const Point2d q = a + t * e;
+        if (norm(q - v) < least) least = norm(q - v), best = q;
+    }
+    return best;
+}
+
+}  // namespace
+
 std::vector<Point2f> facePolygon(const Rect2d& detected, double margin, int vertices) {
+    return facePolygon(detected, Vec4d::all(margin), vertices);
+}
+
+std::vector<Point2f> facePolygon(const Rect2d& detected, const Vec4d& margins, int vertices) {
     CV_Assert(vertices >= 4 && vertices % 4 == 0);
     // The frontal cascade's box runs from the brow to the lower lip; the polygon takes in the
     // forehead and the chin, which an outline hugging the head (the subject model's) would
@@ -365,19 +401,51 @@ std::vector<Point2f> facePolygon(const Rect2d& detected, double margin, int vert
     // The superellipse |x/a|^8 + |y/b|^8 = 1 through the box's corners has semi-axes 2^(1/8)
     // times the half sides, and its point at parameter t = 45 degrees is the corner.
     const double k = std::pow(2.0, 1.0 / kFaceExponent);
-    const double a = k * 0.5 * box.width + margin, b = k * 0.5 * box.height + margin;
+    const double left = k * 0.5 * box.width + margins[0], top = k * 0.5 * box.height + margins[1],
+                 right = k * 0.5 * box.width + margins[2],
+                 bottom = k * 0.5 * box.height + margins[3];
     const Point2d c(box.x + 0.5 * box.width - 0.5, box.y + 0.5 * box.height - 0.5);
-    const double phase = std::fmod(vertices / 8.0, 1.0);  // i + phase = n / 8 lands on 45 degrees
-    auto along = [](double cs) {
-        return std::copysign(std::pow(std::abs(cs), 2.0 / kFaceExponent), cs);
-    };
     std::vector<Point2f> p;
-    for (int i = 0; i < vertices; ++i) {
-        const double t = 2 * CV_PI * (i + phase) / vertices;
-        p.emplace_back(static_cast<float>(c.x + a * along(std::cos(t))),
-                       static_cast<float>(c.y + b * along(std::sin(t))));
-    }
+    for (const Point2d& u : unitFace(vertices))
+        p.emplace_back(static_cast<float>(c.x + (u.x < 0 ? left : right) * u.x),
+                       static_cast<float>(c.y + (u.y < 0 ? top : bottom) * u.y));
     return p;  // t grows clockwise on screen (y down): signed area > 0
+}
+
+std::vector<Point2f> faceInOutline(const Rect2d& box, double margin, int vertices,
+                                   const std::vector<Point2f>& outline, double band,
+                                   const std::function<bool(const std::vector<Point2f>&)>& fits) {
+    const double step = 0.25 * margin;
+    Vec4d margins = Vec4d::all(margin);
+    for (;;) {
+        std::vector<Point2f> p = facePolygon(box, margins, vertices);
+        if (fits(p)) return p;
+        // For each vertex too near, the side whose pull moves it away from the outline's
+        // nearest point (the one facing that point); where those have no margin left, the
+        // sides of its quarter (a corner's two); where none is near (another polygon refused
+        // it), every side.
+        const std::vector<Point2d> unit = unitFace(vertices);
+        bool facing[4] = {false, false, false, false}, quarter[4] = {false, false, false, false};
+        for (int i = 0; i < vertices; ++i) {  // sides: left, top, right, bottom
+            if (pointPolygonTest(outline, p[i], true) >= band) continue;
+            const Point2d u = unit[i], d = nearestOnBoundary(outline, p[i]) - Point2d(p[i]);
+            if (std::abs(d.x) >= std::abs(d.y) && d.x * u.x > 0) facing[d.x < 0 ? 0 : 2] = true;
+            if (std::abs(d.y) >= std::abs(d.x) && d.y * u.y > 0) facing[d.y < 0 ? 1 : 3] = true;
+            if (std::abs(u.x) > 0.5) quarter[u.x < 0 ? 0 : 2] = true;
+            if (std::abs(u.y) > 0.5) quarter[u.y < 0 ? 1 : 3] = true;
+        }
+        bool every[4] = {true, true, true, true};
+        bool moved = false;
+        for (const bool* sides : {facing, quarter, every}) {
+            for (int side = 0; side < 4; ++side)
+                if (sides[side] && margins[side] > 0) {
+                    margins[side] = std::max(0.0, margins[side] - step);
+                    moved = true;
+                }
+            if (moved) break;
+        }
+        if (!moved) return {};
+    }
 }
 
 std::vector<std::vector<Point2f>> faceAnchors(const Rect2d& box) {

@@ -3,6 +3,7 @@
 #ifndef MULTICAGE_PROPOSE_FACES_HPP
 #define MULTICAGE_PROPOSE_FACES_HPP
 
+#include <functional>
 #include <memory>
 #include <opencv2/multicage/propose.hpp>
 
@@ -44,6 +45,17 @@ leaks less than the ellipse through the corners, which leaks less than one with 
 10%). The vertex count hardly matters: a polygon's total mean value weight at a point depends
 on the polygon's shape, not on collinear subdivisions of its edges. */
 std::vector<Point2f> facePolygon(const Rect2d& box, double margin, int vertices);
+
+/** facePolygon with a margin of its own on each side (left, top, right, bottom). The quarters
+meet on the axes, so the polygon stays a rounded box through the box's corners. */
+std::vector<Point2f> facePolygon(const Rect2d& box, const Vec4d& margins, int vertices);
+
+/** facePolygon at `margin` with the sides whose vertices come nearer than `band` to the
+boundary of `outline` pulled in, a quarter of the margin at a time, until `fits` accepts it;
+empty where even the polygon through the box's corners (margin 0) is refused. Input pixels. */
+std::vector<Point2f> faceInOutline(const Rect2d& box, double margin, int vertices,
+                                   const std::vector<Point2f>& outline, double band,
+                                   const std::function<bool(const std::vector<Point2f>&)>& fits);
 
 /** Anchors a face's polygon holds (faceAnchors). */
 constexpr int kFaceAnchors = 4;

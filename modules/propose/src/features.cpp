@@ -195,14 +195,10 @@ FacePlan placeFaces(const KnownFaces& faces, const Mat& gray, const Multicage& c
         const std::vector<Rect>* eyes = i < faces.eyes.size() ? &faces.eyes[i] : nullptr;
         const int n = std::min({kFaceVertices, params.maxPolygonVertices, budget}) / 4 * 4;
         if (n < 4 || slots < 1) break;
-        Polygon placed;
-        for (double m : {faceMargin(f), 0.5 * faceMargin(f), 0.0}) {
-            Polygon p = facePolygon(f, m, n);
-            if (faceFits(p, cage, polygon, plan.polygons, faceBand * w.scale)) {
-                placed = std::move(p);
-                break;
-            }
-        }
+        const Polygon placed = faceInOutline(
+            f, faceMargin(f), n, cage.polygon(polygon), faceBand * w.scale, [&](const Polygon& p) {
+                return faceFits(p, cage, polygon, plan.polygons, faceBand * w.scale);
+            });
         if (!placed.empty()) {
             plan.polygons.push_back(placed);
             plan.isFace.push_back(1), plan.sizes.push_back(faceSize(f));

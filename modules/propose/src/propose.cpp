@@ -41,14 +41,6 @@ namespace multicage {
 
 using namespace propose_detail;
 
-namespace {
-
-// Around a face's polygon, in face sizes (faceSize): the most room the outline leaves
-// (faceRoom).
-constexpr double kFaceRoom = 0.1;
-
-}  // namespace
-
 const char* proposeMethodName(int method) {
     static const char* names[] = {"auto",     "threshold", "adaptive", "grabcut",
                                   "saliency", "spectral",  "mask",     "labels"};
@@ -62,36 +54,24 @@ int parseProposeMethod(const String& name) {
 }
 
 namespace {
-// Room between a face's polygon and the outline around it, in input pixels: 0.1 face sizes,
-// pushed out only where the person's silhouette comes closer to the face than that.
-// With Algorithm 1's global sums the outline's motion leaks through the face's polygon into
-// the face in proportion to the polygon's size over its distance to the outline, so more room
-// kept the face closer to a similarity (docs/faces/README.md: 2 face sizes of room gave
-// 0.45-0.9 px); but the room is not the subject: two face sizes pushed the outline to the
-// image frame whenever the face was near the subject's edge (outline IoU 0.18 on a dinner
-// scene), and an outline around the whole picture is no cage of the subject. The protected
-// proposal's local coordinates keep the face in place whatever the room (0.00-0.01 px), so
-// the room is only what a person drawing the outline leaves around the face's polygon: 0.3
-// face sizes made a box above every head (outline IoU on the benchmark's people photos
-// 0.59-0.69), 0.15 follows the head (0.51-0.71; mean of the 13 photos 0.702 -> 0.711, and at
-// 0.8x and 1.25x their sizes 0.701 -> 0.709 and 0.687 -> 0.695, bench_propose_scores --scales);
-// 0.1 gained 0.002 more and left the hair less room still. With the subject model's outlines,
-// which follow the hair themselves, 0.1 gains on every size of the 22 photos (mean 0.754 ->
-// 0.758, 0.740 -> 0.743 at 0.8x, 0.752 -> 0.755 at 1.25x; Grace Hopper 0.785 -> 0.81); 0.08
-// gained 0.001 more and lost the astronaut's eyes at 1.25x, 0.03 broke the face tests (eyes
-// not hugged, polygons crossing).
-double faceRoom(const Rect& face) {
-    return kFaceRoom * faceSize(face);
-}
+// Around a face's polygon through its box's corners (facePolygon at margin 0), in work gaps:
+// what the outline keeps clear, the room that polygon and its band need (placeFaces: a margin
+// and two gaps). Beyond that the outline follows the subject, and the face's polygon takes its
+// margin where the subject leaves room, less on a side where the outline runs closer
+// (faceInOutline): a person draws a face's polygon inside the head and the outline along it.
+// An outline kept 0.1 face sizes clear of the polygon with its margin instead ran through the
+// background beside a head as wide as its face (docs/propose/history.md, "The room around a
+// face").
+constexpr double kFaceCoreBand = 3.0;
 
 // The outlines of a segmentation (proposeMulticage's tail). Every face in `faces` is enclosed
-// with its polygon's room: the outline goes around it.
+// with the room its polygon needs: the outline goes around it.
 Multicage outlinesOf(Segmentation s, Size size, const Work& w, const ProposeParams& params,
                      const std::vector<Rect>& faces) {
     if (!faces.empty()) {
-        Mat room = Mat::zeros(w.size, CV_8U);
-        for (const Rect& f : faces)
-            fillWork(room, facePolygon(f, faceMargin(f) + faceRoom(f), 32), w, Scalar(255));
+        Mat core = Mat::zeros(w.size, CV_8U);
+        for (const Rect& f : faces) fillWork(core, facePolygon(f, 0.0, 32), w, Scalar(255));
+        Mat room = distanceTo(~core) <= kFaceCoreBand * w.gap;
         // The room stops two margins short of the image border (the outline one margin from
         // it): an outline along the border moves against the fixed frame a fraction of a pixel
         // away, and the pixels between fold.

@@ -61,8 +61,9 @@ enum ProtectDetector {
     (ProposeParams::faceEyes). Each face becomes a rounded box hugging it (a superellipse a
     small margin around the detected box grown to the forehead and the chin), nested in the
     polygon around it and crossing no other; faces whose polygons would overlap merge.
-    proposeProtectedMulticage() leaves the face 0.1 face sizes of room to the outline and binds
-    with local mean value coordinates, so that moving the outline leaves the face a similarity.
+    proposeProtectedMulticage() keeps the outline clear of the face's polygon by the band the
+    polygon needs, the outline otherwise following the head, and binds with local mean value
+    coordinates, so that moving the outline leaves the face a similarity.
     No cascade file: cv::Exception (StsObjectNotFound) naming the package. No face found:
     nothing added. */
     PROTECT_FACES = 1,
