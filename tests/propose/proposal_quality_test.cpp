@@ -108,7 +108,7 @@ TEST(ProposePerson, OutlineFollowsThePersonNotTheImageFrame) {
 }
 
 // Item 2: around a face the outline keeps only the room the face's polygon needs (propose.cpp,
-// kFaceCoreBand) and follows the head beyond it. A box 0.3 face sizes around the face put the
+// kFaceClearance) and follows the head beyond it. A box 0.3 face sizes around the face put the
 // close-up's and the camera man's outlines at 0.587 and 0.593; 0.1 face sizes beyond the
 // polygon's margin ran through the background beside the close-up's head (0.741 and 0.743 with
 // the subject model); the band alone, 0.788 and 0.757 (0.715 and 0.665 with the classic cues).

@@ -62,16 +62,16 @@ namespace {
 // An outline kept 0.1 face sizes clear of the polygon with its margin instead ran through the
 // background beside a head as wide as its face (docs/propose/history.md, "The room around a
 // face").
-constexpr double kFaceCoreBand = 3.0;
+constexpr double kFaceClearance = 3.0;
 
 // The outlines of a segmentation (proposeMulticage's tail). Every face in `faces` is enclosed
 // with the room its polygon needs: the outline goes around it.
 Multicage outlinesOf(Segmentation s, Size size, const Work& w, const ProposeParams& params,
                      const std::vector<Rect>& faces) {
     if (!faces.empty()) {
-        Mat core = Mat::zeros(w.size, CV_8U);
-        for (const Rect& f : faces) fillWork(core, facePolygon(f, 0.0, 32), w, Scalar(255));
-        Mat room = distanceTo(~core) <= kFaceCoreBand * w.gap;
+        Mat corners = Mat::zeros(w.size, CV_8U);
+        for (const Rect& f : faces) fillWork(corners, facePolygon(f, 0.0, 32), w, Scalar(255));
+        Mat room = distanceTo(~corners) <= kFaceClearance * w.gap;
         // The room stops two margins short of the image border (the outline one margin from
         // it): an outline along the border moves against the fixed frame a fraction of a pixel
         // away, and the pixels between fold.
