@@ -5,7 +5,7 @@
 //   faces found      the map is the start (as below), the face boxes sure subject, and the
 //                    person prior's head and body (person.hpp) probable subject where the map
 //                    sees something there (above kNear); where GrabCut's subject and the map's
-//                    with the face boxes disagree (IoU under kAgrees), those are kept; the
+//                    with the face boxes disagree (IoU under kAgreesWithFaces), those are kept; the
 //                    pieces holding neither a face nor the map's sure subject are dropped (the
 //                    candle beside the woman of the dinner scene).
 //   no face          the map is the start: sure subject where it is above kSure, probable
@@ -35,16 +35,17 @@ namespace propose_detail {
 
 namespace {
 
-constexpr double kSubject = 0.5;      // map value: probable subject
-constexpr double kSure = 0.8;         // map value: sure subject
-constexpr double kNear = 0.2;         // map value: something is there
-constexpr double kNearReach = 0.08;   // of the longer side: probable background around it
-constexpr double kMostOfAll = 0.97;   // the map's subject covering this much is the picture
-constexpr double kCutByFrame = 0.05;  // share of the frame strip the map's subject covers
-constexpr double kHolds = 0.9;        // share of the map's subject the frame-inward one holds
-constexpr double kFillsFrame = 0.85;  // share of the picture a frame-filling subject covers
-constexpr double kAgrees = 0.8;       // IoU of GrabCut's subject and the map's
-constexpr int kSettleWithin = 5;      // GrabCut's iterations at most (seededGrabCut)
+constexpr double kSubject = 0.5;          // map value: probable subject
+constexpr double kSure = 0.8;             // map value: sure subject
+constexpr double kNear = 0.2;             // map value: something is there
+constexpr double kNearReach = 0.08;       // of the longer side: probable background around it
+constexpr double kMostOfAll = 0.97;       // the map's subject covering this much is the picture
+constexpr double kCutByFrame = 0.05;      // share of the frame strip the map's subject covers
+constexpr double kHolds = 0.9;            // share of the map's subject the frame-inward one holds
+constexpr double kFillsFrame = 0.85;      // share of the picture a frame-filling subject covers
+constexpr double kAgrees = 0.85;          // IoU of GrabCut's subject and the map's
+constexpr double kAgreesWithFaces = 0.8;  // the same, the map's with the face boxes
+constexpr int kSettleWithin = 5;          // GrabCut's iterations at most (seededGrabCut)
 
 Mat subjectOf(const Mat& labels) {
     return (labels == GC_FGD) | (labels == GC_PR_FGD);
@@ -62,9 +63,9 @@ Mat mapStart(const Mat& m) {
     return labels;
 }
 
-// Whether GrabCut's subject still agrees with the map's (IoU at least kAgrees).
-bool agrees(const Mat& grabCut, const Mat& map) {
-    return countNonZero(grabCut & map) >= kAgrees * countNonZero(grabCut | map);
+// Whether GrabCut's subject still agrees with the map's (IoU at least `least`).
+bool agrees(const Mat& grabCut, const Mat& map, double least) {
+    return countNonZero(grabCut & map) >= least * countNonZero(grabCut | map);
 }
 
 // Share of a strip along the frame (3% of the longer side) that `mask` covers.
@@ -106,7 +107,7 @@ Mat fusedSubject(const Mat& img, const Mat& map, const Mat& person, const Propos
         // the dinner scene's dark hair), the map and the face boxes are kept.
         mask = subjectOf(labels);
         const Mat seen = subject | face;
-        if (!agrees(mask, seen)) mask = seen;
+        if (!agrees(mask, seen, kAgreesWithFaces)) mask = seen;
         mask = piecesHolding(mask, face | (m > kSure));
     } else {
         Mat labels = mapStart(m), inward;
@@ -124,7 +125,7 @@ Mat fusedSubject(const Mat& img, const Mat& map, const Mat& person, const Propos
         // kangaroo's fur and the sunlit path): where it no longer agrees with the map, the map
         // is kept.
         mask = subjectOf(labels);
-        if (!agrees(mask, subject)) mask = subject.clone();
+        if (!agrees(mask, subject, kAgrees)) mask = subject.clone();
         // A subject that fills the frame, seen by the network as its middle only (a close-up of
         // a baboon's face and fur): the frame-inward subject, where it holds the map's.
         if (reopened) {
