@@ -25,7 +25,8 @@ inline cv::Mat benchMask(const std::string& name) {
 
 /** Intersection over union of two masks. */
 inline double maskIoU(const cv::Mat& a, const cv::Mat& b) {
-    return cv::countNonZero(a & b) / static_cast<double>(cv::countNonZero(a | b));
+    const double inter = cv::countNonZero(a & b), uni = cv::countNonZero(a | b);
+    return uni > 0 ? inter / uni : 0.0;
 }
 
 /** The union of a cage's outlines (depth-1 polygons), 255 inside. */

@@ -13,6 +13,7 @@
 
 using namespace cv::multicage;
 using multicage_testing::readSample;
+using propose_bench::maskIoU;
 
 namespace {
 
@@ -29,11 +30,6 @@ cv::Mat fillAll(const Multicage& cage) {
     cv::Mat m(cage.imageSize(), CV_8U, cv::Scalar(0));
     for (int p = 0; p < cage.polygonCount(); ++p) m |= fill(cage.polygon(p), cage.imageSize());
     return m;
-}
-
-double iou(const cv::Mat& a, const cv::Mat& b) {
-    const double inter = cv::countNonZero(a & b), uni = cv::countNonZero(a | b);
-    return uni > 0 ? inter / uni : 0.0;
 }
 
 // A mask dilated by a Euclidean radius (what "the dilated shape" means below).
@@ -214,8 +210,8 @@ TEST(Propose, DiskInsideRingGivesNestedPolygonsMatchingTheDilatedShapes) {
         const int outer = cage.depth(0) == 1 ? 0 : 1, inner = 1 - outer;
         EXPECT_EQ(cage.depth(outer), 1);
         EXPECT_EQ(cage.depth(inner), 2);
-        const double iouRing = iou(fill(cage.polygon(outer), size), dilated(ringFilled, 6));
-        const double iouDisk = iou(fill(cage.polygon(inner), size), dilated(disk, 6));
+        const double iouRing = maskIoU(fill(cage.polygon(outer), size), dilated(ringFilled, 6));
+        const double iouDisk = maskIoU(fill(cage.polygon(inner), size), dilated(disk, 6));
         std::cout << "[ propose  ] " << proposeMethodName(method) << ": IoU ring " << iouRing
                   << ", disk " << iouDisk << std::endl;
         EXPECT_GE(iouRing, 0.9);
@@ -240,7 +236,7 @@ TEST(Propose, SeparateObjectsGetSeparatePolygons) {
             polygonAt(cage, cv::Point2f(cv::boundingRect(shape).tl() + cv::Point(20, 20)));
         ASSERT_GE(p, 0);
         EXPECT_EQ(cage.depth(p), 1);
-        const double v = iou(fill(cage.polygon(p), size), target);
+        const double v = maskIoU(fill(cage.polygon(p), size), target);
         std::cout << "[ propose  ] separate object IoU " << v << std::endl;
         EXPECT_GE(v, 0.9);
     }
@@ -262,7 +258,7 @@ TEST(Propose, ObjectTouchingTheBorderIsEnclosedAlongTheEdge) {
     const cv::Mat inside = fillAll(cage);
     // Every object pixel, those on the image edge included, is inside.
     EXPECT_EQ(cv::countNonZero(shape & ~inside), 0);
-    const double v = iou(inside, dilated(shape, 6));
+    const double v = maskIoU(inside, dilated(shape, 6));
     std::cout << "[ propose  ] border object IoU " << v << std::endl;
     EXPECT_GE(v, 0.9);
 }
