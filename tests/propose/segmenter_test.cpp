@@ -89,14 +89,12 @@ TEST(Segmenter, TheModelsMapFindsTheSubjectOfPlainPhotos) {
 
 // The default proposal with the model (fuse.cpp), outline IoU against the references: the
 // classic cues alone gave 0.706, 0.464, 0.876, 0.544 and 0.848 on these photos; the model at
-// 256x256 0.900, 0.848, 0.919, 0.795 and 0.880 (at 320x320 the cat had 0.925).
+// 256x256 0.900, 0.848, 0.919, 0.795 and 0.880 while GrabCut could add to the map (at 320x320
+// the cat had 0.925); with GrabCut only trimming it 0.899, 0.800, 0.869, 0.841 and 0.893.
 TEST(Segmenter, TheFusedProposalFollowsTheSubject) {
     if (!haveModel()) GTEST_SKIP() << "no subject model installed";
-    const std::pair<const char*, double> photos[] = {{"astronaut", 0.85},
-                                                     {"chelsea", 0.82},
-                                                     {"coffee", 0.88},
-                                                     {"robin", 0.75},
-                                                     {"orange", 0.85}};
+    const std::pair<const char*, double> photos[] = {
+        {"astronaut", 0.85}, {"chelsea", 0.77}, {"coffee", 0.85}, {"robin", 0.8}, {"orange", 0.86}};
     for (const auto& [name, least] : photos) {
         const double score = outlineIoU(name);
         std::cout << "[ fused    ] " << name << " outline IoU " << score << "\n";

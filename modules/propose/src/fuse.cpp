@@ -10,13 +10,13 @@
 //                    candle beside the woman of the dinner scene).
 //   no face          the map is the start: sure subject where it is above kSure, probable
 //                    subject above kSubject, probable background near it, sure background
-//                    elsewhere; where GrabCut's subject and the map's disagree (IoU under
-//                    kAgrees) the map is kept. Where the map's subject stays inside the picture
-//                    and the frame is in focus somewhere (frameInFocus), the frame-inward
-//                    GrabCut runs beside it: when that one finds the subject going on past the
-//                    frame, fills the frame (kFillsFrame) and holds the map's subject, it wins
-//                    (a close-up whose fur fills the frame, which the network sees as a face
-//                    in the middle).
+//                    elsewhere; GrabCut only trims the map (what it adds is dropped), and where
+//                    its subject and the map's disagree (IoU under kAgrees) the map is kept.
+//                    Where the map's subject stays inside the picture and the frame is in focus
+//                    somewhere (frameInFocus), the frame-inward GrabCut runs beside it: when
+//                    that one finds the subject going on past the frame, fills the frame
+//                    (kFillsFrame) and holds the map's subject, it wins (a close-up whose fur
+//                    fills the frame, which the network sees as a face in the middle).
 //   nothing / all    no map value above kSubject, or above it nearly everywhere: the map says
 //                    nothing, and the classic cues decide (segment.cpp).
 #include "fuse.hpp"
@@ -121,11 +121,11 @@ Mat fusedSubject(const Mat& img, const Mat& map, const Mat& person, const Propos
                 else
                     inward = frameInward(small, &reopened);
         });
-        // GrabCut from the map may follow colours the background shares with the subject (a
-        // kangaroo's fur and the sunlit path): where it no longer agrees with the map, the map
-        // is kept.
+        // GrabCut from the map only trims it: what GrabCut adds follows colours the background
+        // shares with the subject (a kangaroo's fur and the sunlit path, a dog's and the dry
+        // grass), and where it no longer agrees with the map, the map is kept.
         mask = subjectOf(labels);
-        if (!agrees(mask, subject, kAgrees)) mask = subject.clone();
+        mask = agrees(mask, subject, kAgrees) ? Mat(mask & subject) : subject.clone();
         // A subject that fills the frame, seen by the network as its middle only (a close-up of
         // a baboon's face and fur): the frame-inward subject, where it holds the map's.
         if (reopened) {
