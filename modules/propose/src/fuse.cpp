@@ -1,6 +1,7 @@
 // How the subject model's map joins what the proposal already knows (docs/propose/README.md,
 // "The cues and how they are fused"). The map is a strong cue, not the answer: it is GrabCut's
-// start, and the colour models then follow the subject's own edges.
+// start. With faces the colour models then follow the person's own edges; without faces they
+// may only trim the map, since what they added to it was background more often than subject.
 //
 //   faces found      the map is the start (as below), the face boxes sure subject, and the
 //                    person prior's head and body (person.hpp) probable subject where the map
