@@ -36,10 +36,7 @@ std::vector<int> parentsOf(const std::vector<Polygon>& polygons) {
 }
 
 double segmentDistance(Point2d p, Point2d a, Point2d b) {
-    const Point2d ab = b - a;
-    const double len2 = ab.dot(ab);
-    const double t = len2 > 0 ? std::min(1.0, std::max(0.0, (p - a).dot(ab) / len2)) : 0.0;
-    const Point2d d = p - (a + t * ab);
+    const Point2d d = p - geometry::nearestOnSegment(p, a, b);
     return std::sqrt(d.dot(d));
 }
 

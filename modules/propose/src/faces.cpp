@@ -11,6 +11,7 @@
 #include <numeric>
 #include <opencv2/core/utility.hpp>
 #include <opencv2/imgproc.hpp>
+#include <opencv2/multicage/internal/geometry.hpp>
 #include <opencv2/objdetect.hpp>
 #include <tuple>
 
@@ -376,10 +377,8 @@ Point2d nearestOnBoundary(const std::vector<Point2f>& polygon, Point2d v) {
     Point2d best = polygon[0];
     double least = HUGE_VAL;
     for (size_t i = 0; i < polygon.size(); ++i) {
-        const Point2d a = polygon[i], b = polygon[(i + 1) % polygon.size()], e = b - a;
-        const double len2 = e.dot(e);
-        const double t = len2 > 0 ? std::min(1.0, std::max(0.0, (v - a).dot(e) / len2)) : 0.0;
-        const Point2d q = a + t * e;
+        const Point2d q =
+            geometry::nearestOnSegment(v, polygon[i], polygon[(i + 1) % polygon.size()]);
         if (norm(q - v) < least) least = norm(q - v), best = q;
     }
     return best;
@@ -416,6 +415,7 @@ std::vector<Point2f> faceInOutline(const Rect2d& box, double margin, int vertice
                                    const std::vector<Point2f>& outline, double band,
                                    const std::function<bool(const std::vector<Point2f>&)>& fits) {
     const double step = 0.25 * margin;
+    const std::vector<Point2d> unit = unitFace(vertices);
     Vec4d margins = Vec4d::all(margin);
     for (;;) {
         std::vector<Point2f> p = facePolygon(box, margins, vertices);
@@ -424,7 +424,6 @@ std::vector<Point2f> faceInOutline(const Rect2d& box, double margin, int vertice
         // nearest point (the one facing that point); where those have no margin left, the
         // sides of its quarter (a corner's two); where none is near (another polygon refused
         // it), every side.
-        const std::vector<Point2d> unit = unitFace(vertices);
         bool facing[4] = {false, false, false, false}, quarter[4] = {false, false, false, false};
         for (int i = 0; i < vertices; ++i) {  // sides: left, top, right, bottom
             if (pointPolygonTest(outline, p[i], true) >= band) continue;

@@ -60,10 +60,7 @@ Mat protectableArea(const Multicage& cage, int polygon, const Work& w) {
 // Least distance between the boundaries of two polygons that do not cross.
 double boundaryDistance(const Polygon& a, const Polygon& b) {
     auto toSegment = [](Point2d p, Point2d q0, Point2d q1) {
-        const Point2d d = q1 - q0;
-        const double len2 = d.dot(d);
-        const double t = len2 > 0 ? std::min(1.0, std::max(0.0, (p - q0).dot(d) / len2)) : 0.0;
-        return norm(p - (q0 + t * d));
+        return norm(p - geometry::nearestOnSegment(p, q0, q1));
     };
     double best = HUGE_VAL;
     for (int pass = 0; pass < 2; ++pass) {

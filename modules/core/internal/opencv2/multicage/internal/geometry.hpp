@@ -2,6 +2,7 @@
 #ifndef MULTICAGE_GEOMETRY_HPP
 #define MULTICAGE_GEOMETRY_HPP
 
+#include <algorithm>
 #include <opencv2/core.hpp>
 #include <string>
 #include <vector>
@@ -23,6 +24,13 @@ int orientation(Point2d a, Point2d b, Point2d c);
 bool segmentsIntersect(Point2d p1, Point2d p2, Point2d q1, Point2d q2);
 /** Crossing-number test; points on the boundary may go either way. */
 bool contains(const Polygon& polygon, Point2d p);
+/** The point of the closed segment ab nearest to p (a itself where a == b). */
+inline Point2d nearestOnSegment(Point2d p, Point2d a, Point2d b) {
+    const Point2d ab = b - a;
+    const double len2 = ab.dot(ab);
+    const double t = len2 > 0 ? std::min(1.0, std::max(0.0, (p - a).dot(ab) / len2)) : 0.0;
+    return a + t * ab;
+}
 
 /** A pair of edges that touch or cross. Edge e of a polygon runs from vertex e to e+1. */
 struct Crossing {
