@@ -17,7 +17,9 @@
 //                    somewhere (frameInFocus), the frame-inward GrabCut runs beside it: when
 //                    that one finds the subject going on past the frame, fills the frame
 //                    (kFillsFrame) and holds the map's subject, it wins (a close-up whose fur
-//                    fills the frame, which the network sees as a face in the middle).
+//                    fills the frame, which the network sees as a face in the middle). The
+//                    map's subject is its check: the classic path's salient part and its
+//                    GrabCut are not run.
 //   nothing / all    no map value above kSubject, or above it nearly everywhere: the map says
 //                    nothing, and the classic cues decide (segment.cpp).
 #include "fuse.hpp"
@@ -80,8 +82,7 @@ double frameShare(const Mat& mask) {
 
 }  // namespace
 
-Mat fusedSubject(const Mat& img, const Mat& map, const Mat& person, const ProposeParams& params,
-                 const std::function<Mat(const Mat& small, bool* reopened)>& frameInward) {
+Mat fusedSubject(const Mat& img, const Mat& map, const Mat& person, const ProposeParams& params) {
     CV_Assert(map.type() == CV_32FC1 && !map.empty());
     Mat color;
     if (img.channels() == 1)
@@ -119,8 +120,9 @@ Mat fusedSubject(const Mat& img, const Mat& map, const Mat& person, const Propos
             for (int i = r.start; i < r.end; ++i)
                 if (i == 0)
                     seededGrabCut(small, labels, params.grabCutIterations, kSettleWithin);
-                else
-                    inward = frameInward(small, &reopened);
+                else  // the map's subject is the check the salient part's GrabCut was
+                    inward =
+                        frameInwardSubject(small, params.grabCutIterations, Mat(), {}, &reopened);
         });
         // GrabCut from the map only trims it: what GrabCut adds follows colours the background
         // shares with the subject (a kangaroo's fur and the sunlit path, a dog's and the dry

@@ -3,7 +3,6 @@
 #ifndef MULTICAGE_PROPOSE_FUSE_HPP
 #define MULTICAGE_PROPOSE_FUSE_HPP
 
-#include <functional>
 #include <opencv2/multicage/propose.hpp>
 
 namespace cv {
@@ -12,13 +11,10 @@ namespace propose_detail {
 
 /** The subject of `img` (the 8-bit work copy, 1 or 3 channels) where the subject model ran:
 `map` (CV_32FC1, any size, 0..1, subjectMapOf) fused with `person` (personSeed's work-size
-labels; empty without faces), by the rule fuse.cpp opens with. `frameInward(small, &reopened)`
-gives GrabCut's labels of the subject from the frame inward at GrabCut's working size
-(segment.hpp's frameInwardLabels). Returns a work-size mask, 255 on the subject, before
-cleaning; empty when the map holds no subject, or only the whole picture: then the classic
-cues decide. */
-Mat fusedSubject(const Mat& img, const Mat& map, const Mat& person, const ProposeParams& params,
-                 const std::function<Mat(const Mat& small, bool* reopened)>& frameInward);
+labels; empty without faces), by the rule fuse.cpp opens with. Returns a work-size mask, 255
+on the subject, before cleaning; empty when the map holds no subject, or only the whole
+picture: then the classic cues decide. */
+Mat fusedSubject(const Mat& img, const Mat& map, const Mat& person, const ProposeParams& params);
 
 }  // namespace propose_detail
 }  // namespace multicage

@@ -232,7 +232,7 @@ Rect automaticGrabCutRect(const Mat& img) {
 }  // namespace
 
 Mat frameInwardLabels(const Mat& small, const ProposeParams& params,
-                      const std::function<bool(bool)>& beside, bool* reopened) {
+                      const std::function<bool(bool)>& beside) {
     // The salient part and the subject from the frame inward, which must hold it (subject.hpp).
     Mat salient(small.size(), CV_8U, Scalar(GC_BGD));
     const Rect r = automaticGrabCutRect(small) & Rect(1, 1, small.cols - 2, small.rows - 2);
@@ -240,7 +240,7 @@ Mat frameInwardLabels(const Mat& small, const ProposeParams& params,
         salient(r).setTo(GC_PR_FGD);
     else
         salient.release();
-    return frameInwardSubject(small, params.grabCutIterations, salient, beside, reopened);
+    return frameInwardSubject(small, params.grabCutIterations, salient, beside);
 }
 
 namespace {
@@ -357,10 +357,7 @@ Segmentation segmentForProposal(const Mat& image, const Work& w, const ProposePa
     if (!subject.empty() && params.method == PROPOSE_AUTO && params.rect.area() == 0) {
         if (beside && !beside(true)) return s;
         // A map with no subject, or whose subject is all specks, leaves it to the classic cues.
-        const Mat fused =
-            fusedSubject(work, subject, person, params, [&](const Mat& small, bool* reopened) {
-                return frameInwardLabels(small, params, {}, reopened);
-            });
+        const Mat fused = fusedSubject(work, subject, person, params);
         if (!fused.empty()) s.objects = cleanMask(fused, w.radius, w.minArea);
         if (!s.objects.empty() && countNonZero(s.objects) > 0) return s;
     }
