@@ -229,8 +229,8 @@ Rect automaticGrabCutRect(const Mat& img) {
     return r & Rect(mx, my, img.cols - 2 * mx, img.rows - 2 * my);
 }
 
-}  // namespace
-
+// GrabCut's labels of the subject of `small` (GrabCut's working size) from the frame inward,
+// checked against the salient part's (frameInwardSubject in subject.hpp, with its `beside`).
 Mat frameInwardLabels(const Mat& small, const ProposeParams& params,
                       const std::function<bool(bool)>& beside) {
     // The salient part and the subject from the frame inward, which must hold it (subject.hpp).
@@ -243,7 +243,6 @@ Mat frameInwardLabels(const Mat& small, const ProposeParams& params,
     return frameInwardSubject(small, params.grabCutIterations, salient, beside);
 }
 
-namespace {
 Mat segmentGrabCut(const Mat& img, const ProposeParams& params, double scale, const Mat& region,
                    const Mat& seed = Mat(), const std::function<bool(bool)>& beside = {}) {
     Mat color;

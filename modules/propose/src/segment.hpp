@@ -35,12 +35,6 @@ bool plainBackground(const Mat& img);
 spectral residual static saliency. */
 Mat saliencyMap(const Mat& img, bool spectralResidual);
 
-/** GrabCut's labels of the subject of `small` (CV_8UC3 at GrabCut's working size) from the
-frame inward, checked against the salient part's (frameInwardSubject in subject.hpp, with the
-same `beside`). */
-Mat frameInwardLabels(const Mat& small, const ProposeParams& params,
-                      const std::function<bool(bool)>& beside = {});
-
 /** Raw segmentation (before cleaning) of an 8-bit work image: CV_8UC1, 255 on objects.
 `method` is one of the image-based methods (threshold, adaptive, grabcut, saliency,
 spectral); `region` (optional) restricts thresholds to the pixels inside it. */
