@@ -67,6 +67,18 @@ std::vector<int> innerPolygons(const Multicage& cage) {
         if (cage.depth(i) >= 2) inner.push_back(i);
     return inner;
 }
+// The inner polygons holding the centre of one of faces.
+std::vector<int> facePolygons(const Multicage& cage, const std::vector<Rect>& faces) {
+    std::vector<int> out;
+    for (int i : innerPolygons(cage))
+        for (const Rect& f : faces)
+            if (pointPolygonTest(cage.polygon(i),
+                                 Point2f(f.x + 0.5f * f.width, f.y + 0.5f * f.height), false) > 0) {
+                out.push_back(i);
+                break;
+            }
+    return out;
+}
 std::vector<int> outlines(const Multicage& cage) {
     std::vector<int> out;
     for (int i = 0; i < cage.polygonCount(); ++i)
@@ -375,9 +387,11 @@ TEST(VideoReframer, AStillShotWithNoiseStaysStillWhenOnlyWarped) {
 namespace {
 
 // Item 3: contentAwareResize to newSize with cage, its pose computed as it does (window, crop,
-// cropped multicage, binding, resize pose): faces kept whole and within a pixel of a similarity.
+// cropped multicage, binding, resize pose): the polygons in `mustKeep` (faces) whole, and every
+// inner polygon the window holds within a pixel of a similarity.
 void expectFacesKept(const Mat& image, const Multicage& rest, Size newSize, bool whole,
-                     const std::string& what) {
+                     const std::string& what, std::vector<int> mustKeep = {}) {
+    if (mustKeep.empty()) mustKeep = innerPolygons(rest);
     SCOPED_TRACE(what + " to " + std::to_string(newSize.width) + "x" +
                  std::to_string(newSize.height));
     ResizeParams params;
@@ -395,8 +409,8 @@ void expectFacesKept(const Mat& image, const Multicage& rest, Size newSize, bool
     std::vector<int> kept;
     const Multicage cropped = cropMulticage(rest, crop, &kept);
     ASSERT_TRUE(cropped.validate());
-    // Every face and feature lies whole in the window.
-    for (int i : innerPolygons(rest))
+    // Every face lies whole in the window (a feature may be left out: reframeWindow()).
+    for (int i : mustKeep)
         EXPECT_NE(std::find(kept.begin(), kept.end(), i), kept.end())
             << "polygon " << i << " (depth " << rest.depth(i) << ") is cut by window " << window;
     DeformParams deform;
@@ -483,13 +497,21 @@ TEST(ReframeRatios, FacesStayWholeAndInShapeWithProposedCages) {
               << astronautRest.polygonCount() << " (" << innerPolygons(astronautRest).size()
               << " inner); face cascade: "
               << (faceCascadeFile().empty() ? "none" : faceCascadeFile()) << std::endl;
-    expectFacesKept(messi, messiRest, Size(136, 240), false, "messi5 (proposed) 9:16");
-    expectFacesKept(messi, messiRest, Size(240, 240), false, "messi5 (proposed) 1:1");
-    expectFacesKept(messi, messiRest, Size(384, 164), true, "messi5 (proposed) 21:9");
-    expectFacesKept(messi, messiRest, Size(320, 240), true, "messi5 (proposed) 4:3");
-    expectFacesKept(astronaut, astronautRest, Size(180, 320), false, "astronaut (proposed) 9:16");
-    expectFacesKept(astronaut, astronautRest, Size(320, 136), false, "astronaut (proposed) 21:9");
-    expectFacesKept(astronaut, astronautRest, Size(320, 240), true, "astronaut (proposed) 4:3");
+    // The faces: the inner polygons holding a face the cascade finds (a feature may be left out).
+    const std::vector<int> messiFaces = facePolygons(messiRest, detectFaces(messi)),
+                           astronautFaces = facePolygons(astronautRest, detectFaces(astronaut));
+    ASSERT_FALSE(messiFaces.empty());
+    ASSERT_FALSE(astronautFaces.empty());
+    expectFacesKept(messi, messiRest, Size(136, 240), false, "messi5 (proposed) 9:16", messiFaces);
+    expectFacesKept(messi, messiRest, Size(240, 240), false, "messi5 (proposed) 1:1", messiFaces);
+    expectFacesKept(messi, messiRest, Size(384, 164), true, "messi5 (proposed) 21:9", messiFaces);
+    expectFacesKept(messi, messiRest, Size(320, 240), true, "messi5 (proposed) 4:3", messiFaces);
+    expectFacesKept(astronaut, astronautRest, Size(180, 320), false, "astronaut (proposed) 9:16",
+                    astronautFaces);
+    expectFacesKept(astronaut, astronautRest, Size(320, 136), false, "astronaut (proposed) 21:9",
+                    astronautFaces);
+    expectFacesKept(astronaut, astronautRest, Size(320, 240), true, "astronaut (proposed) 4:3",
+                    astronautFaces);
 }
 
 // Item 4: the window rule (reframeWindow), on a 640x360 image reframed to 9:16 (180x320): the
@@ -623,6 +645,49 @@ TEST(ReframeWindow, AnOutlineWiderThanTheCropIsCutAroundWhatItProtects) {
     EXPECT_EQ(kept, std::vector<int>{1});  // the outline is cut, the face kept
     EXPECT_EQ(cropped.polygonCount(), 1);
     EXPECT_TRUE(cropped.validate());
+}
+
+// Inner polygons too close to stay in shape together in a window squeezed into the output: the
+// window holds the one that comes first in the cage (a proposal lists faces first) and cuts the
+// other; holding both, the pose squeezes the two together until they would cross, and the
+// blend that stops it flattens them.
+TEST(ReframeWindow, WhatCannotStayInShapeTogetherTheFirstInTheCageWins) {
+    const std::vector<Point2f> wide = box(20, 20, 620, 340), face = box(100, 60, 220, 180),
+                               patch = box(230, 100, 300, 170);
+    ResizeParams params;
+    params.gridStep = 2;
+    // The worst residual from a similarity of the inner polygons a window keeps.
+    auto worstResidual = [&](const Multicage& cage, const Rect2d& window) {
+        std::vector<int> kept;
+        const Multicage cropped = cropMulticage(cage, windowCrop(window, kImage), &kept);
+        const std::vector<Point2f> pose = resizePose(cropped, kPortrait, params);
+        double worst = 0;
+        for (int i = 0; i < cropped.polygonCount(); ++i)
+            worst = std::max(
+                worst, maxSimilarityResidual(cropped.polygon(i), posedPolygon(cropped, pose, i)));
+        return worst;
+    };
+    const Multicage faceFirst = cageOf(kImage, {wide, face, patch});
+    const Rect2d w = reframeWindow(faceFirst, kPortrait, params);
+    EXPECT_TRUE(holds(w, face));
+    EXPECT_FALSE(holds(w, patch));
+    EXPECT_NEAR(w.width, kPlainCrop, 1e-6);
+    EXPECT_NEAR(w.x + w.width / 2, 160.0, 1e-6);
+    // The patch listed first: the patch is held, the face cut.
+    const Multicage patchFirst = cageOf(kImage, {wide, patch, face});
+    const Rect2d p = reframeWindow(patchFirst, kPortrait, params);
+    EXPECT_TRUE(holds(p, patch));
+    EXPECT_FALSE(holds(p, face));
+    // Both held (what the window did before it checked): the pose cannot keep them in shape.
+    const double span = 300 - 100, both = std::max(span + 0.08 * kPlainCrop, span / 0.88);
+    const Rect2d holdingBoth(200 - both / 2, 0, both, kImage.height);
+    ASSERT_TRUE(holds(holdingBoth, face) && holds(holdingBoth, patch));
+    const double kept = worstResidual(faceFirst, w),
+                 squeezed = worstResidual(faceFirst, holdingBoth);
+    EXPECT_LE(kept, 1.0);
+    EXPECT_GT(squeezed, 1.0);
+    std::cout << "[ first wins ] residual " << kept << " px with the face alone, " << squeezed
+              << " px holding both" << std::endl;
 }
 
 TEST(ReframeWindow, WiderTargetsCropVertically) {

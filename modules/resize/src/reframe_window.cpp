@@ -10,21 +10,81 @@ namespace multicage {
 
 namespace {
 
-// Extents of what must stay whole along one axis (x, or y for a wider target).
-struct Keep {
+// An extent along one axis (x, or y for a wider target): a polygon's, or what must stay whole.
+struct Extent {
     double lo = HUGE_VAL, hi = -HUGE_VAL;
-    void add(double a, double b) { lo = std::min(lo, a), hi = std::max(hi, b); }
+    void add(const Extent& e) { lo = std::min(lo, e.lo), hi = std::max(hi, e.hi); }
     bool empty() const { return lo > hi; }
+    double size() const { return hi - lo; }
+    double centre() const { return 0.5 * (lo + hi); }
+    double half() const { return 0.5 * (hi - lo); }
 };
 
-std::pair<double, double> extent(const std::vector<Point2f>& polygon, bool alongX) {
-    double lo = HUGE_VAL, hi = -HUGE_VAL;
+Extent extent(const std::vector<Point2f>& polygon, bool alongX) {
+    Extent e;
     for (const Point2f& p : polygon) {
         const double v = alongX ? p.x : p.y;
-        lo = std::min(lo, v), hi = std::max(hi, v);
+        e.lo = std::min(e.lo, v), e.hi = std::max(e.hi, v);
     }
-    return {lo, hi};
+    return e;
 }
+
+// The cage's polygons seen along the cut axis and across it.
+struct Layout {
+    std::vector<Extent> along, across;
+    std::vector<int> depth, parent;
+    double crop = 0;         // the plain crop's length along the cut axis, in image pixels
+    double length = 0;       // the image's length along it
+    double out = 0;          // the target's length along it
+    double scaleAcross = 0;  // the frame's scale across it (the larger of the two)
+
+    bool inside(int i, double lo, double hi) const {
+        return along[size_t(i)].lo >= lo && along[size_t(i)].hi <= hi;
+    }
+
+    // The window holding `keep`: its start and length. A margin on each side of what is kept,
+    // so nothing kept touches the window's side: 4% of the plain crop, and 6% of the window where
+    // subjects far apart widen it past the crop (the warp squeezes the window into the output,
+    // and the resize pose leaves an outline at least 4% of the output to the frame, so a thinner
+    // margin would squeeze the outline itself). Never narrower than the plain crop (what is kept
+    // then centred in it), nor wider than the image; with nothing kept, centred on the outlines.
+    std::pair<double, double> window(const Extent& keep, const Extent& outlines) const {
+        double width = crop, centre = length / 2;
+        if (!keep.empty()) {
+            const double span = keep.size();
+            width = std::clamp(std::max(span + 0.08 * crop, span / 0.88), crop, length);
+            centre = (keep.lo + keep.hi) / 2;
+        } else if (!outlines.empty()) {
+            centre = (outlines.lo + outlines.hi) / 2;
+        }
+        return {std::clamp(centre - width / 2, 0.0, length - width), width};
+    }
+
+    // Whether the resize pose can move what the window holds by similarities without two of
+    // them crossing: the window is squeezed into the output (scale a along the cut axis), each
+    // polygon moving on its own (an outline, or a polygon whose outline the window cuts) keeps
+    // the scale across, s >= a (resizePose()), its centre following the squeeze. Two that overlap
+    // across must keep between them what a uniform scaling leaves, or 2% of the output.
+    bool feasible(double lo, double width) const {
+        const double a = out / width, s = std::min(std::max(1.0, a), scaleAcross);
+        std::vector<int> movers;
+        for (int i = 0; i < int(along.size()); ++i)
+            if (inside(i, lo, lo + width) &&
+                (depth[size_t(i)] == 1 || !inside(parent[size_t(i)], lo, lo + width)))
+                movers.push_back(i);
+        for (size_t m = 0; m < movers.size(); ++m)
+            for (size_t n = m + 1; n < movers.size(); ++n) {
+                const Extent &p = along[size_t(movers[m])], &q = along[size_t(movers[n])];
+                const Extent &pa = across[size_t(movers[m])], &qa = across[size_t(movers[n])];
+                if (pa.hi < qa.lo || qa.hi < pa.lo) continue;  // side by side: they cannot meet
+                const double apart = std::abs(q.centre() - p.centre()),
+                             gap = apart - (p.half() + q.half());
+                if (a * apart - s * (p.half() + q.half()) < std::min(a * gap, 0.02 * out))
+                    return false;
+            }
+        return true;
+    }
+};
 
 }  // namespace
 
@@ -38,44 +98,44 @@ Rect2d reframeWindow(const Multicage& cage, Size newSize, const ResizeParams& pa
         return whole;
     // The axis that is cut: x for a narrower target (the height is all kept), y for a wider one.
     const bool alongX = sx < sy;
-    const double length = alongX ? image.width : image.height;
+    Layout l;
+    l.length = alongX ? image.width : image.height;
+    l.out = alongX ? newSize.width : newSize.height;
+    l.scaleAcross = std::max(sx, sy);
     // A plain crop's window: the target's aspect at the full other side.
-    const double crop = alongX ? image.height * double(newSize.width) / newSize.height
-                               : image.width * double(newSize.height) / newSize.width;
+    l.crop = alongX ? image.height * double(newSize.width) / newSize.height
+                    : image.width * double(newSize.height) / newSize.width;
     std::vector<geometry::Polygon> polygons(size_t(cage.polygonCount()));
     for (int i = 0; i < cage.polygonCount(); ++i) polygons[size_t(i)] = cage.polygon(i);
-    const std::vector<int> depth = geometry::depths(polygons);
-    const std::vector<int> parent = geometry::parents(polygons, depth);
+    l.depth = geometry::depths(polygons);
+    l.parent = geometry::parents(polygons, l.depth);
+    for (const geometry::Polygon& p : polygons)
+        l.along.push_back(extent(p, alongX)), l.across.push_back(extent(p, !alongX));
     // What the window keeps whole: each outline the plain crop could hold; of a wider one, the
     // polygons it protects (faces, features) that the plain crop could hold. A polygon wider
     // than that could only be kept by shrinking it and stretching what is around it, so the
-    // window cuts it, as a plain crop would, and shows it at its size.
-    Keep keep, outlines;
-    for (size_t i = 0; i < polygons.size(); ++i) {
-        const auto [lo, hi] = extent(polygons[i], alongX);
-        if (depth[i] == 1) outlines.add(lo, hi);
-        if (hi - lo > crop) continue;
-        if (depth[i] == 1) {
-            keep.add(lo, hi);
-        } else if (depth[i] == 2) {
-            const auto [plo, phi] = extent(polygons[size_t(parent[i])], alongX);
-            if (phi - plo > crop) keep.add(lo, hi);
+    // window cuts it, as a plain crop would, and shows it at its size. Outlines come first, then
+    // inner polygons, each in the cage's order (a proposal lists each outline's faces before
+    // its features); one is left out when keeping it too would leave the pose no room to move
+    // what the window holds by similarities (feasible()): the window then holds what came before.
+    Extent outlines;
+    std::vector<int> candidates;
+    for (int d : {1, 2})
+        for (size_t i = 0; i < polygons.size(); ++i) {
+            const Extent& e = l.along[i];
+            if (l.depth[i] == 1 && d == 1) outlines.add(e);
+            if (l.depth[i] != d || e.size() > l.crop) continue;
+            if (d == 2 && l.along[size_t(l.parent[i])].size() <= l.crop) continue;
+            candidates.push_back(int(i));
         }
+    Extent keep;
+    for (int i : candidates) {
+        Extent trial = keep;
+        trial.add(l.along[size_t(i)]);
+        const auto [lo, width] = l.window(trial, outlines);
+        if (keep.empty() || l.feasible(lo, width)) keep = trial;  // the first alone always fits
     }
-    // A margin on each side of what is kept, so nothing kept touches the window's side: 4% of
-    // the plain crop, and 6% of the window where subjects far apart widen it past the crop (the
-    // warp squeezes the window into the output, and the resize pose leaves an outline at least 4%
-    // of the output to the frame, so a thinner margin would squeeze the outline itself). Never
-    // narrower than the plain crop (what is kept then centred in it), nor wider than the image.
-    double width = crop, centre = length / 2;
-    if (!keep.empty()) {
-        const double span = keep.hi - keep.lo;
-        width = std::clamp(std::max(span + 0.08 * crop, span / 0.88), crop, length);
-        centre = (keep.lo + keep.hi) / 2;
-    } else if (!outlines.empty()) {
-        centre = (outlines.lo + outlines.hi) / 2;
-    }
-    const double lo = std::clamp(centre - width / 2, 0.0, length - width);
+    const auto [lo, width] = l.window(keep, outlines);
     return alongX ? Rect2d(lo, 0, width, image.height) : Rect2d(0, lo, image.width, width);
 }
 

@@ -140,6 +140,10 @@ image. Otherwise the side with the larger scale is kept whole and the other is c
     side) could hold, and of a wider outline the polygons it protects (faces, features) that the
     plain crop could hold; a polygon wider than the plain crop is cut, as a crop would cut it, and
     keeps its size (shrinking it would stretch what is around it);
+  - outlines first, then inner polygons, each in the cage's order (a proposal lists faces before
+    features): one is left out when holding it too would leave the resize pose no room to keep
+    what the window holds apart at its scale (two polygons overlapping across the cut axis
+    squeezed to under 2% of the output apart); the window may then cut it;
   - with 4% of the plain crop to spare on each side (6% of the window where subjects far apart
     widen it past the plain crop); never narrower than the plain crop, nor wider than the
     image;
