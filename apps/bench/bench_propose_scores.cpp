@@ -22,7 +22,7 @@
 //   features reference features (badges, name tags, lettering) protected: an inner polygon
 //            holds >= 90% of the box and has at most 4x its area (in the totals only)
 //   stray    inner polygons that protect nothing of the reference: less than half of their
-//            area on a reference face, eye or feature box
+//            area on a reference face, eye or feature box, and hugging or holding none
 //   ms       median time of proposeProtectedMulticage() with the default ProposeParams on
 //            the photo scaled to 1024 pixels on its longer side (1024x768 for 4:3)
 //   CPU ms   median CPU time of the same runs (all threads): what a proposal costs, less
@@ -153,32 +153,18 @@ double outlineIoU(const Multicage& cage, const cv::Mat& mask) {
 
 int gCoordinates = COORDINATES_FROM_CAGE;  // the cage's own, or --coordinates NAME
 
-// A face is hugged when exactly one inner polygon holds at least 95% of its box's inner 80%
-// and is at most 3 times the box's area.
-bool faceHugged(const Multicage& cage, const cv::Rect& face) {
+// The inner polygons that hold at least 95% of a face box's inner 80% and are at most 3 times
+// the box's area: the face is hugged when exactly one does.
+std::vector<int> faceHolders(const Multicage& cage, const cv::Rect& face) {
     const cv::Rect in = inner80(face) & cv::Rect(cv::Point(), cage.imageSize());
-    int holders = 0;
+    std::vector<int> holders;
     for (int p = 0; p < cage.polygonCount(); ++p) {
         if (cage.depth(p) < 2) continue;
         const cv::Mat m = multicage_fixtures::polygonMask(cage.polygon(p), cage.imageSize());
         if (cv::countNonZero(m(in)) >= 0.95 * in.area() && cv::countNonZero(m) <= 3.0 * face.area())
-            ++holders;
+            holders.push_back(p);
     }
-    return holders == 1;
-}
-
-// A feature (a badge, a name tag, lettering) is protected when an inner polygon holds at least
-// 90% of its box and is at most 4 times the box's area (issue 39, item 4).
-bool featureHeld(const Multicage& cage, const cv::Rect& feature) {
-    const cv::Rect box = feature & cv::Rect(cv::Point(), cage.imageSize());
-    if (box.empty()) return false;
-    for (int p = 0; p < cage.polygonCount(); ++p) {
-        if (cage.depth(p) < 2) continue;
-        const cv::Mat m = multicage_fixtures::polygonMask(cage.polygon(p), cage.imageSize());
-        if (cv::countNonZero(m(box)) >= 0.9 * box.area() && cv::countNonZero(m) <= 4.0 * box.area())
-            return true;
-    }
-    return false;
+    return holders;
 }
 
 Score score(const Reference& r, const Multicage& cage, bool harmonic) {
@@ -194,21 +180,30 @@ Score score(const Reference& r, const Multicage& cage, bool harmonic) {
     cv::Mat protectedByRef = cv::Mat::zeros(size, CV_8U);
     for (const std::vector<cv::Rect>* boxes : {&r.faces, &r.eyes, &r.features})
         for (const cv::Rect& b : *boxes) protectedByRef(b & cv::Rect(cv::Point(), size)).setTo(255);
+    s.faces = static_cast<int>(r.faces.size());
+    s.eyes = static_cast<int>(r.eyes.size());
+    s.features = static_cast<int>(r.features.size());
+    // A polygon hugging a face or an eye, or holding a feature, protects it, though its margin
+    // (around a small name tag, a face under a cap) may leave less than half of it on the box.
+    std::vector<char> holds(size_t(cage.polygonCount()), 0);
+    auto mark = [&holds](const std::vector<int>& holders) {
+        for (int p : holders) holds[size_t(p)] = 1;
+        return holders;
+    };
+    for (const cv::Rect& f : r.faces) s.hugged += mark(faceHolders(cage, f)).size() == 1;
+    for (const cv::Rect& e : r.eyes)
+        s.eyesHugged += mark(multicage_fixtures::eyeHolders(cage, e)).size() == 1;
+    for (const cv::Rect& f : r.features)
+        s.featuresHeld += !mark(multicage_fixtures::featureHolders(cage, f)).empty();
     for (int p = 0; p < cage.polygonCount(); ++p) {
         if (cage.depth(p) < 2) continue;
         ++s.inner;
         const cv::Mat m = multicage_fixtures::polygonMask(cage.polygon(p), size);
-        if (cv::countNonZero(m & protectedByRef) < 0.5 * cv::countNonZero(m)) ++s.stray;
+        if (!holds[size_t(p)] && cv::countNonZero(m & protectedByRef) < 0.5 * cv::countNonZero(m))
+            ++s.stray;
     }
-    s.faces = static_cast<int>(r.faces.size());
-    s.eyes = static_cast<int>(r.eyes.size());
-    s.features = static_cast<int>(r.features.size());
-    for (const cv::Rect& f : r.features) s.featuresHeld += featureHeld(cage, f);
-    for (const cv::Rect& e : r.eyes)
-        s.eyesHugged += multicage_fixtures::eyeHolders(cage, e).size() == 1;
     Binding binding;
     for (const cv::Rect& f : r.faces) {
-        s.hugged += faceHugged(cage, f);
         // The outline around the face, stretched 20% horizontally about its centroid.
         const int outline = multicage_fixtures::outlineAround(cage, f);
         if (outline < 0) {

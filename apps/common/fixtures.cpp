@@ -195,6 +195,19 @@ std::vector<int> eyeHolders(const cv::multicage::Multicage& cage, const cv::Rect
     return holders;
 }
 
+std::vector<int> featureHolders(const cv::multicage::Multicage& cage, const cv::Rect& feature) {
+    const cv::Rect box = feature & cv::Rect(cv::Point(), cage.imageSize());
+    std::vector<int> holders;
+    if (box.empty()) return holders;
+    for (int p = 0; p < cage.polygonCount(); ++p) {
+        if (cage.depth(p) < 2) continue;
+        const cv::Mat m = polygonMask(cage.polygon(p), cage.imageSize());
+        if (cv::countNonZero(m(box)) >= 0.9 * box.area() && cv::countNonZero(m) <= 4.0 * box.area())
+            holders.push_back(p);
+    }
+    return holders;
+}
+
 int outlineAround(const cv::multicage::Multicage& cage, const cv::Rect& box) {
     int around = -1;
     const cv::Point2f centre(box.x + box.width / 2.f, box.y + box.height / 2.f);

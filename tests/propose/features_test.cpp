@@ -235,6 +235,74 @@ TEST(ProposeFeatures, OnlyStructureThatStandsOutOfItsSurroundingsGetsAPolygon) {
     EXPECT_EQ(aroundLabel, 1);
 }
 
+// Issue 39, item 4: on a uniform, saliency lights up the face and the shirt front and merges a
+// name tag or a patch into them; the colour-distinct regions (distinct.cpp) find them. The
+// features of the benchmark's references found at the photos' size (the cap badge lies in the
+// band kept around the face, the astronaut's name tag is white on white cloth).
+TEST(ProposeFeatures, BadgesAndNameTagsOnAGarmentGetPolygons) {
+    const std::vector<std::pair<const char*, std::vector<size_t>>> cases = {
+        {"astronaut", {0}},       // the mission patch
+        {"grace_hopper", {1, 2}}  // the name tag, the ribbons
+    };
+    for (const auto& [name, which] : cases) {
+        const Multicage cage = proposeProtectedMulticage(benchPhoto(name));
+        ASSERT_TRUE(cage.validate()) << name;
+        const std::vector<cv::Rect> features = referenceBoxes(name, "features");
+        for (size_t i : which)
+            EXPECT_FALSE(multicage_fixtures::featureHolders(cage, features.at(i)).empty())
+                << name << ": feature " << features.at(i) << " is not held";
+    }
+}
+
+namespace {
+
+// Dark cloth with four round buttons down its front and, on the chest, a gold badge with
+// lettering, each as distinct from the cloth: one of a kind against a repeated kind.
+struct Garment {
+    cv::Mat image;
+    cv::Rect badge;
+    std::vector<cv::Rect> buttons;
+};
+
+Garment garment() {
+    Garment g;
+    g.image = cv::Mat(620, 900, CV_8UC3, cv::Scalar(70, 40, 30));
+    cv::RNG rng(7);
+    cv::Mat weave(g.image.size(), CV_8UC3);
+    rng.fill(weave, cv::RNG::NORMAL, cv::Scalar::all(0), cv::Scalar::all(4));
+    g.image += weave;
+    for (int i = 0; i < 4; ++i) {
+        const cv::Point c(220, 135 + 110 * i);
+        cv::circle(g.image, c, 32, cv::Scalar(40, 170, 200), cv::FILLED, cv::LINE_AA);
+        cv::circle(g.image, c, 12, cv::Scalar(30, 120, 150), 2, cv::LINE_AA);
+        g.buttons.emplace_back(c.x - 32, c.y - 32, 64, 64);
+    }
+    g.badge = cv::Rect(540, 130, 180, 90);
+    g.image(g.badge).setTo(cv::Scalar(40, 170, 200));
+    cv::putText(g.image, "NAVY", cv::Point(g.badge.x + 16, g.badge.y + 64),
+                cv::FONT_HERSHEY_SIMPLEX, 1.7, cv::Scalar(20, 30, 40), 4, cv::LINE_AA);
+    return g;
+}
+
+}  // namespace
+
+// The badge gets a polygon; the buttons, each as distinct from the cloth and as textured, repeat
+// (a pattern, like a butterfly's spots or a row of tunics) and get none.
+TEST(ProposeFeatures, ABadgeGetsAPolygonRepeatedButtonsDoNot) {
+    const Garment g = garment();
+    Multicage cage(g.image.size());
+    cage.addPolygon(std::vector<cv::Point2f>{{30, 30}, {870, 30}, {870, 590}, {30, 590}});
+    cage.orient();
+    const Multicage out = protectFeatures(g.image, cage, 0);
+    ASSERT_TRUE(out.validateGeometry());
+    EXPECT_FALSE(multicage_fixtures::featureHolders(out, g.badge).empty());
+    for (int p = 1; p < out.polygonCount(); ++p) {
+        const cv::Mat m = polygonMask(out, p);
+        for (const cv::Rect& b : g.buttons)
+            EXPECT_LT(cv::countNonZero(m(b)), 0.2 * b.area()) << "polygon " << p << " on " << b;
+    }
+}
+
 // A face's polygon where the outline runs close to one side of the face (a head as wide as its
 // face beside a dark background): that side gives up its margin, down to the polygon through
 // the box's corners, and the other sides keep theirs; where not even that fits, none.

@@ -647,19 +647,19 @@ TEST(ReframeWindow, AnOutlineWiderThanTheCropIsCutAroundWhatItProtects) {
     EXPECT_TRUE(cropped.validate());
 }
 
-// Inner polygons too close to stay in shape together in a window squeezed into the output: the
+// Inner polygons that cannot stay in shape together in a window squeezed into the output: the
 // window holds the one that comes first in the cage (a proposal lists faces first) and cuts the
-// other; holding both, the pose squeezes the two together until they would cross, and the
-// blend that stops it flattens them.
+// other. Each keeps its scale while the window is squeezed: a patch beside the face comes too
+// near it; one further off is pushed inwards from the window's side onto it. Held together,
+// the blend that stops them crossing flattens them. A small patch that fits the plain crop
+// beside the face is held with it.
 TEST(ReframeWindow, WhatCannotStayInShapeTogetherTheFirstInTheCageWins) {
-    const std::vector<Point2f> wide = box(20, 20, 620, 340), face = box(100, 60, 220, 180),
-                               patch = box(230, 100, 300, 170);
+    const std::vector<Point2f> wide = box(20, 20, 620, 340), face = box(100, 60, 220, 180);
     ResizeParams params;
     params.gridStep = 2;
-    // The worst residual from a similarity of the inner polygons a window keeps.
+    // The worst residual from a similarity of the polygons the window's crop keeps.
     auto worstResidual = [&](const Multicage& cage, const Rect2d& window) {
-        std::vector<int> kept;
-        const Multicage cropped = cropMulticage(cage, windowCrop(window, kImage), &kept);
+        const Multicage cropped = cropMulticage(cage, windowCrop(window, kImage));
         const std::vector<Point2f> pose = resizePose(cropped, kPortrait, params);
         double worst = 0;
         for (int i = 0; i < cropped.polygonCount(); ++i)
@@ -667,27 +667,36 @@ TEST(ReframeWindow, WhatCannotStayInShapeTogetherTheFirstInTheCageWins) {
                 worst, maxSimilarityResidual(cropped.polygon(i), posedPolygon(cropped, pose, i)));
         return worst;
     };
-    const Multicage faceFirst = cageOf(kImage, {wide, face, patch});
-    const Rect2d w = reframeWindow(faceFirst, kPortrait, params);
-    EXPECT_TRUE(holds(w, face));
-    EXPECT_FALSE(holds(w, patch));
-    EXPECT_NEAR(w.width, kPlainCrop, 1e-6);
-    EXPECT_NEAR(w.x + w.width / 2, 160.0, 1e-6);
-    // The patch listed first: the patch is held, the face cut.
-    const Multicage patchFirst = cageOf(kImage, {wide, patch, face});
-    const Rect2d p = reframeWindow(patchFirst, kPortrait, params);
-    EXPECT_TRUE(holds(p, patch));
-    EXPECT_FALSE(holds(p, face));
-    // Both held (what the window did before it checked): the pose cannot keep them in shape.
-    const double span = 300 - 100, both = std::max(span + 0.08 * kPlainCrop, span / 0.88);
-    const Rect2d holdingBoth(200 - both / 2, 0, both, kImage.height);
-    ASSERT_TRUE(holds(holdingBoth, face) && holds(holdingBoth, patch));
-    const double kept = worstResidual(faceFirst, w),
-                 squeezed = worstResidual(faceFirst, holdingBoth);
-    EXPECT_LE(kept, 1.0);
-    EXPECT_GT(squeezed, 1.0);
-    std::cout << "[ first wins ] residual " << kept << " px with the face alone, " << squeezed
-              << " px holding both" << std::endl;
+    for (const auto& [patch, where] : {std::pair(box(230, 100, 300, 170), "beside"),
+                                       std::pair(box(300, 100, 370, 170), "further off")}) {
+        SCOPED_TRACE(where);
+        const Multicage faceFirst = cageOf(kImage, {wide, face, patch});
+        const Rect2d w = reframeWindow(faceFirst, kPortrait, params);
+        EXPECT_TRUE(holds(w, face));
+        EXPECT_FALSE(holds(w, patch));
+        EXPECT_NEAR(w.width, kPlainCrop, 1e-6);
+        EXPECT_NEAR(w.x + w.width / 2, 160.0, 1e-6);
+        // The patch listed first: the patch is held, the face cut.
+        const Rect2d p = reframeWindow(cageOf(kImage, {wide, patch, face}), kPortrait, params);
+        EXPECT_TRUE(holds(p, patch));
+        EXPECT_FALSE(holds(p, face));
+        // Both held (what the window did before it checked): the pose cannot keep their shape.
+        const double lo = 100, hi = patch[1].x, span = hi - lo,
+                     both = std::max(span + 0.08 * kPlainCrop, span / 0.88);
+        const Rect2d holdingBoth((lo + hi - both) / 2, 0, both, kImage.height);
+        ASSERT_TRUE(holds(holdingBoth, face) && holds(holdingBoth, patch));
+        const double kept = worstResidual(faceFirst, w),
+                     squeezed = worstResidual(faceFirst, holdingBoth);
+        EXPECT_LE(kept, 1.0);
+        EXPECT_GT(squeezed, 1.0);
+        std::cout << "[ first wins ] patch " << where << ": residual " << kept
+                  << " px with the face alone, " << squeezed << " px holding both" << std::endl;
+    }
+    const std::vector<Point2f> small = box(230, 100, 260, 130);
+    const Multicage withSmall = cageOf(kImage, {wide, face, small});
+    const Rect2d s = reframeWindow(withSmall, kPortrait, params);
+    EXPECT_TRUE(holds(s, face) && holds(s, small));
+    EXPECT_LE(worstResidual(withSmall, s), 1.0);
 }
 
 TEST(ReframeWindow, WiderTargetsCropVertically) {

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <opencv2/imgproc.hpp>
 
+#include "distinct.hpp"
 #include "eyes.hpp"
 #include "faces.hpp"
 #include "masks.hpp"
@@ -18,9 +19,13 @@ namespace propose_detail {
 namespace {
 
 // Around a face's polygon, in face sizes (faceSize): the band no salient polygon may enter
-// (faces take precedence, and a fixed polygon beside the face weakens its polygon's shield;
-// see placeFaces).
-constexpr double kFaceKeepOut = 1.0;
+// (faces take precedence). Under the paper's global sums a fixed polygon beside the face weakens
+// its polygon's shield (see placeFaces): a face size. Local coordinates confine what a polygon
+// does to its neighbourhood: a quarter, which leaves a name tag or ribbons on a uniform their
+// polygons (docs/propose/README.md, "Features").
+double faceKeepOut(const Multicage& cage) {
+    return cage.coordinates() == MEAN_VALUE ? 1.0 : 0.25;
+}
 
 void checkProtectInput(const Mat& img, const Multicage& cage, int polygon) {
     if (img.empty()) CV_Error(Error::StsBadArg, "multicage: protectFeatures: the image is empty");
@@ -187,6 +192,7 @@ FacePlan placeFaces(const KnownFaces& faces, const Mat& gray, const Multicage& c
     plan.zone = Mat::zeros(w.size, CV_8U);
     int budget = params.maxVertices - cage.vertexCount();
     int slots = params.maxPolygons - cage.polygonCount();
+    const double keepOut = faceKeepOut(cage);
     for (size_t i = 0; i < faces.boxes.size(); ++i) {
         const Rect& f = faces.boxes[i];
         const std::vector<Rect>* eyes = i < faces.eyes.size() ? &faces.eyes[i] : nullptr;
@@ -199,7 +205,7 @@ FacePlan placeFaces(const KnownFaces& faces, const Mat& gray, const Multicage& c
         if (!placed.empty()) {
             plan.polygons.push_back(placed);
             plan.isFace.push_back(1), plan.sizes.push_back(faceSize(f));
-            fillWork(plan.keepOut, facePolygon(f, faceMargin(f) + kFaceKeepOut * faceSize(f), n), w,
+            fillWork(plan.keepOut, facePolygon(f, faceMargin(f) + keepOut * faceSize(f), n), w,
                      Scalar(255));
             budget -= n, --slots;
             for (Polygon& a :
@@ -221,6 +227,20 @@ FacePlan placeFaces(const KnownFaces& faces, const Mat& gray, const Multicage& c
     plan.mask &= insideDistance > (faceBand + w.margin);
     plan.zone &= insideDistance > faceBand;
     return plan;
+}
+
+// Under each face, its centre line from the chin down one face height (work pixels): where a
+// garment opens. A white shirt between lapels, a tie or a collar is as distinct from the jacket
+// as a badge is, and every suit shows one; it is the garment's cut, not a thing on it (a badge,
+// a name tag, a patch sits off that line).
+Mat necklines(const std::vector<Rect>& faces, const Work& w) {
+    Mat lines = Mat::zeros(w.size, CV_8U);
+    for (const Rect& f : faces) {
+        const double x = (f.x + 0.5 * f.width) / w.scale, top = f.br().y / w.scale;
+        line(lines, Point(cvRound(x), cvRound(top)),
+             Point(cvRound(x), cvRound(top + f.height / w.scale)), Scalar(255));
+    }
+    return lines;
 }
 
 // The objects to protect inside the polygon (work size, 255 on objects, not yet cleaned);
@@ -304,19 +324,31 @@ Multicage protectInPolygon(InputArray image, const Multicage& cage, int polygon,
     const float band = 2 * w.margin + w.gap;
     Mat objects = objectsInside(img, params, inside, w);
     if (objects.empty()) return out;
-    objects &= (insideDistance > (band + w.margin)) & ~faces.keepOut;
-    objects = cleanMask(objects, w.radius, w.minArea);
+    const Mat allowed = (insideDistance > (band + w.margin)) & ~faces.keepOut;
+    objects = cleanMask(objects & allowed, w.radius, w.minArea);
     const bool maskInput = params.method == PROPOSE_MASK || params.method == PROPOSE_LABELS;
-    if (!maskInput) objects = texturedOnly(objects, img, inside, w);  // the user's regions stay
+    if (!maskInput) {  // the user's regions stay
+        const Mat garmentCuts = necklines(inFaces.boxes, w);
+        objects &= ~piecesHolding(objects, garmentCuts);
+        objects = texturedOnly(objects, img, inside, w);
+        // Saliency merges a badge or a name tag into the garment it is on: the colour-distinct
+        // regions find them (distinct.hpp), with the same texture rule on plain surroundings.
+        if (params.protect != PROTECT_FACES) {
+            Mat distinct =
+                cleanMask(distinctRegions(to8Bit(img), inside, w) & allowed, w.radius, w.minArea);
+            distinct &= ~piecesHolding(distinct, garmentCuts);
+            objects |= texturedOnly(distinct, img, inside, w, true);
+        }
+    }
     objects |= faces.mask;
     if (countNonZero(objects) == 0) return out;
     const Mat limit = ((insideDistance > band) | faces.zone) & ~faces.keepOut;
     // The mask keeps salient regions a face size from the faces' polygons; what simplifying
     // or merging brings within half of that is dropped.
-    auto clearOfFaces = [&faces](const Polygon& p) {
+    auto clearOfFaces = [&faces, keepOut = faceKeepOut(cage)](const Polygon& p) {
         for (size_t i = 0; i < faces.polygons.size(); ++i)
             if (faces.isFace[i] &&
-                boundaryDistance(p, faces.polygons[i]) < 0.5 * kFaceKeepOut * faces.sizes[i])
+                boundaryDistance(p, faces.polygons[i]) < 0.5 * keepOut * faces.sizes[i])
                 return false;
         return true;
     };

@@ -66,7 +66,8 @@ double surroundingDensity(const Mat& edges, const Mat& ids, int id, const Rect& 
 
 }  // namespace
 
-Mat texturedOnly(const Mat& objects, const Mat& img, const Mat& inside, const Work& w) {
+Mat texturedOnly(const Mat& objects, const Mat& img, const Mat& inside, const Work& w,
+                 bool plainSurroundings) {
     const Mat edges = edgeMap(to8Bit(img), w);
     const double object = mean(edges, inside)[0];
     const double insideArea = countNonZero(inside);
@@ -85,7 +86,7 @@ Mat texturedOnly(const Mat& objects, const Mat& img, const Mat& inside, const Wo
         const double around = surroundingDensity(edges, ids, i, box, area, inside);
         const double share = area / std::max(1.0, insideArea);
         keep[i] = density >= kTextureRatio * object && density >= kTextureRatio * around &&
-                  share <= kFeatureShare;
+                  share <= kFeatureShare && (!plainSurroundings || around <= object);
         if (debug)
             std::fprintf(stderr,
                          "texture: region %d at %d,%d area %d (%.3f of the polygon): %.2f of the "

@@ -17,9 +17,12 @@ constexpr double kFeatureShare = 0.1;
 features of the polygon `inside` (work pixels, 255 where protection may go) of image `img`:
 a region stays when its edge density is at least kTextureRatio times the density of the
 whole of `inside` (the object's own texture) and of a ring around the region (its
-surroundings), and it covers at most kFeatureShare of `inside`. MULTICAGE_DEBUG_TEXTURE=1
-prints each region's measures. */
-Mat texturedOnly(const Mat& objects, const Mat& img, const Mat& inside, const Work& w);
+surroundings), and it covers at most kFeatureShare of `inside`. With plainSurroundings, the
+ring must also be no denser than `inside` (a badge sits on plain cloth; a colour-distinct
+region in a busy pattern is part of it). MULTICAGE_DEBUG_TEXTURE=1 prints each region's
+measures. */
+Mat texturedOnly(const Mat& objects, const Mat& img, const Mat& inside, const Work& w,
+                 bool plainSurroundings = false);
 
 }  // namespace propose_detail
 }  // namespace multicage

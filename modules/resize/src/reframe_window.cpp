@@ -33,10 +33,11 @@ Extent extent(const std::vector<Point2f>& polygon, bool alongX) {
 struct Layout {
     std::vector<Extent> along, across;
     std::vector<int> depth, parent;
-    double crop = 0;         // the plain crop's length along the cut axis, in image pixels
-    double length = 0;       // the image's length along it
-    double out = 0;          // the target's length along it
-    double scaleAcross = 0;  // the frame's scale across it (the larger of the two)
+    double crop = 0;          // the plain crop's length along the cut axis, in image pixels
+    double length = 0;        // the image's length along it
+    double out = 0;           // the target's length along it
+    double lengthAcross = 0;  // the image's length across it
+    double scaleAcross = 0;   // the frame's scale across it (the larger of the two)
 
     bool inside(int i, double lo, double hi) const {
         return along[size_t(i)].lo >= lo && along[size_t(i)].hi <= hi;
@@ -60,27 +61,52 @@ struct Layout {
         return {std::clamp(centre - width / 2, 0.0, length - width), width};
     }
 
+    // Where the resize pose puts a polygon moving on its own (an outline, or a polygon whose
+    // outline the window cuts) along the cut axis when the window [lo, lo + width] is squeezed
+    // into the output (scale a): its centre squeezed, its extent at the similarity's scale s,
+    // moved inside the gaps it keeps to the output's sides (resizePose()).
+    Extent placed(int i, double lo, double width, double a) const {
+        const Extent &e = along[size_t(i)], &x = across[size_t(i)];
+        auto kept = [](double gap, double scale, double side) {
+            return std::min(gap * std::min(scale, 1.0), 0.04 * side);
+        };
+        const double gapLow = kept(e.lo - lo, a, out), gapHigh = kept(lo + width - e.hi, a, out);
+        // The similarity's scale: 1 between the two scales, no more than fits either way.
+        double s = std::min(std::max(1.0, a), scaleAcross);
+        if (e.size() > 0) s = std::min(s, (out - gapLow - gapHigh) / e.size());
+        if (x.size() > 0)
+            s = std::min(s, (scaleAcross * lengthAcross - kept(x.lo, scaleAcross, outAcross()) -
+                             kept(lengthAcross - x.hi, scaleAcross, outAcross())) /
+                                x.size());
+        const double size = s * e.size(), first = gapLow, last = out - gapHigh - size;
+        const double start =
+            std::min(std::max(a * (e.centre() - lo) - size / 2, first), std::max(first, last));
+        return {start, start + size};
+    }
+    double outAcross() const { return scaleAcross * lengthAcross; }
+
     // Whether the resize pose can move what the window holds by similarities without two of
-    // them crossing: the window is squeezed into the output (scale a along the cut axis), each
-    // polygon moving on its own (an outline, or a polygon whose outline the window cuts) keeps
-    // the scale across, s >= a (resizePose()), its centre following the squeeze. Two that overlap
-    // across must keep between them what a uniform scaling leaves, or 2% of the output.
+    // them coming too near: each polygon keeps its scale (s >= a) while the window is squeezed,
+    // so two that overlap across come closer, and those near the window's sides are pushed
+    // inwards. Two must keep between them what a uniform squeeze leaves, or 2% of the output.
     bool feasible(double lo, double width) const {
-        const double a = out / width, s = std::min(std::max(1.0, a), scaleAcross);
+        const double a = out / width;
         std::vector<int> movers;
         for (int i = 0; i < int(along.size()); ++i)
             if (inside(i, lo, lo + width) &&
                 (depth[size_t(i)] == 1 || !inside(parent[size_t(i)], lo, lo + width)))
                 movers.push_back(i);
+        std::vector<Extent> at;
+        for (int i : movers) at.push_back(placed(i, lo, width, a));
         for (size_t m = 0; m < movers.size(); ++m)
             for (size_t n = m + 1; n < movers.size(); ++n) {
                 const Extent &p = along[size_t(movers[m])], &q = along[size_t(movers[n])];
                 const Extent &pa = across[size_t(movers[m])], &qa = across[size_t(movers[n])];
                 if (pa.hi < qa.lo || qa.hi < pa.lo) continue;  // side by side: they cannot meet
-                const double apart = std::abs(q.centre() - p.centre()),
-                             gap = apart - (p.half() + q.half());
-                if (a * apart - s * (p.half() + q.half()) < std::min(a * gap, 0.02 * out))
-                    return false;
+                const bool before = p.centre() <= q.centre();
+                const double rest = before ? q.lo - p.hi : p.lo - q.hi,
+                             now = before ? at[n].lo - at[m].hi : at[m].lo - at[n].hi;
+                if (now < std::min(a * rest, 0.02 * out)) return false;
             }
         return true;
     }
@@ -101,6 +127,7 @@ Rect2d reframeWindow(const Multicage& cage, Size newSize, const ResizeParams& pa
     Layout l;
     l.length = alongX ? image.width : image.height;
     l.out = alongX ? newSize.width : newSize.height;
+    l.lengthAcross = alongX ? image.height : image.width;
     l.scaleAcross = std::max(sx, sy);
     // A plain crop's window: the target's aspect at the full other side.
     l.crop = alongX ? image.height * double(newSize.width) / newSize.height

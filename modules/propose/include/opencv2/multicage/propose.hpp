@@ -54,7 +54,9 @@ enum ProposeMethod {
 */
 enum ProtectDetector {
     /** Salient blobs (ProposeParams::method inside the polygon; PROPOSE_AUTO: fine-grained
-    saliency). */
+    saliency), and for a photo the regions that differ in colour from what is around them,
+    compact and alone of their kind (a badge, a name tag, a patch; docs/propose); each kept
+    where it holds more edge detail than the polygon and its surroundings. */
     PROTECT_SALIENCY = 0,
     /** Faces: frontal and profile (both directions) faces found by cv::CascadeClassifier with
     OpenCV's Haar cascades (Debian package opencv-data), optionally confirmed by an eye inside
@@ -67,9 +69,10 @@ enum ProtectDetector {
     No cascade file: cv::Exception (StsObjectNotFound) naming the package. No face found:
     nothing added. */
     PROTECT_FACES = 1,
-    /** Faces first (they get the budget first), then salient blobs, kept a face size away
-    from the faces' polygons (never around them). No cascade installed: salient blobs only, no
-    error (faceCascadeFile() tells). */
+    /** Faces first (they get the budget first), then what PROTECT_SALIENCY finds, kept away
+    from the faces' polygons (a quarter of a face size; a face size for Coordinates
+    MEAN_VALUE) and off the garment's opening under each face (a shirt front, a tie). No
+    cascade installed: PROTECT_SALIENCY's regions only, no error (faceCascadeFile() tells). */
     PROTECT_ALL = 2
 };
 

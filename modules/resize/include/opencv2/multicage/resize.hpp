@@ -143,7 +143,8 @@ image. Otherwise the side with the larger scale is kept whole and the other is c
   - outlines first, then inner polygons, each in the cage's order (a proposal lists faces before
     features): one is left out when holding it too would leave the resize pose no room to keep
     what the window holds apart at its scale (two polygons overlapping across the cut axis
-    squeezed to under 2% of the output apart); the window may then cut it;
+    placed as resizePose() places them, under 2% of the output apart, or nearer than a uniform
+    squeeze would bring them); the window may then cut it;
   - with 4% of the plain crop to spare on each side (6% of the window where subjects far apart
     widen it past the plain crop); never narrower than the plain crop, nor wider than the
     image;
