@@ -93,8 +93,8 @@ struct Layout {
         const double a = out / width;
         std::vector<int> movers;
         for (int i = 0; i < int(along.size()); ++i)
-            if (inside(i, lo, lo + width) &&
-                (depth[size_t(i)] == 1 || !inside(parent[size_t(i)], lo, lo + width)))
+            if (inside(i, lo, lo + width) && (depth[size_t(i)] == 1 || parent[size_t(i)] < 0 ||
+                                              !inside(parent[size_t(i)], lo, lo + width)))
                 movers.push_back(i);
         std::vector<Extent> at;
         for (int i : movers) at.push_back(placed(i, lo, width, a));
@@ -106,7 +106,7 @@ struct Layout {
                 const bool before = p.centre() <= q.centre();
                 const double rest = before ? q.lo - p.hi : p.lo - q.hi,
                              now = before ? at[n].lo - at[m].hi : at[m].lo - at[n].hi;
-                if (now < std::min(a * rest, 0.02 * out)) return false;
+                if (now < std::min(a * rest, 0.02 * out) - 1e-6) return false;  // (rounding)
             }
         return true;
     }
