@@ -3,6 +3,7 @@
 // shadows, flat blobs and the texture of the object itself get none (the texture rule,
 // modules/propose/src/texture.cpp). On the benchmark's photos and their hand-made references
 // (samples/data/propose_bench) and on a drawn scene whose answer is known.
+#include <algorithm>
 #include <opencv2/imgproc.hpp>
 
 #include "faces.hpp"
@@ -236,9 +237,10 @@ TEST(ProposeFeatures, OnlyStructureThatStandsOutOfItsSurroundingsGetsAPolygon) {
 }
 
 // Issue 39, item 4: on a uniform, saliency lights up the face and the shirt front and merges a
-// name tag or a patch into them; the colour-distinct regions (distinct.cpp) find them. The
-// features of the benchmark's references found at the photos' size (the cap badge lies in the
-// band kept around the face, the astronaut's name tag is white on white cloth).
+// name tag or a patch into them; the colour-distinct regions (distinct.cpp) find them, and
+// nothing else. The features of the benchmark's references found at the photos' size (the cap
+// badge lies in the band kept around the face, the astronaut's name tag is white on white
+// cloth).
 TEST(ProposeFeatures, BadgesAndNameTagsOnAGarmentGetPolygons) {
     const std::vector<std::pair<const char*, std::vector<size_t>>> cases = {
         {"astronaut", {0}},       // the mission patch
@@ -251,6 +253,20 @@ TEST(ProposeFeatures, BadgesAndNameTagsOnAGarmentGetPolygons) {
         for (size_t i : which)
             EXPECT_FALSE(multicage_fixtures::featureHolders(cage, features.at(i)).empty())
                 << name << ": feature " << features.at(i) << " is not held";
+        // And nothing else: every inner polygon is the face's, an eye's or a feature's (a white
+        // shirt front between the lapels is as distinct as a name tag: the garment's opening
+        // under the face is no feature).
+        std::vector<int> protecting;
+        for (const cv::Rect& f : features)
+            for (int p : multicage_fixtures::featureHolders(cage, f)) protecting.push_back(p);
+        for (const cv::Rect& e : referenceBoxes(name, "eyes"))
+            for (int p : multicage_fixtures::eyeHolders(cage, e)) protecting.push_back(p);
+        for (const cv::Rect& f : referenceBoxes(name, "faces"))
+            protecting.push_back(facePolygonOf(cage, f));
+        for (int p = 0; p < cage.polygonCount(); ++p)
+            if (cage.depth(p) >= 2)
+                EXPECT_NE(std::find(protecting.begin(), protecting.end(), p), protecting.end())
+                    << name << ": inner polygon " << p << " protects nothing of the reference";
     }
 }
 
