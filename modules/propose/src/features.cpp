@@ -343,8 +343,8 @@ Multicage protectInPolygon(InputArray image, const Multicage& cage, int polygon,
     objects |= faces.mask;
     if (countNonZero(objects) == 0) return out;
     const Mat limit = ((insideDistance > band) | faces.zone) & ~faces.keepOut;
-    // The mask keeps salient regions a face size from the faces' polygons; what simplifying
-    // or merging brings within half of that is dropped.
+    // The mask keeps regions faceKeepOut() from the faces' polygons; what simplifying or
+    // merging brings within half of that is dropped.
     auto clearOfFaces = [&faces, keepOut = faceKeepOut(cage)](const Polygon& p) {
         for (size_t i = 0; i < faces.polygons.size(); ++i)
             if (faces.isFace[i] &&
