@@ -498,10 +498,17 @@ TEST(ReframeRatios, FacesStayWholeAndInShapeWithProposedCages) {
               << " inner); face cascade: "
               << (faceCascadeFile().empty() ? "none" : faceCascadeFile()) << std::endl;
     // The faces: the inner polygons holding a face the cascade finds (a feature may be left out).
-    const std::vector<int> messiFaces = facePolygons(messiRest, detectFaces(messi)),
-                           astronautFaces = facePolygons(astronautRest, detectFaces(astronaut));
-    ASSERT_FALSE(messiFaces.empty());
-    ASSERT_FALSE(astronautFaces.empty());
+    // Without the cascades (opencv-data) there are none, and every inner polygon must be whole.
+    const bool cascades = !faceCascadeFile().empty();
+    const std::vector<int> messiFaces = cascades ? facePolygons(messiRest, detectFaces(messi))
+                                                 : innerPolygons(messiRest),
+                           astronautFaces =
+                               cascades ? facePolygons(astronautRest, detectFaces(astronaut))
+                                        : innerPolygons(astronautRest);
+    if (cascades) {
+        ASSERT_FALSE(messiFaces.empty());
+        ASSERT_FALSE(astronautFaces.empty());
+    }
     expectFacesKept(messi, messiRest, Size(136, 240), false, "messi5 (proposed) 9:16", messiFaces);
     expectFacesKept(messi, messiRest, Size(240, 240), false, "messi5 (proposed) 1:1", messiFaces);
     expectFacesKept(messi, messiRest, Size(384, 164), true, "messi5 (proposed) 21:9", messiFaces);
