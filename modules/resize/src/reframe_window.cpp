@@ -5,6 +5,8 @@
 #include <opencv2/multicage/internal/geometry.hpp>
 #include <opencv2/multicage/resize.hpp>
 
+#include "outline_similarity.hpp"
+
 namespace cv {
 namespace multicage {
 
@@ -17,7 +19,6 @@ struct Extent {
     bool empty() const { return lo > hi; }
     double size() const { return hi - lo; }
     double centre() const { return 0.5 * (lo + hi); }
-    double half() const { return 0.5 * (hi - lo); }
 };
 
 Extent extent(const std::vector<Point2f>& polygon, bool alongX) {
@@ -31,13 +32,14 @@ Extent extent(const std::vector<Point2f>& polygon, bool alongX) {
 
 // The cage's polygons seen along the cut axis and across it.
 struct Layout {
+    std::vector<geometry::Polygon> polygons;
     std::vector<Extent> along, across;
     std::vector<int> depth, parent;
-    double crop = 0;          // the plain crop's length along the cut axis, in image pixels
-    double length = 0;        // the image's length along it
-    double out = 0;           // the target's length along it
-    double lengthAcross = 0;  // the image's length across it
-    double scaleAcross = 0;   // the frame's scale across it (the larger of the two)
+    bool alongX = true;  // the cut axis is x (a narrower target), else y
+    Size image, target;
+    double crop = 0;    // the plain crop's length along the cut axis, in image pixels
+    double length = 0;  // the image's length along it
+    double out = 0;     // the target's length along it
 
     bool inside(int i, double lo, double hi) const {
         return along[size_t(i)].lo >= lo && along[size_t(i)].hi <= hi;
@@ -54,39 +56,28 @@ struct Layout {
         if (!keep.empty()) {
             const double span = keep.size();
             width = std::clamp(std::max(span + 0.08 * crop, span / 0.88), crop, length);
-            centre = (keep.lo + keep.hi) / 2;
+            centre = keep.centre();
         } else if (!outlines.empty()) {
-            centre = (outlines.lo + outlines.hi) / 2;
+            centre = outlines.centre();
         }
         return {std::clamp(centre - width / 2, 0.0, length - width), width};
     }
 
     // Where the resize pose puts a polygon moving on its own (an outline, or a polygon whose
-    // outline the window cuts) along the cut axis when the window [lo, lo + width] is squeezed
-    // into the output (scale a): its centre squeezed, its extent at the similarity's scale s,
-    // moved inside the gaps it keeps to the output's sides (resizePose()).
-    Extent placed(int i, double lo, double width, double a) const {
-        const Extent &e = along[size_t(i)], &x = across[size_t(i)];
-        auto kept = [](double gap, double scale, double side) {
-            return std::min(gap * std::min(scale, 1.0), 0.04 * side);
-        };
-        const double gapLow = kept(e.lo - lo, a, out), gapHigh = kept(lo + width - e.hi, a, out);
-        // The similarity's scale: 1 between the two scales, no more than fits either way.
-        double s = std::min(std::max(1.0, a), scaleAcross);
-        if (e.size() > 0) s = std::min(s, (out - gapLow - gapHigh) / e.size());
-        if (x.size() > 0)
-            s = std::min(s, (scaleAcross * lengthAcross - kept(x.lo, scaleAcross, outAcross()) -
-                             kept(lengthAcross - x.hi, scaleAcross, outAcross())) /
-                                x.size());
-        const double size = s * e.size(), first = gapLow, last = out - gapHigh - size;
-        const double start =
-            std::min(std::max(a * (e.centre() - lo) - size / 2, first), std::max(first, last));
-        return {start, start + size};
+    // outline the window cuts) along the cut axis, the window [lo, lo + width] cropped and
+    // resized to the target: as an outline of the crop (outlineSimilarity()).
+    Extent placed(int i, double lo, double width) const {
+        geometry::Polygon p = polygons[size_t(i)];
+        for (Point2f& v : p) (alongX ? v.x : v.y) -= float(lo);
+        const int side = std::max(1, cvRound(width));
+        const Similarity sim = outlineSimilarity(
+            p, alongX ? Size(side, image.height) : Size(image.width, side), target);
+        for (Point2f& v : p) v = sim(v);
+        return extent(p, alongX);
     }
-    double outAcross() const { return scaleAcross * lengthAcross; }
 
     // Whether the resize pose can move what the window holds by similarities without two of
-    // them coming too near: each polygon keeps its scale (s >= a) while the window is squeezed,
+    // them coming too near: each polygon keeps its scale while the window is squeezed (scale a),
     // so two that overlap across come closer, and those near the window's sides are pushed
     // inwards. Two must keep between them what a uniform squeeze leaves, or 2% of the output.
     bool feasible(double lo, double width) const {
@@ -97,7 +88,7 @@ struct Layout {
                                               !inside(parent[size_t(i)], lo, lo + width)))
                 movers.push_back(i);
         std::vector<Extent> at;
-        for (int i : movers) at.push_back(placed(i, lo, width, a));
+        for (int i : movers) at.push_back(placed(i, lo, width));
         for (size_t m = 0; m < movers.size(); ++m)
             for (size_t n = m + 1; n < movers.size(); ++n) {
                 const Extent &p = along[size_t(movers[m])], &q = along[size_t(movers[n])];
@@ -125,15 +116,15 @@ Rect2d reframeWindow(const Multicage& cage, Size newSize, const ResizeParams& pa
     // The axis that is cut: x for a narrower target (the height is all kept), y for a wider one.
     const bool alongX = sx < sy;
     Layout l;
+    l.alongX = alongX;
+    l.image = image, l.target = newSize;
     l.length = alongX ? image.width : image.height;
     l.out = alongX ? newSize.width : newSize.height;
-    l.lengthAcross = alongX ? image.height : image.width;
-    l.scaleAcross = std::max(sx, sy);
     // A plain crop's window: the target's aspect at the full other side.
     l.crop = alongX ? image.height * double(newSize.width) / newSize.height
                     : image.width * double(newSize.height) / newSize.width;
-    std::vector<geometry::Polygon> polygons(size_t(cage.polygonCount()));
-    for (int i = 0; i < cage.polygonCount(); ++i) polygons[size_t(i)] = cage.polygon(i);
+    std::vector<geometry::Polygon>& polygons = l.polygons;
+    for (int i = 0; i < cage.polygonCount(); ++i) polygons.push_back(cage.polygon(i));
     l.depth = geometry::depths(polygons);
     l.parent = geometry::parents(polygons, l.depth);
     for (const geometry::Polygon& p : polygons)

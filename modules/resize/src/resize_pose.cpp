@@ -8,18 +8,12 @@
 #include <opencv2/multicage/resize.hpp>
 
 #include "fold_free_blend.hpp"
+#include "outline_similarity.hpp"
 
 namespace cv {
 namespace multicage {
 
 namespace {
-
-/** p' = to + s (p - from). */
-struct Similarity {
-    double s = 1;
-    Point2d from, to;
-    Point2f operator()(Point2f p) const { return Point2f(to + s * (Point2d(p) - from)); }
-};
 
 /** Frame coordinates u = x + 0.5 run from 0 to W over the frame (-0.5 .. W - 0.5). */
 struct Axis {
@@ -69,7 +63,8 @@ double placeLow(const Axis& a, double s, double tol) {
     return std::min(std::max(start, first), std::max(first, last));
 }
 
-// The similarity of one outline (polygon i, depth 1).
+}  // namespace
+
 Similarity outlineSimilarity(const std::vector<Point2f>& outline, Size image, Size target) {
     Rect2f box(outline[0], Size2f());
     for (const Point2f& p : outline) {
@@ -93,6 +88,8 @@ Similarity outlineSimilarity(const std::vector<Point2f>& outline, Size image, Si
     sim.to = Point2d(placeLow(x, s, tol) - 0.5, placeLow(y, s, tol) - 0.5);
     return sim;
 }
+
+namespace {
 
 // Each polygon's depth, and the polygons of depth 1 and 2 holding it (itself at that depth or
 // above), computed once: Multicage::depth() tests every polygon against every other.
