@@ -192,10 +192,92 @@ std::vector<Point> grownContour(Region& r, double grow, Size size) {
     });
 }
 
-void make(Candidate& c, const Work& w) {
+// Douglas-Peucker keeps its vertices on the contour and every edge on one side of it: the
+// polygon lies outside the region grown by the margin, further out the larger the tolerance.
+// fitToRegion moves the vertices so that the polygon follows that contour instead, as far
+// inside it as outside (the least area between the two, measured as the distance to the
+// contour integrated along the edges), while every edge stays at least margin / 2 from the
+// objects (as Douglas-Peucker's edges do), inside the region's limit, and the polygon simple;
+// a vertex on the image's edge slides along it. Budget-bound outlines of thin limbs, tails and
+// legs gain most (docs/propose/README.md, "Outlines").
+Polygon fitToRegion(const Polygon& start, const Region& r, const Work& w) {
+    Polygon p = start;
+    const int n = static_cast<int>(p.size());
+    if (n < 4) return p;
+    // Distances to the region's boundary, the image's edge a boundary too, around the polygon.
+    const Rect image(0, 0, w.size.width, w.size.height);
+    const int pad = cvCeil(2 * w.margin) + 8;
+    const Rect box = boundingRect(start) | boundingRect(r.contour);
+    const Rect roi =
+        Rect(box.x - pad, box.y - pad, box.width + 2 * pad, box.height + 2 * pad) & image;
+    Mat filled(roi.height + 2, roi.width + 2, CV_8U, Scalar(0));
+    drawContours(filled, std::vector<std::vector<Point>>{r.contour}, 0, Scalar(255), FILLED, LINE_8,
+                 noArray(), INT_MAX, Point(1, 1) - roi.tl());
+    const Mat inside = distanceTo(filled), outside = distanceTo(~filled);
+    const float deepest = 0.5f * w.margin;  // how far an edge may go into the region
+    const float right = w.size.width - 1.f, bottom = w.size.height - 1.f;
+    // The cost of the edge a-b, or infinity where it breaks a constraint.
+    auto edgeCost = [&](Point2f a, Point2f b) {
+        const float length = static_cast<float>(norm(b - a));
+        const int steps = std::max(1, cvCeil(length));
+        double cost = 0;
+        for (int k = 0; k <= steps; ++k) {
+            const Point2f q = a + (b - a) * (static_cast<float>(k) / steps);
+            const Point at(cvRound(q.x), cvRound(q.y));
+            if (!roi.contains(at)) return HUGE_VAL;
+            const Point local = at - roi.tl() + Point(1, 1);
+            const float in = inside.at<float>(local);
+            if (in > deepest) return HUGE_VAL;
+            if (!r.limit.empty() && !r.limit.at<uchar>(at)) return HUGE_VAL;
+            cost += in > 0 ? in : outside.at<float>(local);
+        }
+        return cost * length / (steps + 1);
+    };
+    // True when vertex i moved to q makes one of its edges cross an edge it shares no end with.
+    auto crossesOthers = [&](int i, Point2f q) {
+        const Point2f a = p[(i + n - 1) % n], b = p[(i + 1) % n];
+        for (int j = 0; j < n; ++j) {
+            const Point2f c = p[j], d = p[(j + 1) % n];
+            if (j == i || (j + 1) % n == i) continue;
+            if ((c != a && d != a && geometry::segmentsIntersect(a, q, c, d)) ||
+                (c != b && d != b && geometry::segmentsIntersect(q, b, c, d)))
+                return true;
+        }
+        return false;
+    };
+    const Point2f directions[8] = {{1, 0}, {-1, 0}, {0, 1},  {0, -1},
+                                   {1, 1}, {1, -1}, {-1, 1}, {-1, -1}};
+    for (float step : {4.f, 2.f, 1.f, 0.5f}) {
+        for (int sweep = 0; sweep < 20; ++sweep) {
+            bool moved = false;
+            for (int i = 0; i < n; ++i) {
+                const Point2f a = p[(i + n - 1) % n], b = p[(i + 1) % n];
+                double best = edgeCost(a, p[i]) + edgeCost(p[i], b);
+                Point2f to = p[i];
+                // A vertex on the image's left or right edge keeps its x, on the top or bottom
+                // its y: it slides along the edge.
+                const bool sideways = p[i].x <= 0.f || p[i].x >= right;
+                const bool upright = p[i].y <= 0.f || p[i].y >= bottom;
+                for (const Point2f& d : directions) {
+                    const Point2f q = p[i] + d * step;
+                    if ((sideways && q.x != p[i].x) || (upright && q.y != p[i].y)) continue;
+                    const double cost = edgeCost(a, q) + edgeCost(q, b);
+                    if (cost < best - 1e-6 && !crossesOthers(i, q)) best = cost, to = q;
+                }
+                if (to != p[i]) p[i] = to, moved = true;
+            }
+            if (!moved) break;
+        }
+    }
+    return isSimple(p) ? p : start;
+}
+
+void make(Candidate& c, const Work& w, bool fitted = false) {
     // The margin absorbs half of the tolerance: the polygon stays at least margin / 2 away.
     const double grow = c.e + 1.0 - 0.5 * w.margin;
-    c.polygon = toFull(simplify(grownContour(*c.region, grow, w.size), c.e, &c.mode), w);
+    Polygon p = simplify(grownContour(*c.region, grow, w.size), c.e, &c.mode);
+    if (fitted && c.mode == MODE_APPROX) p = fitToRegion(p, *c.region, w);
+    c.polygon = toFull(p, w);
 }
 
 int aliveVertices(const std::vector<Candidate>& cs) {
@@ -368,6 +450,7 @@ Multicage addPolygons(Multicage cage, std::vector<Region> found, const Work& w,
                       const std::function<bool(const Polygon&)>& accept) {
     std::vector<Region> regions = selectRegions(std::move(found), budget.polygons, budget.vertices);
     std::vector<Candidate> cs = simplifyAll(regions, w, budget.vertices, budget.polygonVertices);
+    for (Candidate& c : cs) make(c, w, true);
     std::vector<Polygon> fixed;
     for (int j = 0; j < cage.polygonCount(); ++j) fixed.push_back(cage.polygon(j));
     repair(cs, fixed, w, budget.vertices, budget.polygonVertices, depth);
