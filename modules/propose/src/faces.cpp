@@ -210,6 +210,23 @@ bool eyeIn(CascadeClassifier& eye, const Mat& gray, const Rect& face) {
 // only, and the camera man's profile (skimage's camera.png) has 3-4 windows.
 constexpr int kGreyFrontalWindows = 5;
 
+// A search's box around a face is sometimes a head and what it holds (the camera man's profile
+// and his camera, 1.9 times the face's width): a box that holds at least 90% of another one at
+// most half its area, on which at least as many windows agreed, is that face's too large box,
+// and only the smaller one stands. (Boxes merged instead grow to the larger one.)
+bool holdsASmallerSurerFace(const std::vector<std::vector<Rect>>& kept,
+                            const std::vector<std::vector<int>>& windows, const Rect& box,
+                            int boxWindows) {
+    for (size_t k = 0; k < kept.size(); ++k)
+        for (size_t i = 0; i < kept[k].size(); ++i) {
+            const Rect& r = kept[k][i];
+            if (r != box && 2 * r.area() <= box.area() && (r & box).area() >= 0.9 * r.area() &&
+                windows[k][i] >= boxWindows)
+                return true;
+        }
+    return false;
+}
+
 }  // namespace
 
 String faceCascadeFile(const ProposeParams& params) {
@@ -225,6 +242,7 @@ struct FaceSearch::State {
     Mat gray, mirrored, ycrcb;
     std::vector<Search> searches;         // the frontal search, then the profile cascade's two
     std::vector<std::vector<Rect>> kept;  // what stands of each search's faces (working pixels)
+    std::vector<std::vector<int>> keptWindows;  // and how many windows agreed on each
 
     // Whether a face search `s` found stands: in a colour photo its middle is skin; in a grey
     // one a frontal face needs kGreyFrontalWindows windows or an eye; with faceEyes, an eye.
@@ -249,7 +267,7 @@ struct FaceSearch::State {
         run(s, gray, mirrored);
         s.pool->giveBack(std::move(s.classifier));
         for (size_t i = 0; i < s.found.size(); ++i)
-            if (stands(s, i)) kept[k].push_back(s.found[i]);
+            if (stands(s, i)) kept[k].push_back(s.found[i]), keptWindows[k].push_back(s.windows[i]);
     }
 };
 
@@ -268,6 +286,7 @@ FaceSearch::FaceSearch(InputArray image, const ProposeParams& params)
     }
     for (Search& s : st.searches) s.classifier = s.pool->borrow();  // load errors first
     st.kept.resize(st.searches.size());
+    st.keptWindows.resize(st.searches.size());
 
     Mat small = propose_detail::to8Bit(img);
     const int longer = std::max(img.cols, img.rows);
@@ -318,7 +337,9 @@ std::vector<Rect> FaceSearch::faces() const {
     const State& st = *state_;
     std::vector<Rect> found;
     for (size_t k = 0; k < st.searches.size(); ++k)
-        for (const Rect& r : st.kept[k]) {
+        for (size_t i = 0; i < st.kept[k].size(); ++i) {
+            const Rect& r = st.kept[k][i];
+            if (holdsASmallerSurerFace(st.kept, st.keptWindows, r, st.keptWindows[k][i])) continue;
             const Rect2d s(r.x * st.scale, r.y * st.scale, r.width * st.scale, r.height * st.scale);
             found.push_back(
                 Rect(Point(cvFloor(s.x), cvFloor(s.y)), Point(cvCeil(s.br().x), cvCeil(s.br().y))) &
