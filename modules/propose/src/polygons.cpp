@@ -161,6 +161,7 @@ struct Candidate {
     int mode = MODE_APPROX;
     int refinements = 0;
     Polygon polygon;  // input pixels
+    Polygon plain;    // Douglas-Peucker's own where `polygon` was fitted to the region, else empty
     bool alive = true;
 };
 
@@ -275,9 +276,13 @@ Polygon fitToRegion(const Polygon& start, const Region& r, const Work& w) {
 void make(Candidate& c, const Work& w, bool fitted = false) {
     // The margin absorbs half of the tolerance: the polygon stays at least margin / 2 away.
     const double grow = c.e + 1.0 - 0.5 * w.margin;
-    Polygon p = simplify(grownContour(*c.region, grow, w.size), c.e, &c.mode);
-    if (fitted && c.mode == MODE_APPROX) p = fitToRegion(p, *c.region, w);
+    const Polygon p = simplify(grownContour(*c.region, grow, w.size), c.e, &c.mode);
     c.polygon = toFull(p, w);
+    c.plain.clear();
+    if (fitted && c.mode == MODE_APPROX) {
+        const Polygon f = fitToRegion(p, *c.region, w);
+        if (f != p) c.plain = c.polygon, c.polygon = toFull(f, w);
+    }
 }
 
 int aliveVertices(const std::vector<Candidate>& cs) {
@@ -343,6 +348,13 @@ void fit(Candidate& c, const Work& w, int cap) {
 void repair(std::vector<Candidate>& cs, const std::vector<Polygon>& fixed, const Work& w,
             int budget, int cap, int depthOffset) {
     std::deque<Region> merged;  // regions made here; candidates point into it
+    // A polygon fitted to its region gives way first by going back to Douglas-Peucker's (which
+    // kept to the outside of its region's line), then by a finer tolerance.
+    auto unfit = [&](int i) {
+        if (cs[i].plain.empty()) return false;
+        cs[i].polygon = cs[i].plain, cs[i].plain.clear();
+        return true;
+    };
     auto refine = [&](int i) {
         if (cs[i].refinements >= 3 || cs[i].mode != MODE_APPROX) return false;
         Candidate finer = cs[i];
@@ -396,17 +408,17 @@ void repair(std::vector<Candidate>& cs, const std::vector<Polygon>& fixed, const
         }
         if (a < 0 || b < 0) {  // against a fixed polygon: only ours can give way
             const int v = a < 0 ? b : a;
-            if (!refine(v)) cs[v].alive = false;
+            if (!unfit(v) && !refine(v)) cs[v].alive = false;
             continue;
         }
         if (cs[a].region->depth != cs[b].region->depth) {
             const int v = cs[a].region->depth > cs[b].region->depth ? a : b;
-            if (!refine(v)) cs[v].alive = false;
+            if (!unfit(v) && !refine(v)) cs[v].alive = false;
             continue;
         }
         const int small = cs[a].region->area < cs[b].region->area ? a : b;
         const int large = small == a ? b : a;
-        if (refine(small) || refine(large)) continue;
+        if (unfit(small) || unfit(large) || refine(small) || refine(large)) continue;
         Region m;
         std::vector<Point> both = cs[a].region->contour;
         both.insert(both.end(), cs[b].region->contour.begin(), cs[b].region->contour.end());
