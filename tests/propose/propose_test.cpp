@@ -567,6 +567,27 @@ TEST(ProposeFaces, ABoxAroundAHeadAndWhatItHoldsGivesWayToTheFaceInIt) {
     EXPECT_GE((faces[0] & reference[0]).area(), 0.6 * faces[0].area());
 }
 
+// A full figure's face is under the working copy's least face: the basketball player's, 29 px
+// wide in a 640 px photo, is 14 px at 320. The copy twice as large finds it, and the proposal
+// hugs it with a polygon of its own.
+TEST(ProposeFaces, AFullFiguresSmallFaceIsFoundOnTheLargerCopy) {
+    if (!haveCascades()) GTEST_SKIP() << "opencv-data is not installed";
+    const std::vector<cv::Rect> reference = propose_bench::referenceBoxes("basketball", "faces");
+    ASSERT_EQ(reference.size(), 1u);
+    const cv::Mat photo = propose_bench::benchPhoto("basketball");
+    std::vector<cv::Rect> faces;
+    const Multicage cage = proposeProtectedMulticage(photo, facesParams(), &faces);
+    ASSERT_EQ(faces.size(), 1u);
+    std::cout << "[ faces    ] basketball.jpg face " << faces[0] << ", reference " << reference[0]
+              << "\n";
+    EXPECT_GE((faces[0] & reference[0]).area(), 0.5 * reference[0].area());
+    EXPECT_LE(faces[0].area(), 3 * reference[0].area());
+    int holders = 0;
+    for (int p = 0; p < cage.polygonCount(); ++p)
+        holders += cage.depth(p) == 2 && rectInside(faces[0], cage.polygon(p));
+    EXPECT_EQ(holders, 1);
+}
+
 TEST(ProposeFaces, EveryDetectedFaceIsInsideExactlyOneInnerPolygon) {
     if (!haveCascades()) GTEST_SKIP() << "opencv-data is not installed";
     for (const char* name : kFacePhotos) {

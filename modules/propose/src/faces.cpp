@@ -26,6 +26,9 @@ const char* const kFrontal = "haarcascade_frontalface_alt2.xml";
 const char* const kProfile = "haarcascade_profileface.xml";
 const char* const kEye = "haarcascade_eye.xml";
 
+// The cascades' own window: the smallest face a search finds, in pixels of its copy.
+constexpr int kLeastFace = 24;
+
 std::string findCascade(const ProposeParams& params, const char* name) {
     namespace fs = std::filesystem;
     std::vector<std::string> dirs;
@@ -99,10 +102,12 @@ CascadePool* cascade(const ProposeParams& params, const char* name, bool require
     return pool.get();
 }
 
-// One cascade run over the working copy (mirrored for the profile cascade's other direction).
+// One cascade run over a copy of the image (mirrored for the profile cascade's other direction).
 struct Search {
     CascadePool* pool;
     bool frontal, mirrored;
+    int copy = 0;    // which copy: 0 the working copy, 1 the larger one for small faces
+    Size maxSize{};  // the largest face it looks for (empty: no limit)
     std::unique_ptr<CascadeClassifier> classifier;
     std::vector<Rect> found;
     std::vector<int> windows;  // how many windows of the search agreed on each face found
@@ -116,7 +121,7 @@ void run(Search& s, const Mat& gray, const Mat& mirrored) {
     // on the samples it finds the faces of messi5.jpg, astronaut.png and camera.png, and none
     // on the five other photos.
     s.classifier->detectMultiScale(img, s.found, s.windows, 1.2, 2, CASCADE_SCALE_IMAGE,
-                                   Size(24, 24));
+                                   Size(kLeastFace, kLeastFace), s.maxSize);
     if (s.mirrored)
         for (Rect& r : s.found) r.x = img.cols - r.x - r.width;
     // A search on several threads finds the same faces in an order that depends on the
@@ -214,16 +219,12 @@ constexpr int kGreyFrontalWindows = 5;
 // and his camera, 1.9 times the face's width): a box that holds at least 90% of another one at
 // most half its area, on which at least as many windows agreed, is that face's too large box,
 // and only the smaller one stands. (Boxes merged instead grow to the larger one.)
-bool holdsASmallerSurerFace(const std::vector<std::vector<Rect>>& kept,
-                            const std::vector<std::vector<int>>& windows, const Rect& box,
-                            int boxWindows) {
-    for (size_t k = 0; k < kept.size(); ++k)
-        for (size_t i = 0; i < kept[k].size(); ++i) {
-            const Rect& r = kept[k][i];
-            if (r != box && 2 * r.area() <= box.area() && (r & box).area() >= 0.9 * r.area() &&
-                windows[k][i] >= boxWindows)
-                return true;
-        }
+bool holdsASmallerSurerFace(const std::vector<Rect>& boxes, const std::vector<int>& windows,
+                            size_t b) {
+    for (size_t i = 0; i < boxes.size(); ++i)
+        if (i != b && 2 * boxes[i].area() <= boxes[b].area() &&
+            (boxes[i] & boxes[b]).area() >= 0.9 * boxes[i].area() && windows[i] >= windows[b])
+            return true;
     return false;
 }
 
@@ -235,19 +236,49 @@ String faceCascadeFile(const ProposeParams& params) {
 
 namespace propose_detail {
 
+// A grey, histogram-equalised copy of the image (and its mirror image, and its colours where it
+// has any) that cascades search.
+struct Copy {
+    double scale = 1.0;  // input pixels per pixel of the copy
+    Mat gray, mirrored, ycrcb;
+};
+
+Copy makeCopy(const Mat& img8, int longest) {
+    Copy c;
+    Mat small = img8;
+    const int longer = std::max(img8.cols, img8.rows);
+    c.scale = longest > 0 && longer > longest ? longer / static_cast<double>(longest) : 1.0;
+    if (c.scale > 1.0)  // (a side of a thin image keeps at least a pixel)
+        resize(img8, small,
+               Size(std::max(1, cvRound(img8.cols / c.scale)),
+                    std::max(1, cvRound(img8.rows / c.scale))),
+               0, 0, INTER_AREA);
+    if (small.channels() == 3) {
+        cvtColor(small, c.gray, COLOR_BGR2GRAY);
+        cvtColor(small, c.ycrcb, COLOR_BGR2YCrCb);
+        if (!hasColour(c.ycrcb)) c.ycrcb.release();
+    } else {
+        c.gray = small;
+    }
+    equalizeHist(c.gray, c.gray);
+    flip(c.gray, c.mirrored, 1);
+    return c;
+}
+
 struct FaceSearch::State {
     ProposeParams params;
-    Size size;           // the input's
-    double scale = 1.0;  // input pixels per working pixel
-    Mat gray, mirrored, ycrcb;
-    std::vector<Search> searches;         // the frontal search, then the profile cascade's two
-    std::vector<std::vector<Rect>> kept;  // what stands of each search's faces (working pixels)
+    Size size;                     // the input's
+    std::vector<Copy> copies;      // the working copy; the larger one for small faces, if any
+    std::vector<Search> searches;  // the frontal search, the profile cascade's two, small faces
+    std::vector<std::vector<Rect>> kept;  // what stands of each search's faces (its copy's pixels)
     std::vector<std::vector<int>> keptWindows;  // and how many windows agreed on each
 
     // Whether a face search `s` found stands: in a colour photo its middle is skin; in a grey
     // one a frontal face needs kGreyFrontalWindows windows or an eye; with faceEyes, an eye.
     bool stands(const Search& s, size_t i) const {
         const Rect& r = s.found[i];
+        const Mat& gray = copies[s.copy].gray;
+        const Mat& ycrcb = copies[s.copy].ycrcb;
         CascadePool* eyes = nullptr;
         auto eyeFound = [&] {
             if (!eyes && !(eyes = cascade(params, kEye, params.faceEyes))) return false;
@@ -264,7 +295,7 @@ struct FaceSearch::State {
 
     void search(size_t k) {
         Search& s = searches[k];
-        run(s, gray, mirrored);
+        run(s, copies[s.copy].gray, copies[s.copy].mirrored);
         s.pool->giveBack(std::move(s.classifier));
         for (size_t i = 0; i < s.found.size(); ++i)
             if (stands(s, i)) kept[k].push_back(s.found[i]), keptWindows[k].push_back(s.windows[i]);
@@ -278,35 +309,29 @@ FaceSearch::FaceSearch(InputArray image, const ProposeParams& params)
     if (img.empty()) CV_Error(Error::StsBadArg, "multicage: detectFaces: the image is empty");
     st.params = params;
     st.size = img.size();
-    st.searches.push_back({cascade(params, kFrontal, true), true, false, nullptr, {}, {}});
+    CascadePool* frontal = cascade(params, kFrontal, true);
+    st.searches.push_back({frontal, true, false});
     if (CascadePool* profile = cascade(params, kProfile, false)) {
         // The profile cascade knows faces looking one way: the mirror image finds the others.
-        st.searches.push_back({profile, false, false, nullptr, {}, {}});
-        st.searches.push_back({profile, false, true, nullptr, {}, {}});
+        st.searches.push_back({profile, false, false});
+        st.searches.push_back({profile, false, true});
+    }
+    const Mat img8 = propose_detail::to8Bit(img);
+    st.copies.push_back(makeCopy(img8, params.faceWorkingSize));
+    // Faces under the working copy's least face (a full figure's, a group's): the frontal
+    // cascade on a copy twice as large, for those faces only.
+    if (st.copies[0].scale > 1.0) {
+        st.copies.push_back(makeCopy(img8, 2 * params.faceWorkingSize));
+        const int most = cvCeil(kLeastFace * st.copies[0].scale / st.copies[1].scale) - 1;
+        if (most > kLeastFace) {
+            Search small{frontal, true, false};
+            small.copy = 1, small.maxSize = Size(most, most);
+            st.searches.push_back(std::move(small));
+        }
     }
     for (Search& s : st.searches) s.classifier = s.pool->borrow();  // load errors first
     st.kept.resize(st.searches.size());
     st.keptWindows.resize(st.searches.size());
-
-    Mat small = propose_detail::to8Bit(img);
-    const int longer = std::max(img.cols, img.rows);
-    st.scale = params.faceWorkingSize > 0 && longer > params.faceWorkingSize
-                   ? longer / static_cast<double>(params.faceWorkingSize)
-                   : 1.0;
-    if (st.scale > 1.0)  // (a side of a thin image keeps at least a pixel)
-        resize(small, small,
-               Size(std::max(1, cvRound(img.cols / st.scale)),
-                    std::max(1, cvRound(img.rows / st.scale))),
-               0, 0, INTER_AREA);
-    if (small.channels() == 3) {
-        cvtColor(small, st.gray, COLOR_BGR2GRAY);
-        cvtColor(small, st.ycrcb, COLOR_BGR2YCrCb);
-        if (!hasColour(st.ycrcb)) st.ycrcb.release();
-    } else {
-        st.gray = small;
-    }
-    equalizeHist(st.gray, st.gray);
-    flip(st.gray, st.mirrored, 1);
 }
 
 FaceSearch::~FaceSearch() {
@@ -315,13 +340,17 @@ FaceSearch::~FaceSearch() {
 }
 
 bool FaceSearch::frontal() {
-    // On every core: detectMultiScale shares its scales out between threads.
+    // On every core: detectMultiScale shares its scales out between threads. Then the small
+    // faces' search, if any.
     state_->search(0);
+    for (size_t k = 1; k < state_->searches.size(); ++k)
+        if (state_->searches[k].copy == 1) state_->search(k);
     return !state_->kept[0].empty();
 }
 
 bool FaceSearch::profiles(bool sideBySide) {
-    const int n = static_cast<int>(state_->searches.size());
+    int n = 1;  // the profile searches follow the frontal one
+    while (n < static_cast<int>(state_->searches.size()) && !state_->searches[n].frontal) ++n;
     if (sideBySide)
         parallel_for_(Range(1, n), [this](const Range& r) {
             for (int i = r.start; i < r.end; ++i) state_->search(static_cast<size_t>(i));
@@ -335,16 +364,30 @@ bool FaceSearch::profiles(bool sideBySide) {
 
 std::vector<Rect> FaceSearch::faces() const {
     const State& st = *state_;
-    std::vector<Rect> found;
+    std::vector<Rect> boxes;  // input pixels
+    std::vector<int> windows;
+    std::vector<char> small;  // found on the larger copy
     for (size_t k = 0; k < st.searches.size(); ++k)
         for (size_t i = 0; i < st.kept[k].size(); ++i) {
             const Rect& r = st.kept[k][i];
-            if (holdsASmallerSurerFace(st.kept, st.keptWindows, r, st.keptWindows[k][i])) continue;
-            const Rect2d s(r.x * st.scale, r.y * st.scale, r.width * st.scale, r.height * st.scale);
-            found.push_back(
+            const double scale = st.copies[st.searches[k].copy].scale;
+            const Rect2d s(r.x * scale, r.y * scale, r.width * scale, r.height * scale);
+            boxes.push_back(
                 Rect(Point(cvFloor(s.x), cvFloor(s.y)), Point(cvCeil(s.br().x), cvCeil(s.br().y))) &
                 Rect(Point(), st.size));
+            windows.push_back(st.keptWindows[k][i]);
+            small.push_back(st.searches[k].copy == 1);
         }
+    // A small face where the working copy's searches found one is that face, seen smaller.
+    for (size_t b = boxes.size(); b-- > 0;) {
+        bool seen = false;
+        for (size_t o = 0; o < boxes.size() && small[b] && !seen; ++o)
+            seen = !small[o] && (boxes[o] & boxes[b]).area() > 0;
+        if (seen) boxes.erase(boxes.begin() + long(b)), windows.erase(windows.begin() + long(b));
+    }
+    std::vector<Rect> found;
+    for (size_t b = 0; b < boxes.size(); ++b)
+        if (!holdsASmallerSurerFace(boxes, windows, b)) found.push_back(boxes[b]);
     return mergeOverlapping(found);
 }
 

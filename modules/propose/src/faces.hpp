@@ -78,7 +78,8 @@ class FaceSearch {
   public:
     FaceSearch(InputArray image, const ProposeParams& params);
     ~FaceSearch();
-    /** The frontal search, on every core; true when it found a face. */
+    /** The frontal searches (the working copy's, then the larger copy's for the faces too
+    small for it), on every core; true when the working copy's found a face. */
     bool frontal();
     /** The profile cascade's two searches (as the image is and mirrored; none without the
     cascade), side by side or one after the other on this thread; true when they found a

@@ -154,8 +154,9 @@ struct CV_EXPORTS ProposeParams {
     face is at least 60 px wide and the eye cascades find both. */
     bool faceAnchors = true;
     /** Faces are searched on a copy whose longer side is at most this (0: full size): the
-    cascades' cost grows with area. The smallest face found is 24 pixels of the copy, 7.5% of
-    the longer side at 320: smaller faces are too small for a polygon of their own anyway. */
+    cascades' cost grows with area. The smallest face found there is 24 pixels of the copy,
+    7.5% of the longer side at 320; the frontal cascade also searches a copy twice as large for
+    the smaller faces only, down to 3.75% (a full figure's, a group's). */
     int faceWorkingSize = 320;
     /** ProposeSegmenter: where the subject cue comes from (SEGMENTER_AUTO: the learned model
     when one is found, else the classic cues). */
@@ -235,10 +236,12 @@ CV_EXPORTS Multicage protectFeatures(InputArray image, const Multicage& cage, in
 /** @brief Faces in an image, as protectFeatures() with PROTECT_FACES finds them.
 
 Frontal and profile (both directions) detections on a copy at most params.faceWorkingSize
-wide or high, histogram-equalised; in a colour image only boxes whose middle is mostly
+wide or high, histogram-equalised, and frontal detections of the faces too small for that copy
+on one twice as large; in a colour image only boxes whose middle is mostly
 skin-coloured (Haar cascades also fire on crowds and clothing), in an image without colour
 only frontal boxes on which 5 search windows agree or in which an eye is found (patterns such
 as a coin's portrait fire the cascade too); optionally confirmed by an eye (params.faceEyes);
+a box that holds a smaller one, on which as many search windows agree, gives way to it;
 detections of one face (sharing at least a quarter of the smaller box) merged into their
 bounding box, so the boxes of two faces may overlap a little.
 @param image the photo.
