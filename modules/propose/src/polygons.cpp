@@ -193,14 +193,15 @@ std::vector<Point> grownContour(Region& r, double grow, Size size) {
     });
 }
 
-// Douglas-Peucker keeps its vertices on the contour and every edge on one side of it: the
-// polygon lies outside the region grown by the margin, further out the larger the tolerance.
-// fitToRegion moves the vertices so that the polygon follows that contour instead, as far
-// inside it as outside (the least area between the two, measured as the distance to the
-// contour integrated along the edges), while every edge stays at least margin / 2 from the
-// objects (as Douglas-Peucker's edges do), inside the region's limit, and the polygon simple;
-// a vertex on the image's edge slides along it. Budget-bound outlines of thin limbs, tails and
-// legs gain most (docs/propose/README.md, "Outlines").
+// Douglas-Peucker keeps its vertices on the line it approximates, the region's grown by the
+// tolerance beyond half the margin (make): the coarser the tolerance, the further out the
+// polygon runs around the region. fitToRegion moves the vertices so that the polygon follows
+// the region's own line (the objects grown by the margin) instead, as far inside it as outside
+// (the least area between the two, measured as the distance to the line integrated along the
+// edges), while every edge stays at least margin / 2 from the objects (as Douglas-Peucker's
+// do), inside the region's limit, and the polygon simple; a vertex on the image's edge slides
+// along it. Budget-bound outlines of thin limbs, tails and legs gain most
+// (docs/propose/README.md, "Outlines").
 Polygon fitToRegion(const Polygon& start, const Region& r, const Work& w) {
     Polygon p = start;
     const int n = static_cast<int>(p.size());
@@ -348,8 +349,8 @@ void fit(Candidate& c, const Work& w, int cap) {
 void repair(std::vector<Candidate>& cs, const std::vector<Polygon>& fixed, const Work& w,
             int budget, int cap, int depthOffset) {
     std::deque<Region> merged;  // regions made here; candidates point into it
-    // A polygon fitted to its region gives way first by going back to Douglas-Peucker's (which
-    // kept to the outside of its region's line), then by a finer tolerance.
+    // A polygon fitted to its region gives way first by going back to Douglas-Peucker's (as it
+    // was before the fit), then by a finer tolerance.
     auto unfit = [&](int i) {
         if (cs[i].plain.empty()) return false;
         cs[i].polygon = cs[i].plain, cs[i].plain.clear();
