@@ -243,16 +243,17 @@ struct Copy {
     Mat gray, mirrored, ycrcb;
 };
 
+// `longest`: the copy's longer side; 0 for the image's own size; a larger one enlarges it.
 Copy makeCopy(const Mat& img8, int longest) {
     Copy c;
     Mat small = img8;
     const int longer = std::max(img8.cols, img8.rows);
-    c.scale = longest > 0 && longer > longest ? longer / static_cast<double>(longest) : 1.0;
-    if (c.scale > 1.0)  // (a side of a thin image keeps at least a pixel)
+    c.scale = longest > 0 ? longer / static_cast<double>(longest) : 1.0;
+    if (c.scale != 1.0)  // (a side of a thin image keeps at least a pixel)
         resize(img8, small,
                Size(std::max(1, cvRound(img8.cols / c.scale)),
                     std::max(1, cvRound(img8.rows / c.scale))),
-               0, 0, INTER_AREA);
+               0, 0, c.scale > 1.0 ? INTER_AREA : INTER_LINEAR);
     if (small.channels() == 3) {
         cvtColor(small, c.gray, COLOR_BGR2GRAY);
         cvtColor(small, c.ycrcb, COLOR_BGR2YCrCb);
@@ -317,17 +318,17 @@ FaceSearch::FaceSearch(InputArray image, const ProposeParams& params)
         st.searches.push_back({profile, false, true});
     }
     const Mat img8 = propose_detail::to8Bit(img);
-    st.copies.push_back(makeCopy(img8, params.faceWorkingSize));
+    const int longer = std::max(img.cols, img.rows);
+    const int working = params.faceWorkingSize > 0 ? std::min(longer, params.faceWorkingSize) : 0;
+    st.copies.push_back(makeCopy(img8, working));
     // Faces under the working copy's least face (a full figure's, a group's): the frontal
-    // cascade on a copy twice as large, for those faces only.
-    if (st.copies[0].scale > 1.0) {
-        st.copies.push_back(makeCopy(img8, 2 * params.faceWorkingSize));
-        const int most = cvCeil(kLeastFace * st.copies[0].scale / st.copies[1].scale) - 1;
-        if (most > kLeastFace) {
-            Search small{frontal, true, false};
-            small.copy = 1, small.maxSize = Size(most, most);
-            st.searches.push_back(std::move(small));
-        }
+    // cascade on a copy twice as large (enlarged where the image is smaller), for those faces
+    // only, so that what is found does not depend on the image's size.
+    if (working > 0) {
+        st.copies.push_back(makeCopy(img8, 2 * working));
+        Search small{frontal, true, false};
+        small.copy = 1, small.maxSize = Size(2 * kLeastFace - 1, 2 * kLeastFace - 1);
+        st.searches.push_back(std::move(small));
     }
     for (Search& s : st.searches) s.classifier = s.pool->borrow();  // load errors first
     st.kept.resize(st.searches.size());
