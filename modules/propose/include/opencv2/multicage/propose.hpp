@@ -237,9 +237,9 @@ CV_EXPORTS Multicage protectFeatures(InputArray image, const Multicage& cage, in
 
 Frontal and profile (both directions) detections on a copy at most params.faceWorkingSize
 wide or high, histogram-equalised, and frontal detections of the faces too small for that copy
-on one twice as large (enlarged where the image is smaller); in a colour image only boxes whose middle is mostly
-skin-coloured (Haar cascades also fire on crowds and clothing), in an image without colour
-only frontal boxes on which 5 search windows agree or in which an eye is found (patterns such
+on one twice as large (enlarged where the image is smaller); in a colour image only boxes whose
+middle is mostly skin-coloured (Haar cascades also fire on crowds and clothing), in an image without
+colour only frontal boxes on which 5 search windows agree or in which an eye is found (patterns such
 as a coin's portrait fire the cascade too); optionally confirmed by an eye (params.faceEyes);
 a box that holds a smaller one, on which as many search windows agree, gives way to it;
 detections of one face (sharing at least a quarter of the smaller box) merged into their
