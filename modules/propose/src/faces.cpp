@@ -341,12 +341,19 @@ FaceSearch::~FaceSearch() {
 }
 
 bool FaceSearch::frontal() {
-    // On every core: detectMultiScale shares its scales out between threads. Then the small
-    // faces' search, if any.
+    // On every core: detectMultiScale shares its scales out between threads.
     state_->search(0);
-    for (size_t k = 1; k < state_->searches.size(); ++k)
-        if (state_->searches[k].copy == 1) state_->search(k);
     return !state_->kept[0].empty();
+}
+
+bool FaceSearch::smallFaces() {
+    bool any = false;
+    for (size_t k = 1; k < state_->searches.size(); ++k)
+        if (state_->searches[k].copy == 1) {
+            state_->search(k);
+            any |= !state_->kept[k].empty();
+        }
+    return any;
 }
 
 bool FaceSearch::profiles(bool sideBySide) {
@@ -400,6 +407,7 @@ std::vector<Rect> detectFaces(InputArray image, const ProposeParams& params) {
     // one core ran two of them (at 320 px each search takes 40-90 ms on one core).
     propose_detail::FaceSearch search(image, params);
     search.frontal();
+    search.smallFaces();
     search.profiles(true);
     return search.faces();
 }

@@ -78,9 +78,11 @@ class FaceSearch {
   public:
     FaceSearch(InputArray image, const ProposeParams& params);
     ~FaceSearch();
-    /** The frontal searches (the working copy's, then the larger copy's for the faces too
-    small for it), on every core; true when the working copy's found a face. */
+    /** The frontal search, on every core; true when it found a face. */
     bool frontal();
+    /** The frontal search for the faces too small for the working copy, on a copy twice as
+    large, on every core; true when it found a face. */
+    bool smallFaces();
     /** The profile cascade's two searches (as the image is and mirrored; none without the
     cascade), side by side or one after the other on this thread; true when they found a
     face. */

@@ -115,7 +115,9 @@ Mat subjectBesideFaces(const Mat& img, const Work& w, const ProposeParams& param
     std::thread search([&] {
         try {
             FaceSearch faces(img, params);
-            if (!faces.frontal()) faces.profiles(false);
+            const bool frontal = faces.frontal();
+            faces.smallFaces();
+            if (!frontal) faces.profiles(false);
             *found = faces.faces();
         } catch (...) {
             failed = std::current_exception();
@@ -194,9 +196,12 @@ Multicage proposeProtectedMulticage(InputArray image, const ProposeParams& param
         FaceSearch search(img, params);
         if (search.frontal()) {
             search.profiles(true);
-        } else {
-            s = segmentForProposal(img, w, params, Mat(),
-                                   [&search](bool alone) { return !search.profiles(alone); });
+            search.smallFaces();
+        } else {  // the small faces' search too runs beside the face-blind segmentation
+            s = segmentForProposal(img, w, params, Mat(), [&search](bool alone) {
+                const bool profile = search.profiles(alone);
+                return !(search.smallFaces() || profile);
+            });
             segmented = true;
         }
         found = search.faces();
