@@ -54,6 +54,12 @@ Mat personSeed(const std::vector<Rect>& faces, const Work& w) {
     Mat strip(w.size, CV_8U, Scalar(255));
     strip(Rect(b, b, std::max(0, w.size.width - 2 * b), std::max(0, w.size.height - 2 * b)))
         .setTo(0);
+    // Below the shoulders a body may go on to the frame anywhere (a coat, a bent back, an arm):
+    // the strip is sure background above them only.
+    double shoulders = w.size.height;
+    for (const Rect& f : faces)
+        shoulders = std::min(shoulders, (f.y + f.height) * k + kShoulderDrop * f.height * k);
+    strip.rowRange(std::clamp(cvCeil(shoulders), 0, w.size.height), w.size.height).setTo(0);
     seed.setTo(GC_BGD, strip & (seed == GC_PR_BGD));
     return seed;
 }
