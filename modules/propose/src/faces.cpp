@@ -322,12 +322,15 @@ FaceSearch::FaceSearch(InputArray image, const ProposeParams& params)
     const int working = params.faceWorkingSize > 0 ? std::min(longer, params.faceWorkingSize) : 0;
     st.copies.push_back(makeCopy(img8, working));
     // Faces under the working copy's least face (a full figure's, a group's): the frontal
-    // cascade on a copy twice as large (enlarged where the image is smaller), for those faces
-    // only, so that what is found does not depend on the image's size.
-    if (working > 0) {
-        st.copies.push_back(makeCopy(img8, 2 * working));
+    // cascade on a copy twice as large, for those faces only. It is enlarged where the image is
+    // smaller, up to the default's 640 px (so that what is found does not depend on the image's
+    // size), not beyond the image for a larger working size.
+    const int large = std::min(2 * working, std::max(longer, 2 * ProposeParams().faceWorkingSize));
+    const int most = working > 0 ? cvCeil(kLeastFace * large / double(working)) - 1 : 0;
+    if (most > kLeastFace) {
+        st.copies.push_back(makeCopy(img8, large));
         Search small{frontal, true, false};
-        small.copy = 1, small.maxSize = Size(2 * kLeastFace - 1, 2 * kLeastFace - 1);
+        small.copy = 1, small.maxSize = Size(most, most);
         st.searches.push_back(std::move(small));
     }
     for (Search& s : st.searches) s.classifier = s.pool->borrow();  // load errors first
