@@ -129,11 +129,6 @@ Reference scaled(const Reference& r, double s) {
     return out;
 }
 
-cv::Rect inner80(const cv::Rect& f) {
-    return cv::Rect(f.x + f.width / 10, f.y + f.height / 10, f.width - 2 * (f.width / 10),
-                    f.height - 2 * (f.height / 10));
-}
-
 struct Score {
     double iou = 0, ceiling = 0, residual = 0, ms = 0, cpuMs = 0, modelMs = 0, harmonicResidual = 0,
            harmonicMs = 0;
@@ -152,20 +147,6 @@ double outlineIoU(const Multicage& cage, const cv::Mat& mask) {
 }
 
 int gCoordinates = COORDINATES_FROM_CAGE;  // the cage's own, or --coordinates NAME
-
-// The inner polygons that hold at least 95% of a face box's inner 80% and are at most 3 times
-// the box's area: the face is hugged when exactly one does.
-std::vector<int> faceHolders(const Multicage& cage, const cv::Rect& face) {
-    const cv::Rect in = inner80(face) & cv::Rect(cv::Point(), cage.imageSize());
-    std::vector<int> holders;
-    for (int p = 0; p < cage.polygonCount(); ++p) {
-        if (cage.depth(p) < 2) continue;
-        const cv::Mat m = multicage_fixtures::polygonMask(cage.polygon(p), cage.imageSize());
-        if (cv::countNonZero(m(in)) >= 0.95 * in.area() && cv::countNonZero(m) <= 3.0 * face.area())
-            holders.push_back(p);
-    }
-    return holders;
-}
 
 Score score(const Reference& r, const Multicage& cage, bool harmonic) {
     Score s;
@@ -190,7 +171,8 @@ Score score(const Reference& r, const Multicage& cage, bool harmonic) {
         for (int p : holders) holds[size_t(p)] = 1;
         return holders;
     };
-    for (const cv::Rect& f : r.faces) s.hugged += mark(faceHolders(cage, f)).size() == 1;
+    for (const cv::Rect& f : r.faces)
+        s.hugged += mark(multicage_fixtures::faceHolders(cage, f)).size() == 1;
     for (const cv::Rect& e : r.eyes)
         s.eyesHugged += mark(multicage_fixtures::eyeHolders(cage, e)).size() == 1;
     for (const cv::Rect& f : r.features)

@@ -195,6 +195,21 @@ std::vector<int> eyeHolders(const cv::multicage::Multicage& cage, const cv::Rect
     return holders;
 }
 
+std::vector<int> faceHolders(const cv::multicage::Multicage& cage, const cv::Rect& face) {
+    const cv::Rect in =
+        cv::Rect(face.x + face.width / 10, face.y + face.height / 10,
+                 face.width - 2 * (face.width / 10), face.height - 2 * (face.height / 10)) &
+        cv::Rect(cv::Point(), cage.imageSize());
+    std::vector<int> holders;
+    for (int p = 0; p < cage.polygonCount(); ++p) {
+        if (cage.depth(p) < 2) continue;
+        const cv::Mat m = polygonMask(cage.polygon(p), cage.imageSize());
+        if (cv::countNonZero(m(in)) >= 0.95 * in.area() && cv::countNonZero(m) <= 3.0 * face.area())
+            holders.push_back(p);
+    }
+    return holders;
+}
+
 std::vector<int> featureHolders(const cv::multicage::Multicage& cage, const cv::Rect& feature) {
     const cv::Rect box = feature & cv::Rect(cv::Point(), cage.imageSize());
     std::vector<int> holders;

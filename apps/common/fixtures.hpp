@@ -59,6 +59,11 @@ times the box's area. The eye is hugged when exactly one does (the proposal benc
 tests). */
 std::vector<int> eyeHolders(const cv::multicage::Multicage& cage, const cv::Rect& eye);
 
+/** The inner polygons (depth 2 or more) of cage that hold at least 95% of a face box's inner
+80% and are at most 3 times the box's area. The face is hugged when exactly one does (the
+proposal benchmark and its tests). */
+std::vector<int> faceHolders(const cv::multicage::Multicage& cage, const cv::Rect& face);
+
 /** The inner polygons (depth 2 or more) of cage that hold at least 90% of a feature's box (a
 badge, a name tag, lettering) and are at most 4 times its area: the feature is protected when
 one does (issue 39, item 4; the proposal benchmark and its tests). */
