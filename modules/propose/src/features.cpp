@@ -329,15 +329,16 @@ Multicage protectInPolygon(InputArray image, const Multicage& cage, int polygon,
     const bool maskInput = params.method == PROPOSE_MASK || params.method == PROPOSE_LABELS;
     if (!maskInput) {  // the user's regions stay
         const Mat garmentCuts = necklines(inFaces.boxes, w);
+        const Mat edges = textureEdges(img, w);
         objects &= ~piecesHolding(objects, garmentCuts);
-        objects = texturedOnly(objects, img, inside, w);
+        objects = texturedOnly(objects, edges, inside);
         // Saliency merges a badge or a name tag into the garment it is on: the colour-distinct
         // regions find them (distinct.hpp), with the same texture rule on plain surroundings.
         if (params.protect != PROTECT_FACES) {
             Mat distinct =
                 cleanMask(distinctRegions(to8Bit(img), inside, w) & allowed, w.radius, w.minArea);
             distinct &= ~piecesHolding(distinct, garmentCuts);
-            objects |= texturedOnly(distinct, img, inside, w, true);
+            objects |= texturedOnly(distinct, edges, inside, true);
         }
     }
     objects |= faces.mask;

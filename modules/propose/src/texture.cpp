@@ -31,11 +31,8 @@ namespace cv {
 namespace multicage {
 namespace propose_detail {
 
-namespace {
-
-// 1 on the edges of the grey work image, 0 elsewhere.
-Mat edgeMap(const Mat& img8, const Work& w) {
-    Mat gray = toWork(img8, w, INTER_AREA);
+Mat textureEdges(const Mat& img, const Work& w) {
+    Mat gray = toWork(to8Bit(img), w, INTER_AREA);
     if (gray.channels() == 3) cvtColor(gray, gray, COLOR_BGR2GRAY);
     if (gray.channels() == 4) cvtColor(gray, gray, COLOR_BGRA2GRAY);
     GaussianBlur(gray, gray, Size(), 1.0);
@@ -44,6 +41,8 @@ Mat edgeMap(const Mat& img8, const Work& w) {
     edges.convertTo(edges, CV_32F, 1.0 / 255);
     return edges;
 }
+
+namespace {
 
 // Edge density of the ring around region `id` (component of `ids`, bounding box `box`, area
 // `area`): as wide as the region's equivalent radius (at least 3 px), inside `inside`, outside
@@ -66,9 +65,7 @@ double surroundingDensity(const Mat& edges, const Mat& ids, int id, const Rect& 
 
 }  // namespace
 
-Mat texturedOnly(const Mat& objects, const Mat& img, const Mat& inside, const Work& w,
-                 bool plainSurroundings) {
-    const Mat edges = edgeMap(to8Bit(img), w);
+Mat texturedOnly(const Mat& objects, const Mat& edges, const Mat& inside, bool plainSurroundings) {
     const double object = mean(edges, inside)[0];
     const double insideArea = countNonZero(inside);
     Mat ids, stats, centroids;
