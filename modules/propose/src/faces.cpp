@@ -236,15 +236,15 @@ String faceCascadeFile(const ProposeParams& params) {
 
 namespace propose_detail {
 
-// A grey, histogram-equalised copy of the image (and its mirror image, and its colours where it
-// has any) that cascades search.
+// A grey, histogram-equalised copy of the image (and its mirror image for the profile
+// searches, and its colours where it has any) that cascades search.
 struct Copy {
     double scale = 1.0;  // input pixels per pixel of the copy
     Mat gray, mirrored, ycrcb;
 };
 
 // `longest`: the copy's longer side; 0 for the image's own size; a larger one enlarges it.
-Copy makeCopy(const Mat& img8, int longest) {
+Copy makeCopy(const Mat& img8, int longest, bool mirrored) {
     Copy c;
     Mat small = img8;
     const int longer = std::max(img8.cols, img8.rows);
@@ -262,7 +262,7 @@ Copy makeCopy(const Mat& img8, int longest) {
         c.gray = small;
     }
     equalizeHist(c.gray, c.gray);
-    flip(c.gray, c.mirrored, 1);
+    if (mirrored) flip(c.gray, c.mirrored, 1);
     return c;
 }
 
@@ -320,7 +320,7 @@ FaceSearch::FaceSearch(InputArray image, const ProposeParams& params)
     const Mat img8 = propose_detail::to8Bit(img);
     const int longer = std::max(img.cols, img.rows);
     const int working = params.faceWorkingSize > 0 ? std::min(longer, params.faceWorkingSize) : 0;
-    st.copies.push_back(makeCopy(img8, working));
+    st.copies.push_back(makeCopy(img8, working, true));
     // Faces under the working copy's least face (a full figure's, a group's): the frontal
     // cascade on a copy twice as large, for those faces only. It is enlarged where the image is
     // smaller, up to the default's 640 px (so that what is found does not depend on the image's
@@ -328,7 +328,7 @@ FaceSearch::FaceSearch(InputArray image, const ProposeParams& params)
     const int large = std::min(2 * working, std::max(longer, 2 * ProposeParams().faceWorkingSize));
     const int most = working > 0 ? cvCeil(kLeastFace * large / double(working)) - 1 : 0;
     if (most > kLeastFace) {
-        st.copies.push_back(makeCopy(img8, large));
+        st.copies.push_back(makeCopy(img8, large, false));  // frontal only
         Search small{frontal, true, false};
         small.copy = 1, small.maxSize = Size(most, most);
         st.searches.push_back(std::move(small));
