@@ -233,9 +233,9 @@ void defineProposal(py::module_& m) {
         },
         py::arg("image"),
         "The cleaned segmentation propose_multicage encloses: HxW uint8, 255 on object pixels "
-        "(all 0 where it finds no object). Same keywords as propose_multicage (protect changes "
-        "nothing here; segmenter and segmenter_model are checked alike, but the library's "
-        "proposeSegmentation() runs no subject model: the mask is the classic segmentation's).");
+        "(all 0 where it finds no object). Same keywords as propose_multicage; the subject "
+        "model runs as there, but no face is searched (protect changes nothing here), so no "
+        "person prior joins it.");
     m.def(
         "protect_features",
         [](const py::object& image, const py::object& cageObj, const py::object& polygonObj,
