@@ -349,28 +349,14 @@ bool FaceSearch::frontal() {
     return !state_->kept[0].empty();
 }
 
-bool FaceSearch::smallFaces() {
-    bool any = false;
-    for (size_t k = 1; k < state_->searches.size(); ++k)
-        if (state_->searches[k].copy == 1) {
-            state_->search(k);
-            any |= !state_->kept[k].empty();
-        }
-    return any;
-}
-
-bool FaceSearch::profiles(bool sideBySide) {
-    int n = 1;  // the profile searches follow the frontal one
-    while (n < static_cast<int>(state_->searches.size()) && !state_->searches[n].frontal) ++n;
-    if (sideBySide)
-        parallel_for_(Range(1, n), [this](const Range& r) {
-            for (int i = r.start; i < r.end; ++i) state_->search(static_cast<size_t>(i));
-        });
-    else
-        for (int i = 1; i < n; ++i) state_->search(static_cast<size_t>(i));
-    bool any = false;
-    for (int i = 1; i < n; ++i) any |= !state_->kept[static_cast<size_t>(i)].empty();
-    return any;
+Tasks FaceSearch::remaining(bool profiles) {
+    Tasks tasks;
+    State& st = *state_;
+    for (size_t k = 1; k < st.searches.size(); ++k)  // the small faces' first: the largest copy
+        if (st.searches[k].copy == 1) tasks.push_back([&st, k] { st.search(k); });
+    for (size_t k = 1; k < st.searches.size() && profiles; ++k)
+        if (!st.searches[k].frontal) tasks.push_back([&st, k] { st.search(k); });
+    return tasks;
 }
 
 std::vector<Rect> FaceSearch::faces() const {
@@ -405,13 +391,12 @@ std::vector<Rect> FaceSearch::faces() const {
 }  // namespace propose_detail
 
 std::vector<Rect> detectFaces(InputArray image, const ProposeParams& params) {
-    // The frontal search on every core, then the two profile searches side by side, one core
-    // each. On 2 cores that took 80-131 ms against 90-148 ms for the three side by side, where
-    // one core ran two of them (at 320 px each search takes 40-90 ms on one core).
+    // The frontal search on every core, then the others one core each (runTasks). The frontal
+    // one alone first: three side by side, where one core ran two of them, took longer on 2
+    // cores (90-148 ms against 80-131 ms at 320 px).
     propose_detail::FaceSearch search(image, params);
     search.frontal();
-    search.smallFaces();
-    search.profiles(true);
+    propose_detail::runTasks(search.remaining(true));
     return search.faces();
 }
 

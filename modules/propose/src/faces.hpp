@@ -7,6 +7,8 @@
 #include <memory>
 #include <opencv2/multicage/propose.hpp>
 
+#include "tasks.hpp"
+
 namespace cv {
 namespace multicage {
 namespace propose_detail {
@@ -80,13 +82,11 @@ class FaceSearch {
     ~FaceSearch();
     /** The frontal search, on every core; true when it found a face. */
     bool frontal();
-    /** The frontal search for the faces too small for the working copy, on a copy twice as
-    large, on every core; true when it found a face. */
-    bool smallFaces();
-    /** The profile cascade's two searches (as the image is and mirrored; none without the
-    cascade), side by side or one after the other on this thread; true when they found a
-    face. */
-    bool profiles(bool sideBySide);
+    /** The searches left after frontal(), each a task to run on any thread (tasks.hpp),
+    longest first: the frontal search for the faces too small for the working copy, on a copy
+    twice as large; then, with `profiles`, the profile cascade's two (as the image is and
+    mirrored; none without the cascade). */
+    Tasks remaining(bool profiles);
     /** The faces of the searches run so far, merged, in input pixels, largest first. */
     std::vector<Rect> faces() const;
 

@@ -116,8 +116,7 @@ Mat subjectBesideFaces(const Mat& img, const Work& w, const ProposeParams& param
         try {
             FaceSearch faces(img, params);
             const bool frontal = faces.frontal();
-            faces.smallFaces();
-            if (!frontal) faces.profiles(false);
+            for (const auto& task : faces.remaining(!frontal)) task();
             *found = faces.faces();
         } catch (...) {
             failed = std::current_exception();
@@ -195,13 +194,10 @@ Multicage proposeProtectedMulticage(InputArray image, const ProposeParams& param
     } else if (wantsFaces(params)) {
         FaceSearch search(img, params);
         if (search.frontal()) {
-            search.profiles(true);
-            search.smallFaces();
+            runTasks(search.remaining(true));
         } else {  // the small faces' search too runs beside the face-blind segmentation
-            s = segmentForProposal(img, w, params, Mat(), [&search](bool alone) {
-                const bool profile = search.profiles(alone);
-                return !(search.smallFaces() || profile);
-            });
+            const Beside beside{search.remaining(true), [&search] { return search.faces().empty(); }};
+            s = segmentForProposal(img, w, params, Mat(), beside);
             segmented = true;
         }
         found = search.faces();

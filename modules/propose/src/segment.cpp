@@ -232,7 +232,7 @@ Rect automaticGrabCutRect(const Mat& img) {
 // GrabCut's labels of the subject of `small` (GrabCut's working size) from the frame inward,
 // checked against the salient part's (frameInwardSubject in subject.hpp, with its `beside`).
 Mat frameInwardLabels(const Mat& small, const ProposeParams& params,
-                      const std::function<bool(bool)>& beside) {
+                      const Beside& beside) {
     // The salient part and the subject from the frame inward, which must hold it (subject.hpp).
     Mat salient(small.size(), CV_8U, Scalar(GC_BGD));
     const Rect r = automaticGrabCutRect(small) & Rect(1, 1, small.cols - 2, small.rows - 2);
@@ -244,7 +244,7 @@ Mat frameInwardLabels(const Mat& small, const ProposeParams& params,
 }
 
 Mat segmentGrabCut(const Mat& img, const ProposeParams& params, double scale, const Mat& region,
-                   const Mat& seed = Mat(), const std::function<bool(bool)>& beside = {}) {
+                   const Mat& seed = Mat(), const Beside& beside = {}) {
     Mat color;
     if (img.channels() == 1)
         cvtColor(img, color, COLOR_GRAY2BGR);
@@ -319,11 +319,11 @@ Mat segmentImage(const Mat& img, int method, const ProposeParams& params, double
 }
 
 Segmentation segmentForProposal(const Mat& image, const Work& w, const ProposeParams& params,
-                                const Mat& person, const std::function<bool(bool)>& beside,
+                                const Mat& person, const Beside& beside,
                                 const Mat& subject) {
     Segmentation s;
     if (params.method == PROPOSE_MASK || params.method == PROPOSE_LABELS) {
-        if (beside && !beside(true)) return s;
+        if (!beside.run()) return s;
         if (image.empty())
             CV_Error(Error::StsBadArg, "multicage: proposeMulticage: the mask is empty");
         if (image.channels() != 1)
@@ -354,7 +354,7 @@ Segmentation segmentForProposal(const Mat& image, const Work& w, const ProposePa
                  "same value): there is nothing to segment");
     const Mat work = toWork(img8, w, INTER_AREA);
     if (!subject.empty() && params.method == PROPOSE_AUTO && params.rect.area() == 0) {
-        if (beside && !beside(true)) return s;
+        if (!beside.run()) return s;
         // A map with no subject, or whose subject is all specks, leaves it to the classic cues.
         const Mat fused = fusedSubject(work, subject, person, params);
         if (!fused.empty()) s.objects = cleanMask(fused, w.radius, w.minArea);
@@ -374,7 +374,7 @@ Segmentation segmentForProposal(const Mat& image, const Work& w, const ProposePa
         if (!mask.empty()) s.objects = cleanMask(mask, w.radius, w.minArea);
         return s;
     }
-    if (beside && !beside(true)) return s;
+    if (!beside.run()) return s;
     if (!person.empty() && grabCut && params.rect.area() == 0) {
         // A face was found: the person prior seeds GrabCut, whatever the background.
         s.objects =

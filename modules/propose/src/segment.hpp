@@ -5,6 +5,7 @@
 #include <functional>
 #include <opencv2/multicage/propose.hpp>
 
+#include "tasks.hpp"
 #include "work.hpp"
 
 namespace cv {
@@ -54,19 +55,18 @@ or constant image and a mask with more than one channel. `person`, when not empt
 GrabCut seed from the person prior (person.hpp): GC_FGD / GC_PR_FGD where a face and the body below
 it are, GC_PR_BGD elsewhere; with it PROPOSE_AUTO always runs GrabCut.
 
-`beside`, when set, is work that decides whether the segmentation is wanted, called with true
-when it has the cores to itself: the proposal's profile face searches, which a face found makes
-the face-blind segmentation moot (propose.cpp). It runs beside the segmentation where that
-leaves a core idle (the frame-inward GrabCut of a picture whose salient part is all of it: one
-chain of GrabCuts), else before it; when it returns false before it, the segmentation is
-skipped and empty.
+`beside`, when set, is work that decides whether the segmentation is wanted (tasks.hpp): the
+proposal's profile and small face searches, which a face found makes the face-blind
+segmentation moot (propose.cpp). Its tasks run beside the segmentation where that leaves a core
+idle (the frame-inward GrabCut of a picture whose salient part is all of it: one chain of
+GrabCuts), else before it; when it is not wanted then, the segmentation is skipped and empty.
 
 `subject`, when not empty, is the subject model's map of the image (subjectMapOf): with
 PROPOSE_AUTO and no rect it is fused with the person prior and the frame-inward GrabCut
 (fuse.hpp), and the classic cues decide only where it holds no subject. */
 Segmentation segmentForProposal(const Mat& image, const Work& w, const ProposeParams& params,
                                 const Mat& person = Mat(),
-                                const std::function<bool(bool)>& beside = {},
+                                const Beside& beside = {},
                                 const Mat& subject = Mat());
 
 }  // namespace propose_detail

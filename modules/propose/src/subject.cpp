@@ -194,7 +194,7 @@ bool frameInFocus(const Mat& img) {
 }
 
 Mat frameInwardSubject(const Mat& img, int iterations, const Mat& salientStart,
-                       const std::function<bool(bool)>& beside, bool* reopenedKept) {
+                       const Beside& beside, bool* reopenedKept) {
     CV_Assert(img.type() == CV_8UC3);
     if (reopenedKept) *reopenedKept = false;
     const int b = stripWidth(img.size());
@@ -217,18 +217,16 @@ Mat frameInwardSubject(const Mat& img, int iterations, const Mat& salientStart,
         }
     };
     if (salient.empty() && beside) {
-        // One GrabCut chain, one core: `beside` takes the other.
-        parallel_for_(Range(0, 2), [&](const Range& r) {
-            for (int i = r.start; i < r.end; ++i)
-                if (i == 0)
-                    frameInward();
-                else
-                    beside(false);
-        });
+        // One GrabCut chain, one core: `beside`'s tasks take the other, and this one when the
+        // chain is done (the small faces' search and the two profile ones: 190-250 ms on one
+        // core at 1024 px, against 70-170 ms for the chain).
+        Tasks tasks{frameInward};
+        tasks.insert(tasks.end(), beside.tasks.begin(), beside.tasks.end());
+        runTasks(tasks);
     } else if (salient.empty()) {
         frameInward();
     } else {
-        if (beside && !beside(true)) return Mat();
+        if (!beside.run()) return Mat();
         // The salient part's GrabCut is needed only for the check below: it runs beside the
         // frame-inward passes, on the second core. Nested parallel loops run serially in
         // OpenCV, so each GrabCut stays on its task's thread.

@@ -3,8 +3,9 @@
 #ifndef MULTICAGE_PROPOSE_SUBJECT_HPP
 #define MULTICAGE_PROPOSE_SUBJECT_HPP
 
-#include <functional>
 #include <opencv2/core.hpp>
+
+#include "tasks.hpp"
 
 namespace cv {
 namespace multicage {
@@ -18,12 +19,12 @@ the frame-inward passes), and the frame-inward subject is returned only if it ho
 of that part's subject, else that part's labels are.
 
 `beside`, when set, is work that decides whether the subject is wanted (the proposal's profile
-face searches, segment.hpp's Beside): it runs beside the frame-inward passes when there is no
-salient part's GrabCut to run there, else before both; when it returns false before them,
+and small face searches, tasks.hpp): its tasks run beside the frame-inward passes when there is
+no salient part's GrabCut to run there, else before both; when the subject is not wanted then,
 nothing else runs and the labels are empty. `reopened`, when set, tells whether the second
 pass was kept (the subject goes on past the frame). */
 Mat frameInwardSubject(const Mat& img, int iterations, const Mat& salientStart = Mat(),
-                       const std::function<bool(bool)>& beside = {}, bool* reopened = nullptr);
+                       const Beside& beside = {}, bool* reopened = nullptr);
 
 /** True when some piece of the strip along the frame is as sharp as the picture's middle: the
 frame may cut an in-focus subject, the condition of frameInwardSubject's second pass. */
