@@ -1,9 +1,11 @@
 // Issue 21, item 7: parts of a proposal run side by side (docs/propose/README.md, "Speed").
 // What runs in parallel must not change what is proposed: the same photo gives the same cage
 // every time, on one thread or several, and the caller's random generator is left as it was.
+#include <atomic>
 #include <opencv2/core/utility.hpp>
 
 #include "faces.hpp"
+#include "tasks.hpp"
 #include "testing.hpp"
 #include "work.hpp"
 
@@ -60,24 +62,52 @@ TEST(ProposeParallel, TheCallersRandomGeneratorIsLeftAsItWas) {
     EXPECT_EQ(cv::theRNG().state, cv::RNG(12345).state);
 }
 
-// Without a frontal face the profile searches run beside the face-blind segmentation or before
-// it (propose.cpp): the faces a proposal finds are still detectFaces' own. The camera man's
-// face is found in profile only (the segmentation it spares), the baboon's proposal runs the
-// searches beside its one chain of GrabCuts, the orange's before its two, the astronaut's face
-// is frontal.
-TEST(ProposeParallel, TheFacesFoundAreDetectFacesOwnWhereverTheProfileSearchesRan) {
+// Without a frontal face the small faces' and the profile searches run beside the face-blind
+// segmentation or before it (propose.cpp, tasks.hpp): the faces a proposal finds are still
+// detectFaces' own, with the subject model and without. The camera man's face is found in
+// profile only (the segmentation it spares), the basketball player's on the larger copy only;
+// without the model the baboon's proposal queues the searches behind its one chain of GrabCuts,
+// the orange's runs them before its two; the astronaut's face is frontal.
+TEST(ProposeParallel, TheFacesFoundAreDetectFacesOwnWhereverTheSearchesRan) {
     using namespace cv::multicage::propose_detail;
-    for (const char* name : {"camera", "baboon", "orange", "astronaut"}) {
-        const cv::Mat image =
-            multicage_testing::readSample(std::string("propose_bench/") + name + ".jpg");
-        const ProposeParams params;
-        const Work w = resolve(image.size(), params);
-        const std::vector<cv::Rect> expected =
-            mergeNearFaces(detectFaces(image, params), w.margin * w.scale);
-        std::vector<cv::Rect> found;
-        proposeProtectedMulticage(image, params, &found);
-        EXPECT_EQ(found, expected) << name;
-        if (std::string(name) == "camera" || std::string(name) == "astronaut")
-            EXPECT_EQ(found.size(), 1u) << name;
+    for (int segmenter : {SEGMENTER_AUTO, SEGMENTER_CLASSIC})
+        for (const char* name : {"camera", "basketball", "baboon", "orange", "astronaut"}) {
+            const cv::Mat image =
+                multicage_testing::readSample(std::string("propose_bench/") + name + ".jpg");
+            ProposeParams params;
+            params.segmenter = segmenter;
+            const Work w = resolve(image.size(), params);
+            const std::vector<cv::Rect> expected =
+                mergeNearFaces(detectFaces(image, params), w.margin * w.scale);
+            std::vector<cv::Rect> found;
+            proposeProtectedMulticage(image, params, &found);
+            const std::string what = std::string(name) + ", " + segmenterName(segmenter);
+            EXPECT_EQ(found, expected) << what;
+            const bool person = std::string(name) == "camera" ||
+                                std::string(name) == "basketball" ||
+                                std::string(name) == "astronaut";
+            EXPECT_EQ(found.size(), person ? 1u : 0u) << what;
+        }
+}
+
+// The queue of tasks: each runs once, however many workers take them, and a task's exception
+// reaches the caller.
+TEST(ProposeParallel, EveryTaskRunsOnceOnOneThreadOrMore) {
+    using namespace cv::multicage::propose_detail;
+    ThreadCount restore;
+    for (int threads : {1, 2}) {
+        cv::setNumThreads(threads);
+        std::vector<std::atomic<int>> runs(7);
+        Tasks tasks;
+        for (auto& r : runs) tasks.push_back([&r] { ++r; });
+        runTasks(tasks);
+        for (size_t i = 0; i < runs.size(); ++i)
+            EXPECT_EQ(runs[i].load(), 1) << "task " << i << ", " << threads << " threads";
+        tasks.push_back([] { CV_Error(cv::Error::StsError, "a task failed"); });
+        EXPECT_THROW(runTasks(tasks), cv::Exception) << threads << " threads";
     }
+    cv::setNumThreads(restore.saved);
+    runTasks({});  // nothing to run
+    EXPECT_TRUE(Beside().run());
+    EXPECT_FALSE((Beside{{}, [] { return false; }}.run()));
 }

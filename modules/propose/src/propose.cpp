@@ -196,7 +196,8 @@ Multicage proposeProtectedMulticage(InputArray image, const ProposeParams& param
         if (search.frontal()) {
             runTasks(search.remaining(true));
         } else {  // the small faces' search too runs beside the face-blind segmentation
-            const Beside beside{search.remaining(true), [&search] { return search.faces().empty(); }};
+            const Beside beside{search.remaining(true),
+                                [&search] { return search.faces().empty(); }};
             s = segmentForProposal(img, w, params, Mat(), beside);
             segmented = true;
         }

@@ -231,8 +231,7 @@ Rect automaticGrabCutRect(const Mat& img) {
 
 // GrabCut's labels of the subject of `small` (GrabCut's working size) from the frame inward,
 // checked against the salient part's (frameInwardSubject in subject.hpp, with its `beside`).
-Mat frameInwardLabels(const Mat& small, const ProposeParams& params,
-                      const Beside& beside) {
+Mat frameInwardLabels(const Mat& small, const ProposeParams& params, const Beside& beside) {
     // The salient part and the subject from the frame inward, which must hold it (subject.hpp).
     Mat salient(small.size(), CV_8U, Scalar(GC_BGD));
     const Rect r = automaticGrabCutRect(small) & Rect(1, 1, small.cols - 2, small.rows - 2);
@@ -319,8 +318,7 @@ Mat segmentImage(const Mat& img, int method, const ProposeParams& params, double
 }
 
 Segmentation segmentForProposal(const Mat& image, const Work& w, const ProposeParams& params,
-                                const Mat& person, const Beside& beside,
-                                const Mat& subject) {
+                                const Mat& person, const Beside& beside, const Mat& subject) {
     Segmentation s;
     if (params.method == PROPOSE_MASK || params.method == PROPOSE_LABELS) {
         if (!beside.run()) return s;

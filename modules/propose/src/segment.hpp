@@ -65,8 +65,7 @@ GrabCuts), else before it; when it is not wanted then, the segmentation is skipp
 PROPOSE_AUTO and no rect it is fused with the person prior and the frame-inward GrabCut
 (fuse.hpp), and the classic cues decide only where it holds no subject. */
 Segmentation segmentForProposal(const Mat& image, const Work& w, const ProposeParams& params,
-                                const Mat& person = Mat(),
-                                const Beside& beside = {},
+                                const Mat& person = Mat(), const Beside& beside = {},
                                 const Mat& subject = Mat());
 
 }  // namespace propose_detail
