@@ -176,9 +176,11 @@ Multicage proposeProtectedMulticage(InputArray image, const ProposeParams& param
     // Faces too near for a polygon each share one (mergeNearFaces), but each is still a
     // person's head: the person prior takes them as found (two heads, not one head the size of
     // both with a body four times as wide under it).
-    // Most photos have no frontal face: then the profile searches decide whether the
-    // face-blind segmentation is wanted, and run beside it where it leaves a core idle (a
-    // close-up whose salient part is the whole picture runs one chain of GrabCuts: the
+    // The searches, with the model or without: frontal, the small faces', and the two profile
+    // ones only where no frontal face was found (so both paths find the same faces).
+    // Most photos have no frontal face: then the small faces' and the profile searches decide
+    // whether the face-blind segmentation is wanted, and run beside it where it leaves a core
+    // idle (a close-up whose salient part is the whole picture runs one chain of GrabCuts: the
     // baboon's proposal 270 -> 213 ms at 1024 px, the apple's 205 -> 165), else before it,
     // which they spare when they find a face (segment.hpp). A profile face beside it costs the
     // chain's time (the close-up of a face in profile); a frontal face changes nothing.
@@ -194,7 +196,7 @@ Multicage proposeProtectedMulticage(InputArray image, const ProposeParams& param
     } else if (wantsFaces(params)) {
         FaceSearch search(img, params);
         if (search.frontal()) {
-            runTasks(search.remaining(true));
+            runTasks(search.remaining(false));
         } else {  // the small faces' search too runs beside the face-blind segmentation
             const Beside beside{search.remaining(true),
                                 [&search] { return search.faces().empty(); }};
