@@ -102,6 +102,28 @@ TEST(Segmenter, TheFusedProposalFollowsTheSubject) {
     }
 }
 
+// With faces found, the person prior guides GrabCut around the persons only: a subject the map
+// sees apart from them stays as the map sees it. Beside the basketball player (his face found),
+// the man whose face is turned away kept none of his head when GrabCut gave his dark hair to
+// the dark doorway: the reference's head there (the top quarter of the right half) was 0% inside
+// the outlines, and is 46% now (the margin and the budget cut his crown).
+TEST(Segmenter, ASubjectApartFromThePersonsFoundKeepsWhatTheMapSees) {
+    if (!haveModel()) GTEST_SKIP() << "no subject model installed";
+    if (!propose_bench::haveCascades()) GTEST_SKIP() << "opencv-data is not installed";
+    const cv::Mat photo = benchPhoto("basketball");
+    std::vector<cv::Rect> faces;
+    const Multicage cage = proposeProtectedMulticage(photo, ProposeParams(), &faces);
+    ASSERT_EQ(faces.size(), 1u);
+    ASSERT_LT(faces[0].x, photo.cols / 2);  // the player on the left
+    cv::Mat head = benchMask("basketball").clone();
+    head(cv::Rect(0, 0, photo.cols / 2, photo.rows)).setTo(0);
+    head(cv::Rect(0, photo.rows / 4, photo.cols, photo.rows - photo.rows / 4)).setTo(0);
+    const double inside =
+        cv::countNonZero(head & propose_bench::outlinesMask(cage)) / double(cv::countNonZero(head));
+    std::cout << "[ apart    ] the turned-away man's head " << inside << " inside the outlines\n";
+    EXPECT_GE(inside, 0.3);
+}
+
 // No model installed: the default falls back to the classic cues, and says why; asking for the
 // model then is an error that says how to get one.
 TEST(Segmenter, NoModelInstalledMeansTheClassicCues) {

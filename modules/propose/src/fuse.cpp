@@ -6,7 +6,8 @@
 //   faces found      the map is the start (as below), the face boxes sure subject, and the
 //                    person prior's head and body (person.hpp) probable subject where the map
 //                    sees something there (above kNear); where GrabCut's subject and the map's
-//                    with the face boxes disagree (IoU under kAgreesWithFaces), those are kept; the
+//                    with the face boxes disagree (IoU under kAgreesWithFaces), those are kept;
+//                    the map's subjects apart from every person stay as the map sees them; the
 //                    pieces holding neither a face nor the map's sure subject are dropped (the
 //                    candle beside the woman of the dinner scene).
 //   no face          the map is the start: sure subject where it is above kSure, probable
@@ -110,6 +111,10 @@ Mat fusedSubject(const Mat& img, const Mat& map, const Mat& person, const Propos
         mask = subjectOf(labels);
         const Mat seen = subject | face;
         if (!agrees(mask, seen, kAgreesWithFaces)) mask = seen;
+        // The person prior guides GrabCut around the persons only: a subject the map sees
+        // apart from all of them stays as the map sees it (the man whose face is turned away
+        // beside the basketball player: GrabCut gave his dark hair to the dark doorway).
+        mask |= subject & ~piecesHolding(subject, (prior == GC_PR_FGD) | face);
         mask = piecesHolding(mask, face | (m > kSure));
     } else {
         Mat labels = mapStart(m), inward;
