@@ -3,6 +3,7 @@
 // every time, on one thread or several, and the caller's random generator is left as it was.
 #include <atomic>
 #include <opencv2/core/utility.hpp>
+#include <thread>
 
 #include "faces.hpp"
 #include "tasks.hpp"
@@ -91,7 +92,8 @@ TEST(ProposeParallel, TheFacesFoundAreDetectFacesOwnWhereverTheSearchesRan) {
 }
 
 // The queue of tasks: each runs once, however many workers take them, and a task's exception
-// reaches the caller.
+// reaches the caller; a single task runs on the caller's thread (its own parallel loops then
+// use every core: inside another parallel loop OpenCV runs them serially).
 TEST(ProposeParallel, EveryTaskRunsOnceOnOneThreadOrMore) {
     using namespace cv::multicage::propose_detail;
     ThreadCount restore;
@@ -107,6 +109,9 @@ TEST(ProposeParallel, EveryTaskRunsOnceOnOneThreadOrMore) {
         EXPECT_THROW(runTasks(tasks), cv::Exception) << threads << " threads";
     }
     cv::setNumThreads(restore.saved);
+    std::thread::id ranOn;
+    runTasks({[&ranOn] { ranOn = std::this_thread::get_id(); }});  // one: on this thread
+    EXPECT_EQ(ranOn, std::this_thread::get_id());
     runTasks({});  // nothing to run
     EXPECT_TRUE(Beside().run());
     EXPECT_FALSE((Beside{{}, [] { return false; }}.run()));

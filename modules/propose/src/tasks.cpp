@@ -10,6 +10,10 @@ namespace propose_detail {
 
 void runTasks(const Tasks& tasks) {
     if (tasks.empty()) return;
+    if (tasks.size() == 1) {  // on this thread, where its own parallel loops may use every core
+        tasks[0]();
+        return;
+    }
     // A queue rather than a parallel loop over the tasks: the loop would deal them out in
     // blocks, and two long ones could share a core while the other idles.
     std::atomic<size_t> next{0};

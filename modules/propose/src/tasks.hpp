@@ -15,7 +15,8 @@ using Tasks = std::vector<std::function<void()>>;
 
 /** Runs independent `tasks`, each on one thread (a parallel loop inside one runs serially), on
 at most cv::getNumThreads() workers: each worker takes the next task not yet taken, so tasks
-given longest first keep the cores busy to the end. Exceptions reach the caller. */
+given longest first keep the cores busy to the end. A single task runs on the calling thread,
+its own parallel loops on every core. Exceptions reach the caller. */
 void runTasks(const Tasks& tasks);
 
 /** Work beside the face-blind segmentation that decides whether it is wanted: the proposal's
