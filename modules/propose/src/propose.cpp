@@ -19,6 +19,7 @@
 //                 repaired until simple and disjoint
 //   features.cpp  the inner polygons: faces, then textured salient regions (eyes.cpp,
 //                 texture.cpp)
+//   tasks.cpp     independent work shared out between the cores (the face searches)
 #include <algorithm>
 #include <cmath>
 #include <exception>
