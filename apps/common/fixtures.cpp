@@ -177,6 +177,32 @@ cv::Mat polygonMask(const std::vector<cv::Point2f>& polygon, cv::Size size) {
     return m;
 }
 
+namespace {
+
+// The inner polygons (depth 2 or more) of cage holding at least `share` of `target`'s pixels
+// (255 on the thing held) and at most `maxArea` pixels in all.
+std::vector<int> innerHolders(const cv::multicage::Multicage& cage, const cv::Mat& target,
+                              double share, double maxArea) {
+    const double need = share * cv::countNonZero(target);
+    std::vector<int> holders;
+    for (int p = 0; p < cage.polygonCount(); ++p) {
+        if (cage.depth(p) < 2) continue;
+        const cv::Mat m = polygonMask(cage.polygon(p), cage.imageSize());
+        if (cv::countNonZero(m & target) >= need && cv::countNonZero(m) <= maxArea)
+            holders.push_back(p);
+    }
+    return holders;
+}
+
+// 255 on `box` (clipped to the image), 0 elsewhere.
+cv::Mat boxMask(const cv::Rect& box, cv::Size size) {
+    cv::Mat m = cv::Mat::zeros(size, CV_8U);
+    m(box & cv::Rect(cv::Point(), size)).setTo(255);
+    return m;
+}
+
+}  // namespace
+
 std::vector<int> eyeHolders(const cv::multicage::Multicage& cage, const cv::Rect& eye) {
     cv::Mat almond = cv::Mat::zeros(cage.imageSize(), CV_8U);
     cv::ellipse(almond,
@@ -184,43 +210,20 @@ std::vector<int> eyeHolders(const cv::multicage::Multicage& cage, const cv::Rect
                     cv::Point2f(eye.x + 0.5f * eye.width - 0.5f, eye.y + 0.5f * eye.height - 0.5f),
                     cv::Size2f(eye.width, eye.height), 0.f),
                 cv::Scalar(255), cv::FILLED);
-    const double need = 0.95 * cv::countNonZero(almond);
-    std::vector<int> holders;
-    for (int p = 0; p < cage.polygonCount(); ++p) {
-        if (cage.depth(p) < 2) continue;
-        const cv::Mat m = polygonMask(cage.polygon(p), cage.imageSize());
-        if (cv::countNonZero(m & almond) >= need && cv::countNonZero(m) <= 3.0 * eye.area())
-            holders.push_back(p);
-    }
-    return holders;
+    return innerHolders(cage, almond, 0.95, 3.0 * eye.area());
 }
 
 std::vector<int> faceHolders(const cv::multicage::Multicage& cage, const cv::Rect& face) {
-    const cv::Rect in =
-        cv::Rect(face.x + face.width / 10, face.y + face.height / 10,
-                 face.width - 2 * (face.width / 10), face.height - 2 * (face.height / 10)) &
-        cv::Rect(cv::Point(), cage.imageSize());
-    std::vector<int> holders;
-    for (int p = 0; p < cage.polygonCount(); ++p) {
-        if (cage.depth(p) < 2) continue;
-        const cv::Mat m = polygonMask(cage.polygon(p), cage.imageSize());
-        if (cv::countNonZero(m(in)) >= 0.95 * in.area() && cv::countNonZero(m) <= 3.0 * face.area())
-            holders.push_back(p);
-    }
-    return holders;
+    const cv::Rect inner80(face.x + face.width / 10, face.y + face.height / 10,
+                           face.width - 2 * (face.width / 10),
+                           face.height - 2 * (face.height / 10));
+    return innerHolders(cage, boxMask(inner80, cage.imageSize()), 0.95, 3.0 * face.area());
 }
 
 std::vector<int> featureHolders(const cv::multicage::Multicage& cage, const cv::Rect& feature) {
     const cv::Rect box = feature & cv::Rect(cv::Point(), cage.imageSize());
-    std::vector<int> holders;
-    if (box.empty()) return holders;
-    for (int p = 0; p < cage.polygonCount(); ++p) {
-        if (cage.depth(p) < 2) continue;
-        const cv::Mat m = polygonMask(cage.polygon(p), cage.imageSize());
-        if (cv::countNonZero(m(box)) >= 0.9 * box.area() && cv::countNonZero(m) <= 4.0 * box.area())
-            holders.push_back(p);
-    }
-    return holders;
+    if (box.empty()) return {};
+    return innerHolders(cage, boxMask(box, cage.imageSize()), 0.9, 4.0 * box.area());
 }
 
 int outlineAround(const cv::multicage::Multicage& cage, const cv::Rect& box) {
