@@ -31,6 +31,7 @@
 #include "grabcut.hpp"
 #include "masks.hpp"
 #include "subject.hpp"
+#include "tasks.hpp"
 #include "work.hpp"
 
 namespace cv {
@@ -121,14 +122,13 @@ Mat fusedSubject(const Mat& img, const Mat& map, const Mat& person, const Propos
         bool reopened = false;
         const bool tryInward = frameShare(subject) <= kCutByFrame && frameInFocus(small);
         // Two GrabCut chains, one core each; each is seeded by itself (seededGrabCut).
-        parallel_for_(Range(0, tryInward ? 2 : 1), [&](const Range& r) {
-            for (int i = r.start; i < r.end; ++i)
-                if (i == 0)
-                    seededGrabCut(small, labels, params.grabCutIterations, kSettleWithin);
-                else  // the map's subject is the check the salient part's GrabCut was
-                    inward =
-                        frameInwardSubject(small, params.grabCutIterations, Mat(), {}, &reopened);
-        });
+        Tasks chains{
+            [&] { seededGrabCut(small, labels, params.grabCutIterations, kSettleWithin); }};
+        if (tryInward)  // the map's subject is the check the salient part's GrabCut was
+            chains.push_back([&] {
+                inward = frameInwardSubject(small, params.grabCutIterations, Mat(), {}, &reopened);
+            });
+        runTasks(chains);
         // GrabCut from the map only trims it: what GrabCut adds follows colours the background
         // shares with the subject (a kangaroo's fur and the sunlit path, a dog's and the dry
         // grass), and where it no longer agrees with the map, the map is kept.

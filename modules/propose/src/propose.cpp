@@ -35,6 +35,7 @@
 #include "polygons.hpp"
 #include "segment.hpp"
 #include "segmenter.hpp"
+#include "tasks.hpp"
 #include "work.hpp"
 
 namespace cv {
@@ -217,14 +218,11 @@ Multicage proposeProtectedMulticage(InputArray image, const ProposeParams& param
         // then run one after the other; each search's answer does not depend on the thread).
         known.eyes.resize(faces.size());
         const Mat gray = grayOf(img);
-        parallel_for_(Range(0, 2), [&](const Range& r) {
-            for (int task = r.start; task < r.end; ++task)
-                if (task == 0)
-                    s = segmentForProposal(img, w, params, person, {}, subject);
-                else
-                    for (size_t i = 0; i < faces.size(); ++i)
-                        known.eyes[i] = findEyes(gray, faces[i], params);
-        });
+        runTasks({[&] { s = segmentForProposal(img, w, params, person, {}, subject); },
+                  [&] {
+                      for (size_t i = 0; i < faces.size(); ++i)
+                          known.eyes[i] = findEyes(gray, faces[i], params);
+                  }});
     }
     if (facesOut) *facesOut = faces;
     ProposeParams outlineParams = params;

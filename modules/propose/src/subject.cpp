@@ -230,13 +230,7 @@ Mat frameInwardSubject(const Mat& img, int iterations, const Mat& salientStart,
         // The salient part's GrabCut is needed only for the check below: it runs beside the
         // frame-inward passes, on the second core. Nested parallel loops run serially in
         // OpenCV, so each GrabCut stays on its task's thread.
-        parallel_for_(Range(0, 2), [&](const Range& r) {
-            for (int i = r.start; i < r.end; ++i)
-                if (i == 0)
-                    frameInward();
-                else
-                    seededGrabCut(img, salient, iterations, kSettleWithin);
-        });
+        runTasks({frameInward, [&] { seededGrabCut(img, salient, iterations, kSettleWithin); }});
     }
     if (salient.empty()) return labels;
     // The frame-inward subject may extend the salient part (a close-up's whole animal around
