@@ -2,7 +2,6 @@
 #ifndef MULTICAGE_PROPOSE_SEGMENT_HPP
 #define MULTICAGE_PROPOSE_SEGMENT_HPP
 
-#include <functional>
 #include <opencv2/multicage/propose.hpp>
 
 #include "tasks.hpp"
